@@ -1,0 +1,432 @@
+// climbsim::reflex: leg-level reflex laws and the leg-level climbing reflex state machine.
+//
+// Pure controller code: Eigen only, no MuJoCo. Every object here is built once from a Params
+// struct and a fixed control period `dt_s`, validated in the constructor (bad Params throw
+// std::invalid_argument naming the field and the value), and then updated once per control
+// period with `Update(...)`, which never allocates and never throws. `Reset()` returns an
+// object to the state it had just after construction.
+//
+// Notation (CONTROL.md): [z]₊ = max(0, z); X(t−Δ) is X delayed by Δ.
+//
+// Delays. The controller runs at a fixed period dt_s, so a transmission delay Δ is held as a
+// whole number of samples n = round(Δ / dt_s), rounded to nearest with ties away from zero
+// (std::lround): Δ = 5 ms at dt = 2 ms becomes 3 samples (6 ms). The delay that acts is
+// therefore n·dt_s, within dt_s/2 of the one asked for; `delay_samples()` reports it. A delay
+// is rounded rather than rejected so that one Params set works at any control period (the
+// optimiser may change dt_s); Geyer and Herr's 20/10/5 ms are exact at dt = 1 ms.
+//
+// Joint convention for the three joints of a leg, indexed by `Joint`:
+//   hip_yaw   + moves the foot forward,
+//   hip_pitch + lifts the foot away from the surface,
+//   knee      + lifts the foot (flexion).
+// So "press into the surface" is a negative hip_pitch/knee offset, "lift" a positive one.
+// Every offset below is in rad and is added to the CPG's joint target.
+//
+// References.
+//   Geyer H, Herr H (2010) IEEE TNSRE 18:263, a reflex-based neuromuscular biped: delayed
+//     length (spindle) and force (GTO) feedback, positive force feedback in stance.
+//   SCONE's reflex form: u = C0 + K_F·[F̃(t−Δ) − F0] + K_L·[l̃(t−Δ) − L0] + K_V·[ṽ(t−Δ) − V0]₊.
+//   Ekeberg Ö, Pearson K (2005) J Neurophysiol 94:4256: a leg leaves stance when unloaded.
+//   Tian Y et al. (2006) PNAS 103:19320 and Autumn K et al. (2006) J Exp Biol 209:3569:
+//     geckos detach a toe by hyperextending it (rolling it up and back), not by a normal pull.
+//   Kendall K (1975) J Phys D 8:1449: peeling needs far less force than a normal pull-off.
+#ifndef CLIMBSIM_REFLEX_REFLEX_H_
+#define CLIMBSIM_REFLEX_REFLEX_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace climbsim::reflex {
+
+// ---------------------------------------------------------------------------------------------
+// Delays
+// ---------------------------------------------------------------------------------------------
+
+// Largest delay a DelayLine accepts, in samples (10 s at 1 ms): bounds the buffer size.
+inline constexpr int kMaxDelaySamples = 10000;
+
+// n = round(delay_s / dt_s), ties away from zero (see the file comment).
+// Throws std::invalid_argument if dt_s is not finite and > 0, if delay_s is not finite and
+// >= 0, or if n > kMaxDelaySamples. `name` prefixes the message (e.g. "spindle.delay_s").
+int DelayToSamples(double delay_s, double dt_s, std::string_view name = "delay_s");
+
+// A pure transmission delay of n samples over a ring buffer sized at construction:
+//   y_k = x_{k−n} for k >= n,   y_k = fill for k < n,
+// where k counts Update calls since construction or Reset. n = 0 passes the input through.
+// The output is bit-for-bit the input n samples ago. Update never allocates.
+class DelayLine {
+ public:
+  // Throws std::invalid_argument if delay_samples is outside [0, kMaxDelaySamples].
+  explicit DelayLine(int delay_samples, double fill = 0.0);
+
+  // Pushes x(t) and returns x(t − n·dt).
+  double Update(double input);
+
+  // Every stored sample back to `fill`.
+  void Reset();
+
+  int delay_samples() const { return static_cast<int>(buffer_.size()); }
+  double fill() const { return fill_; }
+
+ private:
+  std::vector<double> buffer_;  // sized once; buffer_[head_] is the oldest sample
+  int head_ = 0;
+  double fill_ = 0.0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Spindle-like (stretch) law
+// ---------------------------------------------------------------------------------------------
+
+// One joint's stretch reflex (Geyer and Herr 2010; SCONE's K_L, L0, K_V, V0 terms).
+// Defaults suit the ~100 g gecko robot: a 0.2 rad stretch gives a 0.075 rad offset after 10 ms.
+struct SpindleParams {
+  double length_gain = 0.5;                  // K_L, rad of offset per rad of stretch, >= 0
+  double velocity_gain_s = 0.02;             // K_V, rad of offset per rad/s of stretch rate, >= 0
+  double length_threshold_rad = 0.05;        // L0, dead zone on the stretch, >= 0
+  double velocity_threshold_rad_per_s = 0.5; // V0, dead zone on the stretch rate, >= 0
+  double delay_s = 0.01;                     // Δ, >= 0, rounded to whole samples
+};
+
+// Throws std::invalid_argument ("<name>.<field> must be ..., got <value>") unless every field is
+// finite and >= 0 and the delay fits a DelayLine at dt_s.
+void Validate(const SpindleParams& params, double dt_s, std::string_view name = "spindle");
+
+// Stretch q̃ = q − q_target (rad) is the joint angle minus the CPG's target, NOT including
+// reflex offsets (feeding the offset back into q̃ closes a positive loop of gain K_L);
+// q̇ (rad/s) its rate. A joint has two antagonist spindles with the same Params, one stretched
+// by q̃ > 0 and one by q̃ < 0. With the signed dead zone D(x, x0) = sign(x)·[|x| − x0]₊:
+//
+//   offset(t) = −K_L·D(q̃(t−Δ), L0) − K_V·D(q̇(t−Δ), V0)          (rad)
+//
+// so for q̃, q̇ >= 0 it is exactly −(K_L·[q̃(t−Δ) − L0]₊ + K_V·[q̇(t−Δ) − V0]₊): the target moves
+// against the stretch, resisting it. The length and velocity terms clip independently.
+// Non-finite inputs are replaced by 0 (and counted) before they enter the delay.
+class SpindleReflex {
+ public:
+  // Throws std::invalid_argument via Validate().
+  SpindleReflex(const SpindleParams& params, double dt_s);
+
+  // Returns the target offset (rad) for this control period. Never allocates.
+  double Update(double stretch_rad, double stretch_velocity_rad_per_s);
+  void Reset();
+
+  const SpindleParams& params() const { return params_; }
+  int delay_samples() const { return stretch_delay_.delay_samples(); }
+  // The two terms of the last Update, signed as in the offset: offset = length + velocity.
+  double length_term_rad() const { return length_term_rad_; }
+  double velocity_term_rad() const { return velocity_term_rad_; }
+  // Number of non-finite inputs replaced by 0 since construction or Reset.
+  int64_t nonfinite_inputs() const { return nonfinite_inputs_; }
+
+ private:
+  SpindleParams params_;
+  DelayLine stretch_delay_;
+  DelayLine velocity_delay_;
+  double length_term_rad_ = 0.0;
+  double velocity_term_rad_ = 0.0;
+  int64_t nonfinite_inputs_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// GTO-like (load) law
+// ---------------------------------------------------------------------------------------------
+
+// Force feedback (Geyer and Herr 2010; SCONE's K_F, F0 terms). The load is a pad normal load
+// (N) or a joint torque (N·m), so the units follow the channel: for a pad, gain in rad/N and
+// threshold in N. Defaults: a pad load 0.5 N above threshold gives a 0.1 rad offset.
+struct GtoParams {
+  double gain = 0.2;       // K_F, output per unit load (rad/N for a pad); any finite sign
+  double threshold = 0.0;  // F0, in the load's unit; any finite value
+  double delay_s = 0.01;   // Δ, >= 0, rounded to whole samples
+};
+
+// Throws std::invalid_argument unless every field is finite, the delay >= 0 and it fits.
+// A negative gain is allowed here (negative force feedback, as Geyer and Herr's SOL→TA); the
+// LegReflex's GTO channels require gain >= 0 (positive feedback: the stance-holding reflex).
+void Validate(const GtoParams& params, double dt_s, std::string_view name = "gto");
+
+//   u(t) = K_F·[F̃(t−Δ) − F0]₊
+// Positive force feedback (K_F > 0) keeps a loaded leg pressing. `loaded()` is the strict test
+// F̃(t−Δ) > F0 on the same delayed sample: at F̃ = F0 exactly, u = 0 and the leg is unloaded.
+// Non-finite inputs are replaced by 0 (and counted) before they enter the delay.
+class GtoReflex {
+ public:
+  // Throws std::invalid_argument via Validate().
+  GtoReflex(const GtoParams& params, double dt_s);
+
+  // Returns u for this control period. Never allocates.
+  double Update(double load);
+  void Reset();
+
+  const GtoParams& params() const { return params_; }
+  int delay_samples() const { return load_delay_.delay_samples(); }
+  bool loaded() const { return loaded_; }              // F̃(t−Δ) > F0 at the last Update
+  double delayed_load() const { return delayed_load_; }  // F̃(t−Δ) at the last Update
+  int64_t nonfinite_inputs() const { return nonfinite_inputs_; }
+
+ private:
+  GtoParams params_;
+  DelayLine load_delay_;
+  bool loaded_ = false;
+  double delayed_load_ = 0.0;
+  int64_t nonfinite_inputs_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Leg-level climbing reflexes
+// ---------------------------------------------------------------------------------------------
+
+// Joint indices in every 3-vector of this module.
+enum Joint : int { kHipYaw = 0, kHipPitch = 1, kKnee = 2 };
+inline constexpr int kLegJoints = 3;
+
+// Press on touchdown (and on re-grip) until the pad attaches or a limit is reached.
+// The offset ramps linearly from 1/n_ramp of full at the first period to full after ramp_s.
+struct PreloadParams {
+  bool enabled = true;               // the touchdown preload; re-grip presses even if false
+  double hip_pitch_press_rad = 0.15; // full press on hip pitch, >= 0, applied as −0.15 rad
+  double knee_press_rad = 0.10;      // full press on the knee, >= 0, applied as −0.10 rad
+  double ramp_s = 0.05;              // time to full press, >= 0 (0: full at once)
+  double force_limit_n = 1.0;        // stop once the compressive preload reaches this, > 0
+  double max_duration_s = 0.2;       // stop after this long, >= one control period
+};
+
+// Search when a swing ends without touchdown: reach further towards the surface, with a lift
+// in each attempt so that the pad is re-placed rather than dragged. Attempt k = 0..N−1 runs
+// for n_a samples; with s = (sample within the attempt)/n_a ∈ [0, 1) and the reach fraction
+// ρ = (k + s)/N growing without jumps from 0 to 1 over all attempts:
+//   hip_yaw   = +reach_yaw_rad·ρ
+//   hip_pitch = −reach_pitch_rad·ρ + lift_rad·sin(π·s)
+//   knee      = −reach_knee_rad·ρ  + lift_rad·sin(π·s)
+// When the pad touches, the offset reached is held until the swing starts, then released
+// linearly over release_s (as after the last attempt fails).
+struct SearchParams {
+  bool enabled = true;
+  double reach_yaw_rad = 0.10;         // full forward reach, >= 0
+  double reach_pitch_rad = 0.20;       // full extension towards the surface on hip pitch, >= 0
+  double reach_knee_rad = 0.10;        // full extension towards the surface on the knee, >= 0
+  double lift_rad = 0.08;              // peak lift within each attempt, >= 0
+  double attempt_duration_s = 0.15;    // one attempt, >= one control period
+  int max_attempts = 3;                // N >= 1
+  double release_s = 0.1;              // fade of the held offset, >= 0 (0: at once)
+};
+
+// Peel at swing onset while still attached. With s = swing progress / swing_fraction ∈ [0, 1]
+// and the bump b(u) = sin²(π·u) for u ∈ [0, 1], 0 outside:
+//   knee      = +knee_lift_rad·b(s / knee_end_fraction)
+//   hip_pitch = +hip_pitch_lift_rad·b((s − hip_pitch_start_fraction)/(1 − hip_pitch_start_fraction))
+// The knee leads: flexing it first tilts the pad, lifting its heel (trailing, proximal edge)
+// while the toe edge still holds, so the pad carries a peeling moment M. Over a bonded b×h pad
+// the edge stress is F/(b·h) + 6·M/(b·h²) (DESIGN.md §3), so the edge row breaks and a crack
+// runs across the pad at a load far below the normal pull-off σ_T·b·h (Kendall 1975); the
+// gecko does the same by hyperextending its toes (Tian et al. 2006). Hip pitch then lifts the
+// leg once most bonds are gone. Each bump starts and ends at zero offset and zero rate, so the
+// hand-over to the CPG's swing is smooth. Which pad edge a knee flexion lifts first depends on
+// the robot's geometry (mjcf/): the sim checks it, this module only schedules.
+struct PeelParams {
+  bool enabled = true;
+  double knee_lift_rad = 0.25;           // peak knee flexion, >= 0
+  double hip_pitch_lift_rad = 0.15;      // peak hip pitch lift, >= 0
+  double swing_fraction = 0.3;           // share of the swing the schedule spans, in (0, 1]
+  double knee_end_fraction = 0.6;        // knee bump over s ∈ [0, this], in (0, 1]
+  double hip_pitch_start_fraction = 0.4; // hip bump over s ∈ [this, 1], in [0, 1)
+};
+
+// Re-grip: a pad that loses bonds during stance while it was attached (it should be holding)
+// is pressed again with the preload profile (PreloadParams, even if preload.enabled is false),
+// and the other legs are asked to stay in stance for hold_others_s.
+struct RegripParams {
+  bool enabled = true;
+  double hold_others_s = 0.2;  // how long hold_others stays raised, >= 0
+};
+
+// GTO stance holding (Ekeberg and Pearson 2005's load rule; Geyer and Herr 2010's positive
+// force feedback), two channels on the pad:
+//  hold:  F̃ = the adhesive load normal_load_n (or, with count_compression, the larger of
+//         |normal_load_n| and preload_n). Loaded (F̃(t−Δ) > F0) ⇒ hold_stance; unloaded ⇒ the
+//         leg may swing. In stance the leg also presses: hip_pitch −= min(u, hold_max_offset).
+//  press: F̃ = the compressive preload_n. While the pad is building its bond (stance,
+//         attached, bonded_fraction < full_bond_fraction): hip_pitch −= min(u, press_max_offset).
+// With require_partner_attached, a leg whose partner is not attached also holds stance (lifting
+// it would leave the pair without a grip).
+struct GtoHoldParams {
+  bool enabled = true;
+  GtoParams hold{.gain = 0.2, .threshold = 0.15, .delay_s = 0.01};   // rad/N, N, s; gain >= 0
+  double hold_max_offset_rad = 0.15;                                 // >= 0
+  bool count_compression = false;  // true on floors: a weight-bearing leg is loaded too
+  GtoParams press{.gain = 0.1, .threshold = 0.05, .delay_s = 0.01};  // rad/N, N, s; gain >= 0
+  double press_max_offset_rad = 0.10;                                // >= 0
+  double full_bond_fraction = 0.95;  // bond counts as built from here, in (0, 1]
+  bool require_partner_attached = true;
+};
+
+// The spindle law on each joint, indexed by Joint.
+struct LegSpindleParams {
+  bool enabled = true;
+  std::array<SpindleParams, kLegJoints> joints{};
+};
+
+struct LegReflexParams {
+  PreloadParams preload;
+  SearchParams search;
+  PeelParams peel;
+  RegripParams regrip;
+  GtoHoldParams gto;
+  LegSpindleParams spindle;
+  double max_offset_rad = 0.4;  // |summed offset| per joint is clamped to this, > 0
+};
+
+// Throws std::invalid_argument ("<name>.<reflex>.<field> must be ..., got <value>") on the
+// first bad field: non-finite numbers, negative gains, magnitudes or times, fractions out of
+// range, durations shorter than one control period where one is needed.
+void Validate(const LegReflexParams& params, double dt_s, std::string_view name = "leg_reflex");
+
+// What the simulator tells a leg once per control period.
+struct LegSensing {
+  bool stance = false;          // the CPG's phase for this leg: true = stance, false = swing
+  double phase_progress = 0.0;  // progress within the current phase, 0..1 (clamped)
+  bool touching = false;        // the pad touches a surface
+  bool attached = false;        // the pad is attached (weld on)
+  double bonded_fraction = 0.0; // bonded share of the pad, 0..1
+  double normal_load_n = 0.0;   // pad normal force, N; + pulls the pad off (adhesive load)
+  double preload_n = 0.0;       // compressive contact force pressing the pad on, N, >= 0
+  bool bonds_lost = false;      // the pad lost bonds this period
+  Eigen::Vector3d stretch_rad = Eigen::Vector3d::Zero();  // q − q_cpg per Joint
+  Eigen::Vector3d stretch_velocity_rad_per_s = Eigen::Vector3d::Zero();
+  bool partner_attached = true; // the partner leg's pad is attached
+};
+
+enum class LegEventType : uint8_t {
+  kPreloadStart,
+  kPreloadEnd,
+  kSearchStart,
+  kSearchEnd,
+  kPeel,
+  kRegrip,
+  kGtoHold,  // onset of GTO stance holding
+  kSpindle,  // onset of spindle activity on any joint
+};
+
+enum class LegEventReason : uint8_t {
+  kNone,
+  kTouchdown,        // preload_start: the pad touched down in stance, not attached
+  kRegrip,           // preload_start: started by a re-grip
+  kAttached,         // preload_end: the pad attached during the preload
+  kForceLimit,       // preload_end: preload_n reached force_limit_n
+  kTimeLimit,        // preload_end: max_duration_s elapsed
+  kSwingStarted,     // preload_end/search_end: the CPG left stance anyway
+  kFound,            // search_end: the pad touched (or attached)
+  kAttemptsExhausted,// search_end: max_attempts done without touching
+  kLoad,             // gto_hold: the delayed load is above threshold
+  kPartnerDetached,  // gto_hold: the partner is not attached (and the leg is not loaded)
+};
+
+enum class Reflex : uint8_t { kPreload, kSearch, kPeel, kRegrip, kGtoHold, kGtoPress, kSpindle };
+
+// Names as logged in events.csv: "preload_start", "search_end", "gto_hold", ...; reasons as
+// "touchdown", "force_limit", "attempts_exhausted", ...; "" for kNone.
+std::string_view EventName(LegEventType type);
+std::string_view ReasonName(LegEventReason reason);
+std::string_view ReflexName(Reflex reflex);
+
+struct LegEvent {
+  LegEventType type;
+  LegEventReason reason;
+  friend bool operator==(const LegEvent&, const LegEvent&) = default;
+};
+
+// Each event type occurs at most once per Update, so 8 slots always suffice.
+inline constexpr int kMaxLegEvents = 8;
+
+// This period's events, in the order: preload_end, search_end, peel, search_start, regrip,
+// preload_start, gto_hold, spindle.
+struct LegEvents {
+  std::array<LegEvent, kMaxLegEvents> items{};
+  int count = 0;
+  const LegEvent* begin() const { return items.data(); }
+  const LegEvent* end() const { return items.data() + count; }
+  int size() const { return count; }
+  bool Contains(LegEventType type) const;
+};
+
+struct LegReflexOutput {
+  Eigen::Vector3d target_offset_rad = Eigen::Vector3d::Zero();  // add to the CPG's targets
+  bool hold_stance = false;  // only ever true in stance: do not let this leg leave stance yet
+  bool hold_others = false;  // re-grip: the other legs should stay in stance
+  uint32_t fired = 0;        // bit (1 << Reflex) for each reflex that acted this period
+  LegEvents events;
+  bool Fired(Reflex reflex) const { return fired & (1u << static_cast<int>(reflex)); }
+};
+
+// What a LegReflex remembers between periods; times are counted in control periods.
+struct LegReflexState {
+  bool preloading = false;
+  int preload_samples = 0;          // periods since the preload started
+  LegEventReason preload_trigger = LegEventReason::kNone;  // kTouchdown or kRegrip
+  bool searching = false;
+  int search_samples = 0;           // periods since the search started
+  Eigen::Vector3d search_offset_rad = Eigen::Vector3d::Zero();  // last search offset
+  bool search_holding = false;      // found: the offset is held until swing onset
+  int search_release_left = 0;      // periods of release left (0: none)
+  bool peeling = false;
+  int regrip_left = 0;              // periods of hold_others left
+  bool gto_holding = false;
+  bool spindle_active = false;
+  bool prev_stance = false;         // the last period's sensing; the first Update behaves
+  bool prev_touching = false;       // as if the leg had been in swing, in the air, detached
+  bool prev_attached = false;
+  int64_t nonfinite_inputs = 0;     // non-finite sensing values replaced by 0
+};
+
+// One leg's climbing reflexes, updated once per control period. The state machine:
+//
+//  reflex   | starts when (this period)                  | acts                         | ends when
+//  preload  | touchdown (stance ∧ touching now, not both | press ramp; hold_stance      | attach (edge), preload_n >=
+//           | last period) ∧ ¬attached                   |                              | limit, time limit, swing
+//  search   | swing → stance ∧ ¬touching ∧ ¬attached     | reach + lift; hold_stance    | touching ∨ attached (found),
+//           |                                            |                              | N attempts, swing
+//  peel     | stance → swing ∧ attached                  | knee, then hip pitch lift    | s >= 1 or stance
+//  regrip   | stance ∧ bonds_lost ∧ attached last period | preload (reason regrip);     | hold_others_s elapsed
+//           |                                            | hold_others                  |
+//  gto hold | delayed load > F0 (or partner detached)    | hold_stance; press           | unloaded
+//  gto press| stance ∧ attached ∧ bonded < full         | press ∝ delayed preload      | bond built
+//  spindle  | |stretch(t−Δ)| > L0 or |rate(t−Δ)| > V0    | resist the stretch           | inside the dead zones
+//
+// A reflex whose `enabled` is false never acts and emits nothing. gto_hold and spindle emit
+// one event at onset (not every period); `fired` says every period which reflexes act.
+// The summed offset is clamped to ±max_offset_rad per joint.
+class LegReflex {
+ public:
+  // Throws std::invalid_argument via Validate().
+  LegReflex(const LegReflexParams& params, double dt_s);
+
+  // One control period. Never allocates, never throws.
+  LegReflexOutput Update(const LegSensing& sensing);
+  void Reset();
+
+  const LegReflexParams& params() const { return params_; }
+  const LegReflexState& state() const { return state_; }
+  double dt_s() const { return dt_s_; }
+
+ private:
+  LegReflexParams params_;
+  double dt_s_;
+  // Durations in control periods, rounded once at construction like the delays.
+  int preload_ramp_samples_;
+  int preload_max_samples_;
+  int search_attempt_samples_;
+  int search_release_samples_;
+  int regrip_samples_;
+  GtoReflex hold_gto_;
+  GtoReflex press_gto_;
+  std::array<SpindleReflex, kLegJoints> spindles_;
+  LegReflexState state_;
+};
+
+}  // namespace climbsim::reflex
+
+#endif  // CLIMBSIM_REFLEX_REFLEX_H_

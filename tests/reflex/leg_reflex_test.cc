@@ -1,0 +1,687 @@
+// LegReflex: each climbing reflex fires in its scripted situation, with its exact event
+// sequence and offsets, stays silent otherwise and when switched off.
+// dt = 10 ms so that every duration below is a round number of control periods.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "reflex/reflex.h"
+#include "tests/reflex/test_util.h"
+
+namespace climbsim::reflex {
+namespace {
+
+using testing_util::AllOff;
+using testing_util::At;
+using testing_util::Attached;
+using testing_util::Recorder;
+using testing_util::Stance;
+using testing_util::Swing;
+using testing_util::TimedEvent;
+using testing_util::Touching;
+using Events = std::vector<TimedEvent>;
+using E = LegEventType;
+using R = LegEventReason;
+
+constexpr double kDt = 0.01;
+
+// ---------------------------------------------------------------------------------------------
+// Preload
+// ---------------------------------------------------------------------------------------------
+
+LegReflexParams PreloadOnly() {
+  LegReflexParams p = AllOff();
+  p.preload.enabled = true;
+  p.preload.hip_pitch_press_rad = 0.15;
+  p.preload.knee_press_rad = 0.10;
+  p.preload.ramp_s = 0.05;          // 5 periods
+  p.preload.force_limit_n = 1.0;
+  p.preload.max_duration_s = 0.2;   // 20 periods
+  return p;
+}
+
+// Touchdown -> preload_start; the press ramps up; attach -> preload_end(attached).
+TEST(ReflexPreload, TouchdownPressesUntilAttached) {
+  LegReflex leg(PreloadOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());                                    // #0
+  for (int m = 0; m < 7; ++m) {                         // #1..#7: touching, not attached
+    const LegReflexOutput& out = rec.Step(Touching(Stance()));
+    const double ramp = std::min(1.0, (m + 1.0) / 5.0);
+    EXPECT_EQ(out.target_offset_rad[kHipPitch], -(0.15 * ramp)) << m;
+    EXPECT_EQ(out.target_offset_rad[kKnee], -(0.10 * ramp)) << m;
+    EXPECT_EQ(out.target_offset_rad[kHipYaw], 0.0);
+    EXPECT_TRUE(out.hold_stance) << m;
+    EXPECT_TRUE(out.Fired(Reflex::kPreload));
+  }
+  const LegReflexOutput& attached = rec.Step(Attached(Stance(), 0.1));  // #8
+  EXPECT_EQ(attached.target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_FALSE(attached.hold_stance);
+  rec.Repeat(Attached(Stance(), 0.2), 10);
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
+                                  At(8, E::kPreloadEnd, R::kAttached)}));
+}
+
+TEST(ReflexPreload, ForceLimitEndsThePress) {
+  LegReflex leg(PreloadOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());                                    // #0
+  LegSensing pressing = Touching(Stance());
+  pressing.preload_n = 0.5;
+  rec.Repeat(pressing, 3);                              // #1..#3
+  pressing.preload_n = 1.0;                             // reaches force_limit_n exactly
+  const LegReflexOutput& out = rec.Step(pressing);      // #4
+  EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_FALSE(out.hold_stance);
+  rec.Repeat(pressing, 30);                             // still touching: no new preload
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
+                                  At(4, E::kPreloadEnd, R::kForceLimit)}));
+}
+
+// max_duration_s = 20 periods of press exactly, then preload_end(time_limit).
+TEST(ReflexPreload, TimeLimitEndsThePressAfterExactlyMaxDuration) {
+  LegReflex leg(PreloadOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());                                    // #0
+  rec.Repeat(Touching(Stance()), 60);                   // #1..#60
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
+                                  At(21, E::kPreloadEnd, R::kTimeLimit)}));
+  for (int k = 1; k <= 60; ++k) {
+    EXPECT_EQ(rec.output(k).hold_stance, k <= 20) << k;
+    EXPECT_EQ(rec.output(k).target_offset_rad[kHipPitch] < 0.0, k <= 20) << k;
+  }
+}
+
+TEST(ReflexPreload, SwingOnsetAbortsThePress) {
+  LegReflex leg(PreloadOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());
+  rec.Repeat(Touching(Stance()), 3);                    // #1..#3
+  const LegReflexOutput& out = rec.Step(Touching(Swing(0.0)));  // #4
+  EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
+                                  At(4, E::kPreloadEnd, R::kSwingStarted)}));
+}
+
+// A touchdown late in a swing counts at the stance onset.
+TEST(ReflexPreload, TouchingBeforeStanceStartsAtStanceOnset) {
+  LegReflex leg(PreloadOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Touching(Swing()), 3);                     // #0..#2
+  rec.Step(Touching(Stance(0.0)));                      // #3
+  EXPECT_EQ(rec.events(), (Events{At(3, E::kPreloadStart, R::kTouchdown)}));
+}
+
+TEST(ReflexPreload, SilentWhenAttachedOnTouchdownInSwingOrSwitchedOff) {
+  {
+    LegReflex leg(PreloadOnly(), kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());
+    rec.Repeat(Attached(Stance()), 10);   // attached at touchdown: nothing to do
+    rec.Repeat(Touching(Swing()), 10);    // touching in swing: not a touchdown
+    EXPECT_TRUE(rec.events().empty());
+  }
+  {
+    LegReflexParams p = PreloadOnly();
+    p.preload.enabled = false;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());
+    const LegReflexOutput& out = rec.Repeat(Touching(Stance()), 30);
+    EXPECT_TRUE(rec.events().empty());
+    EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+    EXPECT_FALSE(out.hold_stance);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Search
+// ---------------------------------------------------------------------------------------------
+
+LegReflexParams SearchOnly() {
+  LegReflexParams p = AllOff();
+  p.search.enabled = true;
+  p.search.reach_yaw_rad = 0.10;
+  p.search.reach_pitch_rad = 0.20;
+  p.search.reach_knee_rad = 0.10;
+  p.search.lift_rad = 0.08;
+  p.search.attempt_duration_s = 0.1;  // 10 periods
+  p.search.max_attempts = 3;
+  p.search.release_s = 0.05;          // 5 periods
+  return p;
+}
+
+// Closed form of reflex.h at the m-th period of the search (10 periods per attempt, 3 attempts).
+Eigen::Vector3d SearchOffset(const SearchParams& p, int m) {
+  const double rho = m / 30.0;
+  const double lift = p.lift_rad * std::sin(std::numbers::pi * (m % 10) / 10.0);
+  return {p.reach_yaw_rad * rho, lift - p.reach_pitch_rad * rho, lift - p.reach_knee_rad * rho};
+}
+
+// A swing that ends without touchdown: search_start, reach and lift, search_end after exactly
+// max_attempts attempts; the reached offset then fades out over release_s.
+TEST(ReflexSearch, NoTouchdownSearchesForExactlyMaxAttempts) {
+  const LegReflexParams p = SearchOnly();
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());                                    // #0
+  for (int m = 0; m < 30; ++m) {                        // #1..#30
+    const LegReflexOutput& out = rec.Step(Stance());
+    // Same formula, evaluated in a different order: rounding only.
+    EXPECT_TRUE(out.target_offset_rad.isApprox(SearchOffset(p.search, m), 1e-12) ||
+                m == 0) << m << ": " << out.target_offset_rad.transpose();
+    EXPECT_TRUE(out.hold_stance) << m;
+  }
+  EXPECT_EQ(rec.output(1).target_offset_rad, Eigen::Vector3d::Zero());  // m = 0: ρ = 0, s = 0
+  const Eigen::Vector3d reached = rec.output(30).target_offset_rad;
+  for (int r = 1; r <= 6; ++r) {                        // #31..#36: released over 5 periods
+    const LegReflexOutput& out = rec.Step(Stance());
+    EXPECT_FALSE(out.hold_stance);
+    const double left = std::max(0, 5 - r) / 5.0;
+    EXPECT_TRUE(out.target_offset_rad.isApprox(reached * left, 1e-12) ||
+                (left == 0.0 && out.target_offset_rad.isZero(0.0))) << r;
+  }
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart),
+                                  At(31, E::kSearchEnd, R::kAttemptsExhausted)}));
+}
+
+// Touching during the search: search_end(found), then the touchdown preload at once; the
+// reached offset is held through stance and released after the swing starts.
+TEST(ReflexSearch, FoundThenPreloadAndTheReachIsHeldUntilSwing) {
+  LegReflexParams p = SearchOnly();
+  p.preload.enabled = true;
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());                                    // #0
+  rec.Repeat(Stance(), 13);                             // #1..#13: m = 0..12
+  const Eigen::Vector3d reached = rec.output(13).target_offset_rad;
+  EXPECT_TRUE(reached.isApprox(SearchOffset(p.search, 12), 1e-12));
+  const LegReflexOutput& found = rec.Step(Touching(Stance()));  // #14
+  EXPECT_TRUE(found.hold_stance);                       // preloading now
+  rec.Repeat(Attached(Stance()), 5);                    // #15..#19
+  EXPECT_EQ(rec.output(19).target_offset_rad, reached); // preload over: the reach alone
+  EXPECT_FALSE(rec.output(19).hold_stance);
+  rec.Step(Attached(Swing(0.0)));                       // #20: release starts
+  EXPECT_TRUE(rec.output(20).target_offset_rad.isApprox(reached * 0.8, 1e-12));
+  rec.Repeat(Swing(), 4);                               // #21..#24
+  EXPECT_EQ(rec.output(24).target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart), At(14, E::kSearchEnd, R::kFound),
+                                  At(14, E::kPreloadStart, R::kTouchdown),
+                                  At(15, E::kPreloadEnd, R::kAttached)}));
+}
+
+TEST(ReflexSearch, SwingOnsetAbortsTheSearch) {
+  LegReflex leg(SearchOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());
+  rec.Repeat(Stance(), 4);                              // #1..#4
+  rec.Step(Swing(0.0));                                 // #5
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart),
+                                  At(5, E::kSearchEnd, R::kSwingStarted)}));
+}
+
+TEST(ReflexSearch, SilentWhenTouchingAtStanceOnsetOrSwitchedOff) {
+  {
+    LegReflex leg(SearchOnly(), kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());
+    rec.Repeat(Touching(Stance()), 10);
+    rec.Repeat(Swing(), 5);
+    rec.Repeat(Attached(Stance()), 10);
+    EXPECT_TRUE(rec.events().empty());
+  }
+  {
+    LegReflexParams p = SearchOnly();
+    p.search.enabled = false;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());
+    const LegReflexOutput& out = rec.Repeat(Stance(), 40);
+    EXPECT_TRUE(rec.events().empty());
+    EXPECT_FALSE(out.hold_stance);
+    EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Peel
+// ---------------------------------------------------------------------------------------------
+
+LegReflexParams PeelOnly() {
+  LegReflexParams p = AllOff();
+  p.peel.enabled = true;
+  p.peel.knee_lift_rad = 0.25;
+  p.peel.hip_pitch_lift_rad = 0.15;
+  p.peel.swing_fraction = 0.5;
+  p.peel.knee_end_fraction = 0.6;
+  p.peel.hip_pitch_start_fraction = 0.4;
+  return p;
+}
+
+// Swing onset while attached: one peel event; the knee bump peaks at s = 0.3 while the hip is
+// still; the hip bump peaks at s = 0.7 once the knee is back; nothing from s = 1 on.
+TEST(ReflexPeel, SwingOnsetWhileAttachedLiftsKneeFirstThenHip) {
+  LegReflex leg(PeelOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 3);                    // #0..#2
+  const LegReflexOutput& onset = rec.Step(Attached(Swing(0.0)));  // #3
+  EXPECT_EQ(onset.target_offset_rad, Eigen::Vector3d::Zero());    // b(0) = 0
+  EXPECT_TRUE(onset.Fired(Reflex::kPeel));
+  const LegReflexOutput& knee_peak = rec.Step(Attached(Swing(0.15)));  // s = 0.3
+  EXPECT_NEAR(knee_peak.target_offset_rad[kKnee], 0.25, 1e-15);
+  EXPECT_EQ(knee_peak.target_offset_rad[kHipPitch], 0.0);
+  EXPECT_EQ(knee_peak.target_offset_rad[kHipYaw], 0.0);
+  const LegReflexOutput& hip_peak = rec.Step(Swing(0.35));        // s = 0.7, detached by now
+  EXPECT_EQ(hip_peak.target_offset_rad[kKnee], 0.0);
+  EXPECT_NEAR(hip_peak.target_offset_rad[kHipPitch], 0.15, 1e-15);
+  const LegReflexOutput& done = rec.Step(Swing(0.5));             // s = 1
+  EXPECT_EQ(done.target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_FALSE(done.Fired(Reflex::kPeel));
+  rec.Step(Swing(0.2));                                 // later samples stay silent
+  EXPECT_EQ(rec.output(rec.updates() - 1).target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_EQ(rec.events(), (Events{At(3, E::kPeel)}));
+}
+
+// Over a fine sweep of the swing, the knee moves before the hip and every offset is a lift.
+TEST(ReflexPeel, KneeLeadsHipOverTheSchedule) {
+  LegReflex leg(PeelOnly(), kDt);
+  leg.Update(Attached(Stance()));
+  int first_knee = -1;
+  int first_hip = -1;
+  for (int i = 0; i <= 100; ++i) {
+    const LegReflexOutput out = leg.Update(Attached(Swing(i * 0.005)));
+    EXPECT_GE(out.target_offset_rad[kKnee], 0.0);
+    EXPECT_GE(out.target_offset_rad[kHipPitch], 0.0);
+    if (first_knee < 0 && out.target_offset_rad[kKnee] > 0.0) first_knee = i;
+    if (first_hip < 0 && out.target_offset_rad[kHipPitch] > 0.0) first_hip = i;
+  }
+  EXPECT_EQ(first_knee, 1);   // s = 0.01
+  EXPECT_EQ(first_hip, 41);   // s = 0.41, just after hip_pitch_start_fraction
+}
+
+TEST(ReflexPeel, SilentWhenDetachedAtSwingOnsetOrSwitchedOff) {
+  {
+    LegReflex leg(PeelOnly(), kDt);
+    Recorder rec(&leg);
+    rec.Repeat(Touching(Stance()), 3);
+    const LegReflexOutput& out = rec.Repeat(Swing(0.15), 3);
+    EXPECT_TRUE(rec.events().empty());
+    EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+  }
+  {
+    LegReflexParams p = PeelOnly();
+    p.peel.enabled = false;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Repeat(Attached(Stance()), 3);
+    const LegReflexOutput& out = rec.Repeat(Attached(Swing(0.15)), 3);
+    EXPECT_TRUE(rec.events().empty());
+    EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Re-grip
+// ---------------------------------------------------------------------------------------------
+
+LegReflexParams RegripOnly() {
+  LegReflexParams p = PreloadOnly();
+  p.preload.enabled = false;  // re-grip presses with the preload profile anyway
+  p.regrip.enabled = true;
+  p.regrip.hold_others_s = 0.05;  // 5 periods
+  return p;
+}
+
+// Bonds lost in stance by an attached pad: regrip, preload_start(regrip); hold_others for
+// exactly hold_others_s; the press runs to its time limit since the pad stays attached.
+TEST(ReflexRegrip, BondsLostInStancePressesAgainAndHoldsOthers) {
+  LegReflex leg(RegripOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 2);                    // #0..#1
+  LegSensing lost = Attached(Stance(), 0.7);
+  lost.bonds_lost = true;
+  const LegReflexOutput& out = rec.Step(lost);          // #2
+  EXPECT_TRUE(out.hold_others);
+  EXPECT_TRUE(out.hold_stance);
+  EXPECT_EQ(out.target_offset_rad[kHipPitch], -(0.15 * (1.0 / 5.0)));
+  EXPECT_TRUE(out.Fired(Reflex::kRegrip));
+  rec.Repeat(Attached(Stance(), 0.7), 40);              // #3..#42
+  for (int k = 2; k <= 42; ++k) {
+    EXPECT_EQ(rec.output(k).hold_others, k <= 6) << k;  // 5 periods: #2..#6
+    EXPECT_EQ(rec.output(k).hold_stance, k <= 21) << k; // 20 periods of press: #2..#21
+  }
+  EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(2, E::kPreloadStart, R::kRegrip),
+                                  At(22, E::kPreloadEnd, R::kTimeLimit)}));
+}
+
+// The pad comes off and attaches again: preload_end(attached). Bonds lost again during the
+// episode extend hold_others without a second regrip event.
+TEST(ReflexRegrip, ReattachEndsThePressAndRepeatedLossExtendsTheHold) {
+  LegReflex leg(RegripOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 2);                    // #0..#1
+  LegSensing lost = Attached(Stance(), 0.5);
+  lost.bonds_lost = true;
+  rec.Step(lost);                                       // #2: regrip
+  rec.Step(Attached(Stance(), 0.5));                    // #3
+  rec.Step(lost);                                       // #4: again, within the episode
+  LegSensing off = Touching(Stance());
+  off.bonds_lost = true;
+  rec.Step(off);                                        // #5: detached (was attached at #4)
+  rec.Step(Attached(Stance(), 0.1));                    // #6: attached again
+  for (int k = 7; k < 15; ++k) rec.Step(Attached(Stance(), 0.2));
+  // The last loss, at #5, holds the others for 5 periods: #5..#9.
+  for (int k = 2; k < 15; ++k) EXPECT_EQ(rec.output(k).hold_others, k <= 9) << k;
+  EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(2, E::kPreloadStart, R::kRegrip),
+                                  At(6, E::kPreloadEnd, R::kAttached)}));
+}
+
+TEST(ReflexRegrip, SilentInSwingWhenNotHoldingOrSwitchedOff) {
+  LegSensing lost_in_swing = Attached(Swing(), 0.5);
+  lost_in_swing.bonds_lost = true;
+  LegSensing lost_unattached = Touching(Stance());
+  lost_unattached.bonds_lost = true;
+  LegSensing lost_in_stance = Attached(Stance(), 0.5);
+  lost_in_stance.bonds_lost = true;
+  {
+    LegReflex leg(RegripOnly(), kDt);
+    Recorder rec(&leg);
+    rec.Repeat(Attached(Swing()), 2);
+    rec.Repeat(lost_in_swing, 5);            // peeling in swing is expected
+    rec.Repeat(Touching(Stance()), 2);
+    rec.Repeat(lost_unattached, 5);          // not attached last period: not holding
+    EXPECT_TRUE(rec.events().empty());
+    EXPECT_FALSE(rec.output(rec.updates() - 1).hold_others);
+  }
+  {
+    LegReflexParams p = RegripOnly();
+    p.regrip.enabled = false;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Repeat(Attached(Stance()), 2);
+    const LegReflexOutput& out = rec.Repeat(lost_in_stance, 5);
+    EXPECT_TRUE(rec.events().empty());
+    EXPECT_FALSE(out.hold_others);
+    EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// GTO stance holding
+// ---------------------------------------------------------------------------------------------
+
+LegReflexParams GtoOnly() {
+  LegReflexParams p = AllOff();
+  p.gto.enabled = true;
+  p.gto.hold = {.gain = 0.25, .threshold = 0.25, .delay_s = 0.02};  // 2 periods
+  p.gto.hold_max_offset_rad = 0.15;
+  p.gto.press = {.gain = 0.0, .threshold = 0.0, .delay_s = 0.0};
+  p.gto.require_partner_attached = false;
+  return p;
+}
+
+// A loaded leg holds stance and presses from exactly Δ after the load rises, and may swing
+// from exactly Δ after it falls; at the threshold itself it is unloaded.
+TEST(ReflexGtoHold, LoadedLegHoldsStanceUnloadedLegReleases) {
+  LegReflex leg(GtoOnly(), kDt);
+  Recorder rec(&leg);
+  LegSensing s = Attached(Stance());
+  s.normal_load_n = 0.25;                               // exactly F0: unloaded
+  rec.Repeat(s, 5);                                     // #0..#4
+  s.normal_load_n = 0.75;
+  rec.Repeat(s, 10);                                    // #5..#14
+  s.normal_load_n = 0.125;
+  rec.Repeat(s, 10);                                    // #15..#24
+  for (int k = 0; k < 25; ++k) {
+    const bool loaded = k >= 7 && k < 17;
+    EXPECT_EQ(rec.output(k).hold_stance, loaded) << k;
+    // 0.25·(0.75 − 0.25) = 0.125 below the 0.15 cap.
+    EXPECT_EQ(rec.output(k).target_offset_rad[kHipPitch], loaded ? -0.125 : 0.0) << k;
+  }
+  EXPECT_EQ(rec.events(), (Events{At(7, E::kGtoHold, R::kLoad)}));
+}
+
+TEST(ReflexGtoHold, PressIsCappedAndNeverHoldsInSwing) {
+  LegReflex leg(GtoOnly(), kDt);
+  Recorder rec(&leg);
+  LegSensing s = Attached(Stance());
+  s.normal_load_n = 10.0;
+  const LegReflexOutput& out = rec.Repeat(s, 5);
+  EXPECT_EQ(out.target_offset_rad[kHipPitch], -0.15);
+  LegSensing swing = Attached(Swing());
+  swing.normal_load_n = 10.0;
+  const LegReflexOutput& in_swing = rec.Step(swing);
+  EXPECT_FALSE(in_swing.hold_stance);
+  EXPECT_EQ(in_swing.target_offset_rad, Eigen::Vector3d::Zero());
+  rec.Step(s);                                          // back in stance: a new hold onset
+  EXPECT_EQ(rec.events(), (Events{At(2, E::kGtoHold, R::kLoad), At(6, E::kGtoHold, R::kLoad)}));
+}
+
+// On a floor (count_compression) a weight-bearing leg is loaded too.
+TEST(ReflexGtoHold, CompressionCountsWhenAsked) {
+  LegSensing s = Attached(Stance());
+  s.preload_n = 0.5;
+  s.normal_load_n = -0.5;
+  LegReflexParams p = GtoOnly();
+  {
+    LegReflex leg(p, kDt);
+    EXPECT_FALSE(Recorder(&leg).Repeat(s, 5).hold_stance);
+  }
+  p.gto.count_compression = true;
+  {
+    LegReflex leg(p, kDt);
+    EXPECT_TRUE(Recorder(&leg).Repeat(s, 5).hold_stance);
+  }
+}
+
+TEST(ReflexGtoHold, DetachedPartnerHoldsStance) {
+  LegReflexParams p = GtoOnly();
+  p.gto.require_partner_attached = true;
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  LegSensing s = Attached(Stance());
+  rec.Repeat(s, 3);                                     // #0..#2
+  s.partner_attached = false;
+  rec.Repeat(s, 3);                                     // #3..#5
+  s.partner_attached = true;
+  rec.Step(s);                                          // #6
+  for (int k = 0; k < 7; ++k) EXPECT_EQ(rec.output(k).hold_stance, k >= 3 && k <= 5) << k;
+  EXPECT_EQ(rec.output(4).target_offset_rad, Eigen::Vector3d::Zero());  // holds, no press
+  EXPECT_EQ(rec.events(), (Events{At(3, E::kGtoHold, R::kPartnerDetached)}));
+}
+
+// Positive force feedback on the compressive preload while the bond builds, and only then.
+TEST(ReflexGtoHold, PadBuildingItsBondIsPressed) {
+  LegReflexParams p = GtoOnly();
+  p.gto.press = {.gain = 0.125, .threshold = 0.25, .delay_s = 0.01};  // 1 period
+  p.gto.press_max_offset_rad = 0.1;
+  p.gto.full_bond_fraction = 0.9375;
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  LegSensing s = Attached(Stance(), 0.5);
+  s.preload_n = 0.75;
+  rec.Repeat(s, 3);                                     // #0..#2
+  EXPECT_EQ(rec.output(0).target_offset_rad[kHipPitch], 0.0);  // Δ not yet elapsed
+  EXPECT_EQ(rec.output(1).target_offset_rad[kHipPitch], -0.0625);  // 0.125·(0.75 − 0.25)
+  EXPECT_TRUE(rec.output(1).Fired(Reflex::kGtoPress));
+  EXPECT_FALSE(rec.output(1).hold_stance);              // pressed, not loaded
+  s.preload_n = 5.0;
+  EXPECT_EQ(rec.Repeat(s, 2).target_offset_rad[kHipPitch], -0.1);  // capped
+  s.bonded_fraction = 0.9375;                           // built
+  EXPECT_EQ(rec.Step(s).target_offset_rad[kHipPitch], 0.0);
+  s = Touching(Stance());                               // not attached: the preload's job
+  s.preload_n = 5.0;
+  EXPECT_EQ(rec.Step(s).target_offset_rad[kHipPitch], 0.0);
+  EXPECT_TRUE(rec.events().empty());
+}
+
+TEST(ReflexGtoHold, SilentWhenSwitchedOff) {
+  LegReflexParams p = GtoOnly();
+  p.gto.enabled = false;
+  p.gto.require_partner_attached = true;
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  LegSensing s = Attached(Stance(), 0.5);
+  s.normal_load_n = 10.0;
+  s.preload_n = 10.0;
+  s.partner_attached = false;
+  const LegReflexOutput& out = rec.Repeat(s, 10);
+  EXPECT_TRUE(rec.events().empty());
+  EXPECT_FALSE(out.hold_stance);
+  EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Spindles in the leg
+// ---------------------------------------------------------------------------------------------
+
+LegReflexParams SpindleOnly() {
+  LegReflexParams p = AllOff();
+  p.spindle.enabled = true;
+  for (SpindleParams& j : p.spindle.joints) {
+    j = {.length_gain = 0.5,
+         .velocity_gain_s = 0.0,
+         .length_threshold_rad = 0.0625,
+         .velocity_threshold_rad_per_s = 0.0,
+         .delay_s = 0.01};
+  }
+  return p;
+}
+
+TEST(ReflexLegSpindle, EachJointResistsItsOwnStretchAfterTheDelay) {
+  LegReflex leg(SpindleOnly(), kDt);
+  Recorder rec(&leg);
+  LegSensing s = Swing();
+  s.stretch_rad = {0.0, -0.3125, 0.5625};
+  rec.Repeat(s, 4);                                     // #0..#3
+  s.stretch_rad.setZero();
+  rec.Repeat(s, 3);                                     // #4..#6
+  EXPECT_EQ(rec.output(0).target_offset_rad, Eigen::Vector3d::Zero());
+  for (int k = 1; k <= 4; ++k) {
+    EXPECT_EQ(rec.output(k).target_offset_rad, Eigen::Vector3d(0.0, 0.125, -0.25)) << k;
+  }
+  EXPECT_EQ(rec.output(5).target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kSpindle)}));  // one event at onset
+}
+
+TEST(ReflexLegSpindle, SummedOffsetIsClampedToMaxOffset) {
+  LegReflexParams p = SpindleOnly();
+  p.max_offset_rad = 0.25;
+  LegReflex leg(p, kDt);
+  LegSensing s = Stance();
+  s.stretch_rad = {3.0, -3.0, 0.1875};
+  leg.Update(s);
+  EXPECT_EQ(leg.Update(s).target_offset_rad, Eigen::Vector3d(-0.25, 0.25, -0.0625));
+}
+
+TEST(ReflexLegSpindle, SilentWhenSwitchedOff) {
+  LegReflexParams p = SpindleOnly();
+  p.spindle.enabled = false;
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  LegSensing s = Stance();
+  s.stretch_rad = {1.0, 1.0, 1.0};
+  EXPECT_EQ(rec.Repeat(s, 5).target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(rec.events().empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// The whole machine
+// ---------------------------------------------------------------------------------------------
+
+// Random sensing with every reflex on (defaults): invariants that hold whatever happens.
+// Each event type at most once per update (so kMaxLegEvents never overflows), offsets within
+// ±max_offset_rad, holds only in stance, and Reset gives back a fresh leg.
+LegSensing RandomSensing(std::mt19937* rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::bernoulli_distribution coin(0.5);
+  std::bernoulli_distribution rare(0.1);
+  LegSensing s;
+  s.stance = coin(*rng);
+  s.phase_progress = unit(*rng);
+  s.touching = coin(*rng);
+  s.attached = s.touching && coin(*rng);
+  s.bonded_fraction = s.attached ? unit(*rng) : 0.0;
+  s.normal_load_n = 2.0 * unit(*rng) - 1.0;
+  s.preload_n = 2.0 * unit(*rng);
+  s.bonds_lost = rare(*rng);
+  s.partner_attached = !rare(*rng);
+  for (int j = 0; j < kLegJoints; ++j) {
+    s.stretch_rad[j] = unit(*rng) - 0.5;
+    s.stretch_velocity_rad_per_s[j] = 10.0 * (unit(*rng) - 0.5);
+  }
+  return s;
+}
+
+TEST(ReflexLegMachine, InvariantsHoldUnderRandomSensing) {
+  const LegReflexParams p;
+  LegReflex leg(p, 0.002);
+  std::mt19937 rng(42);
+  int event_count = 0;
+  for (int k = 0; k < 100000; ++k) {
+    // Runs of the same phase, as a CPG gives.
+    LegSensing s = RandomSensing(&rng);
+    s.stance = (k / 37) % 2 == 0;
+    const LegReflexOutput out = leg.Update(s);
+    ASSERT_LE(out.events.size(), kMaxLegEvents);
+    int per_type[kMaxLegEvents] = {};
+    for (const LegEvent& e : out.events) ASSERT_LE(++per_type[static_cast<int>(e.type)], 1) << k;
+    event_count += out.events.size();
+    ASSERT_LE(out.target_offset_rad.cwiseAbs().maxCoeff(), p.max_offset_rad) << k;
+    ASSERT_TRUE(out.target_offset_rad.allFinite());
+    ASSERT_TRUE(!out.hold_stance || s.stance) << k;
+  }
+  EXPECT_GT(event_count, 1000);  // the script does exercise the machine
+}
+
+TEST(ReflexLegMachine, ResetGivesTheSameRunAsAFreshLeg) {
+  const LegReflexParams p;
+  LegReflex used(p, 0.002);
+  std::mt19937 warmup(1);
+  for (int k = 0; k < 500; ++k) used.Update(RandomSensing(&warmup));
+  used.Reset();
+  LegReflex fresh(p, 0.002);
+  std::mt19937 a(2);
+  std::mt19937 b(2);
+  for (int k = 0; k < 2000; ++k) {
+    const LegReflexOutput x = used.Update(RandomSensing(&a));
+    const LegReflexOutput y = fresh.Update(RandomSensing(&b));
+    ASSERT_EQ(x.target_offset_rad, y.target_offset_rad) << k;
+    ASSERT_EQ(x.hold_stance, y.hold_stance) << k;
+    ASSERT_EQ(x.hold_others, y.hold_others) << k;
+    ASSERT_EQ(x.fired, y.fired) << k;
+    ASSERT_EQ(x.events.size(), y.events.size()) << k;
+    for (int i = 0; i < x.events.size(); ++i) ASSERT_EQ(x.events.items[i], y.events.items[i]);
+  }
+}
+
+TEST(ReflexLegMachine, NonFiniteSensingIsCountedAndHarmless) {
+  LegReflex leg(LegReflexParams{}, 0.002);
+  LegSensing s = Attached(Stance(), NAN);
+  s.normal_load_n = INFINITY;
+  s.stretch_rad[kKnee] = NAN;
+  const LegReflexOutput out = leg.Update(s);
+  EXPECT_TRUE(out.target_offset_rad.allFinite());
+  EXPECT_EQ(leg.state().nonfinite_inputs, 3);
+}
+
+TEST(ReflexLegMachine, NamesAreTheEventsCsvSpelling) {
+  EXPECT_EQ(EventName(LegEventType::kPreloadStart), "preload_start");
+  EXPECT_EQ(EventName(LegEventType::kPreloadEnd), "preload_end");
+  EXPECT_EQ(EventName(LegEventType::kSearchStart), "search_start");
+  EXPECT_EQ(EventName(LegEventType::kSearchEnd), "search_end");
+  EXPECT_EQ(EventName(LegEventType::kPeel), "peel");
+  EXPECT_EQ(EventName(LegEventType::kRegrip), "regrip");
+  EXPECT_EQ(EventName(LegEventType::kGtoHold), "gto_hold");
+  EXPECT_EQ(EventName(LegEventType::kSpindle), "spindle");
+  EXPECT_EQ(ReasonName(LegEventReason::kNone), "");
+  EXPECT_EQ(ReasonName(LegEventReason::kAttemptsExhausted), "attempts_exhausted");
+  EXPECT_EQ(ReasonName(LegEventReason::kForceLimit), "force_limit");
+  EXPECT_EQ(ReflexName(Reflex::kGtoPress), "gto_press");
+}
+
+}  // namespace
+}  // namespace climbsim::reflex
