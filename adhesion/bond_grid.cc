@@ -1,0 +1,396 @@
+#include "adhesion/bond_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace climbsim::adhesion {
+namespace {
+
+template <class T>
+[[noreturn]] void Reject(const char* key, const char* rule, T value) {
+  std::ostringstream message;
+  message << "adhesion." << key << " must be " << rule << ", got " << value;
+  throw std::invalid_argument(message.str());
+}
+
+// Number of bonds that a bonded fraction asks for: round(fraction·n), clamped to [0, n].
+int CountFor(double fraction, int n) {
+  if (!(fraction > 0.0)) return 0;  // also NaN
+  if (fraction >= 1.0) return n;
+  return static_cast<int>(std::clamp<long>(std::lround(fraction * n), 0L, static_cast<long>(n)));
+}
+
+bool IsFinite(const PadLoad& load) {
+  return std::isfinite(load.fn_n) && std::isfinite(load.fx_n) && std::isfinite(load.fy_n) &&
+         std::isfinite(load.mx_nm) && std::isfinite(load.my_nm);
+}
+
+}  // namespace
+
+void ValidatePadParams(const PadParams& p) {
+  if (!(std::isfinite(p.width_m) && p.width_m > 0.0)) {
+    Reject("width_m", "> 0 and finite", p.width_m);
+  }
+  if (!(std::isfinite(p.length_m) && p.length_m > 0.0)) {
+    Reject("length_m", "> 0 and finite", p.length_m);
+  }
+  if (p.grid_x < 1 || p.grid_x > kMaxGridSide) Reject("grid_x", "in [1, 1024]", p.grid_x);
+  if (p.grid_y < 1 || p.grid_y > kMaxGridSide) Reject("grid_y", "in [1, 1024]", p.grid_y);
+  const long bonds = static_cast<long>(p.grid_x) * p.grid_y;
+  if (!(std::isfinite(p.sigma_t_pa) && p.sigma_t_pa > 0.0)) {
+    Reject("sigma_t_pa", "> 0 and finite", p.sigma_t_pa);
+  }
+  if (!(std::isfinite(p.mu) && p.mu >= 0.0)) Reject("mu", ">= 0 and finite", p.mu);
+  if (p.min_bonds < 1 || p.min_bonds > bonds) {
+    std::ostringstream rule;
+    rule << "in [1, grid_x*grid_y = " << bonds << "]";
+    Reject("min_bonds", rule.str().c_str(), p.min_bonds);
+  }
+}
+
+PadLoad PadLoadFromSurfaceWrench(const Eigen::Vector3d& force_on_pad_pad_n,
+                                 const Eigen::Vector3d& torque_on_pad_pad_nm) {
+  // The bond layer carries the opposite of what the surface exerts.
+  return PadLoad{.fn_n = -force_on_pad_pad_n.z(),
+                 .fx_n = -force_on_pad_pad_n.x(),
+                 .fy_n = -force_on_pad_pad_n.y(),
+                 .mx_nm = -torque_on_pad_pad_nm.x(),
+                 .my_nm = -torque_on_pad_pad_nm.y()};
+}
+
+BondGrid::BondGrid(const PadParams& params) : params_(params) {
+  ValidatePadParams(params_);
+  const int nx = params_.grid_x;
+  const int ny = params_.grid_y;
+  const double b = params_.width_m;
+  const double h = params_.length_m;
+  cell_area_m2_ = b * h / (static_cast<double>(nx) * ny);
+  sigma_t_sq_ = params_.sigma_t_pa * params_.sigma_t_pa;
+  hinge_nm_ = kHingeMomentTolerance * params_.sigma_t_pa * b * h * std::max(b, h);
+  unit_x_m_ = b / (2.0 * nx);
+  unit_y_m_ = h / (2.0 * ny);
+
+  // Cell centres, written so that mirror cells have exactly opposite coordinates.
+  col_x_m_.resize(nx);
+  col_v_.resize(nx);
+  for (int ix = 0; ix < nx; ++ix) {
+    col_x_m_[ix] = (2 * ix + 1 - nx) * unit_x_m_;
+    col_v_[ix] = b * b / 4.0 - col_x_m_[ix] * col_x_m_[ix];
+  }
+  row_y_m_.resize(ny);
+  row_w_.resize(ny);
+  for (int iy = 0; iy < ny; ++iy) {
+    row_y_m_[iy] = (2 * iy + 1 - ny) * unit_y_m_;
+    row_w_[iy] = h * h / 4.0 - row_y_m_[iy] * row_y_m_[iy];
+  }
+
+  // Centre-out order in normalised coordinates, ties by index.
+  const int n = nx * ny;
+  std::vector<double> key(n);
+  for (int i = 0; i < n; ++i) {
+    const double u = 2.0 * bond_x_m(i) / b;
+    const double v = 2.0 * bond_y_m(i) / h;
+    key[i] = u * u + v * v;
+  }
+  centre_out_.resize(n);
+  std::iota(centre_out_.begin(), centre_out_.end(), 0);
+  std::stable_sort(centre_out_.begin(), centre_out_.end(),
+                   [&key](int a, int c) { return key[a] < key[c]; });
+
+  // The moment sums of the full pad, for BondAll.
+  for (int i = 0; i < n; ++i) {
+    const int64_t kx = 2 * ix_of(i) + 1 - nx;
+    const int64_t ky = 2 * iy_of(i) + 1 - ny;
+    full_sums_.n += 1;
+    full_sums_.kx += kx;
+    full_sums_.ky += ky;
+    full_sums_.kxx += kx * kx;
+    full_sums_.kyy += ky * ky;
+    full_sums_.kxy += kx * ky;
+  }
+
+  state_.assign(n, static_cast<uint8_t>(BondState::kUnbonded));
+  col_count_.assign(nx, 0);
+  row_count_.assign(ny, 0);
+  col_sigma_.assign(nx, 0.0);
+  row_sigma_.assign(ny, 0.0);
+  col_tau3_.assign(nx, 0.0);
+  row_tau3_.assign(ny, 0.0);
+  broken_log_.resize(n);
+}
+
+void BondGrid::BondAll() {
+  std::fill(state_.begin(), state_.end(), static_cast<uint8_t>(BondState::kBonded));
+  std::fill(col_count_.begin(), col_count_.end(), params_.grid_y);
+  std::fill(row_count_.begin(), row_count_.end(), params_.grid_x);
+  bonded_count_ = size();
+  sums_ = full_sums_;
+}
+
+void BondGrid::Release() {
+  std::fill(state_.begin(), state_.end(), static_cast<uint8_t>(BondState::kUnbonded));
+  std::fill(col_count_.begin(), col_count_.end(), 0);
+  std::fill(row_count_.begin(), row_count_.end(), 0);
+  bonded_count_ = 0;
+  sums_ = MomentSums{};
+}
+
+void BondGrid::BondFraction(double fraction) {
+  Release();
+  const int target = CountFor(fraction, size());
+  for (int k = 0; k < target; ++k) SetState(centre_out_[k], BondState::kBonded);
+}
+
+int BondGrid::Grow(double fraction) {
+  const int target = CountFor(fraction, size());
+  int added = 0;
+  for (int k = 0; k < size() && bonded_count_ < target; ++k) {
+    const int i = centre_out_[k];
+    if (state(i) == BondState::kUnbonded) {
+      SetState(i, BondState::kBonded);
+      ++added;
+    }
+  }
+  return added;
+}
+
+void BondGrid::SetBonded(int index, bool bonded) {
+  if (index < 0 || index >= size()) {
+    throw std::out_of_range("BondGrid::SetBonded: index " + std::to_string(index) +
+                            " outside [0, " + std::to_string(size()) + ")");
+  }
+  SetState(index, bonded ? BondState::kBonded : BondState::kUnbonded);
+}
+
+void BondGrid::SetState(int index, BondState new_state) {
+  const bool was = bonded(index);
+  const bool now = new_state == BondState::kBonded;
+  state_[index] = static_cast<uint8_t>(new_state);
+  if (was == now) return;
+  const int ix = ix_of(index);
+  const int iy = iy_of(index);
+  const int step = now ? 1 : -1;
+  col_count_[ix] += step;
+  row_count_[iy] += step;
+  bonded_count_ += step;
+  const int64_t kx = 2 * ix + 1 - params_.grid_x;
+  const int64_t ky = 2 * iy + 1 - params_.grid_y;
+  sums_.n += step;
+  sums_.kx += step * kx;
+  sums_.ky += step * ky;
+  sums_.kxx += step * kx * kx;
+  sums_.kyy += step * ky * ky;
+  sums_.kxy += step * kx * ky;
+}
+
+void BondGrid::ClearField() {
+  std::fill(col_sigma_.begin(), col_sigma_.end(), 0.0);
+  std::fill(row_sigma_.begin(), row_sigma_.end(), 0.0);
+  std::fill(col_tau3_.begin(), col_tau3_.end(), 0.0);
+  std::fill(row_tau3_.begin(), row_tau3_.end(), 0.0);
+  tau_x_per_w_ = 0.0;
+  tau_y_per_v_ = 0.0;
+  unsupported_ = false;
+}
+
+void BondGrid::ComputeField(const PadLoad& load) {
+  const int n = bonded_count_;
+  if (n == 0) {
+    ClearField();
+    return;
+  }
+  const int nx = params_.grid_x;
+  const int ny = params_.grid_y;
+  const double da = cell_area_m2_;
+
+  // Centroid, exact in grid units (0 exactly for a set symmetric about the pad centre).
+  const double x_c = static_cast<double>(sums_.kx) / n * unit_x_m_;
+  const double y_c = static_cast<double>(sums_.ky) / n * unit_y_m_;
+
+  // Centred second moments: n·Σ(k − k̄)² and the like are exact integers (< 2^61 within the
+  // grid limits), so whether the set is a line or a point is decided exactly.
+  const __int128 cxx = static_cast<__int128>(sums_.n) * sums_.kxx - static_cast<__int128>(sums_.kx) * sums_.kx;
+  const __int128 cyy = static_cast<__int128>(sums_.n) * sums_.kyy - static_cast<__int128>(sums_.ky) * sums_.ky;
+  const __int128 cxy = static_cast<__int128>(sums_.n) * sums_.kxy - static_cast<__int128>(sums_.kx) * sums_.ky;
+  const bool is_point = cxx == 0 && cyy == 0;
+  const bool is_line = !is_point && cxx * cyy == cxy * cxy;
+  const double scale = da / n;
+  const double i_y = static_cast<double>(cxx) * unit_x_m_ * unit_x_m_ * scale;  // Σ(x − x_c)²dA
+  const double i_x = static_cast<double>(cyy) * unit_y_m_ * unit_y_m_ * scale;  // Σ(y − y_c)²dA
+  const double i_xy = static_cast<double>(cxy) * unit_x_m_ * unit_y_m_ * scale;
+
+  // The moments about the bonded centroid, as the right-hand side p = −M_y^c, q = M_x^c of
+  // [I_y I_xy; I_xy I_x]·(g_x, g_y) = (p, q).
+  unsupported_ = false;
+  const double p = -(load.my_nm + x_c * load.fn_n);
+  const double q = load.mx_nm - y_c * load.fn_n;
+  double g_x = 0.0, g_y = 0.0;  // dσ/dx, dσ/dy
+  if (is_point) {
+    // A single bond: a hinge about every axis.
+    if (std::hypot(p, q) > hinge_nm_) unsupported_ = true;
+  } else if (is_line) {
+    // A line with direction d: the gradient runs along d, the moment about d is unsupported.
+    double dx = i_y, dy = i_xy;  // a column of the rank-1 matrix, ∥ d
+    if (std::abs(dx) + std::abs(dy) == 0.0) {
+      dx = i_xy;
+      dy = i_x;
+    }
+    const double norm = std::hypot(dx, dy);
+    dx /= norm;
+    dy /= norm;
+    const double along = p * dx + q * dy;   // m·d
+    const double about = q * dx - p * dy;   // m·d⊥ = M^c·d, the moment about the line
+    if (std::abs(about) > hinge_nm_) unsupported_ = true;
+    const double lambda = i_x + i_y;        // the one nonzero eigenvalue
+    g_x = along / lambda * dx;
+    g_y = along / lambda * dy;
+  } else {
+    const double det = i_x * i_y - i_xy * i_xy;
+    g_x = (p * i_x - q * i_xy) / det;
+    g_y = (q * i_y - p * i_xy) / det;
+  }
+
+  // Parabolic shears normalised over the bonded set.
+  double sum_v = 0.0;
+  for (int ix = 0; ix < nx; ++ix) sum_v += col_count_[ix] * col_v_[ix];
+  double sum_w = 0.0;
+  for (int iy = 0; iy < ny; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+  tau_x_per_w_ = 0.0;
+  if (sum_w > 0.0) {
+    tau_x_per_w_ = load.fx_n / (sum_w * da);
+  } else if (load.fx_n != 0.0) {
+    unsupported_ = true;
+  }
+  tau_y_per_v_ = 0.0;
+  if (sum_v > 0.0) {
+    tau_y_per_v_ = load.fy_n / (sum_v * da);
+  } else if (load.fy_n != 0.0) {
+    unsupported_ = true;
+  }
+
+  // The separable parts: σ = col_sigma + row_sigma, 3τ² = col_tau3 + row_tau3.
+  const double sigma0 = load.fn_n / (n * da);
+  for (int ix = 0; ix < nx; ++ix) {
+    col_sigma_[ix] = sigma0 + g_x * (col_x_m_[ix] - x_c);
+    const double tau_y = tau_y_per_v_ * col_v_[ix];
+    col_tau3_[ix] = 3.0 * tau_y * tau_y;
+  }
+  for (int iy = 0; iy < ny; ++iy) {
+    row_sigma_[iy] = g_y * (row_y_m_[iy] - y_c);
+    const double tau_x = tau_x_per_w_ * row_w_[iy];
+    row_tau3_[iy] = 3.0 * tau_x * tau_x;
+  }
+}
+
+StressSummary BondGrid::CheckBonds(bool do_break, int round) {
+  StressSummary summary;
+  if (bonded_count_ == 0) return summary;
+  const int nx = params_.grid_x;
+  const int ny = params_.grid_y;
+  const double sigma_t = params_.sigma_t_pa;
+  const double mu = params_.mu;
+  double max_sigma = -std::numeric_limits<double>::infinity();
+  double max_vm_sq = 0.0;
+  double max_tension_sq = 0.0;     // largest σ² + 3τ² among bonds in tension
+  double max_compression_u2 = 0.0; // largest 3τ²/(σ_T + μ|σ|)² among bonds in compression
+  int over = 0;
+  for (int iy = 0; iy < ny; ++iy) {
+    if (row_count_[iy] == 0) continue;
+    const double row_sigma = row_sigma_[iy];
+    const double row_tau3 = row_tau3_[iy];
+    const int base = iy * nx;
+    for (int ix = 0; ix < nx; ++ix) {
+      if (state_[base + ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
+      const double sigma = col_sigma_[ix] + row_sigma;
+      const double tau3 = col_tau3_[ix] + row_tau3;
+      const double vm_sq = sigma * sigma + tau3;
+      max_sigma = std::max(max_sigma, sigma);
+      max_vm_sq = std::max(max_vm_sq, vm_sq);
+      // Rupture, compared in squares (seed eqs. 7–8).
+      bool breaks;
+      if (sigma >= 0.0) {
+        breaks = vm_sq >= sigma_t_sq_;
+        max_tension_sq = std::max(max_tension_sq, vm_sq);
+      } else {
+        const double threshold = sigma_t - mu * sigma;
+        const double threshold_sq = threshold * threshold;
+        breaks = tau3 >= threshold_sq;
+        max_compression_u2 = std::max(max_compression_u2, tau3 / threshold_sq);
+      }
+      if (!(breaks || unsupported_)) continue;
+      ++over;
+      if (do_break) {
+        SetState(base + ix, BondState::kBroken);
+        broken_log_[broken_count_++] = BrokenBond{.index = base + ix, .round = round};
+      }
+    }
+  }
+  summary.peak_sigma_pa = max_sigma;
+  summary.peak_von_mises_pa = std::sqrt(max_vm_sq);
+  summary.peak_utilisation =
+      unsupported_ ? std::numeric_limits<double>::infinity()
+                   : std::sqrt(std::max(max_tension_sq / sigma_t_sq_, max_compression_u2));
+  summary.over_threshold = over;
+  summary.load_unsupported = unsupported_;
+  return summary;
+}
+
+BondGrid::UpdateResult BondGrid::Update(const PadLoad& load_pad) {
+  UpdateResult result;
+  broken_count_ = 0;
+  if (!IsFinite(load_pad)) {
+    ClearField();
+    result.load_finite = false;
+    result.detached = detached();
+    return result;
+  }
+  // Rounds of the cascade until one breaks nothing (at most one per bond, plus one).
+  while (true) {
+    ComputeField(load_pad);
+    const StressSummary summary = CheckBonds(/*do_break=*/true, result.rounds + 1);
+    if (summary.over_threshold == 0) {
+      result.field = summary;
+      break;
+    }
+    ++result.rounds;
+    result.broken += summary.over_threshold;
+  }
+  result.detached = detached();
+  return result;
+}
+
+StressSummary BondGrid::Evaluate(const PadLoad& load_pad) {
+  if (!IsFinite(load_pad)) {
+    ClearField();
+    return StressSummary{};
+  }
+  ComputeField(load_pad);
+  return CheckBonds(/*do_break=*/false, 0);
+}
+
+BondStress BondGrid::stress(int index) const {
+  BondStress s;
+  if (!bonded(index)) return s;
+  const int ix = ix_of(index);
+  const int iy = iy_of(index);
+  s.sigma_pa = col_sigma_[ix] + row_sigma_[iy];
+  s.tau_x_pa = tau_x_per_w_ * row_w_[iy];
+  s.tau_y_pa = tau_y_per_v_ * col_v_[ix];
+  const double tau3 = 3.0 * (s.tau_x_pa * s.tau_x_pa + s.tau_y_pa * s.tau_y_pa);
+  s.von_mises_pa = std::sqrt(s.sigma_pa * s.sigma_pa + tau3);
+  if (unsupported_) {
+    s.utilisation = std::numeric_limits<double>::infinity();
+  } else if (s.sigma_pa >= 0.0) {
+    s.utilisation = s.von_mises_pa / params_.sigma_t_pa;
+  } else {
+    s.utilisation = std::sqrt(tau3) / (params_.sigma_t_pa - params_.mu * s.sigma_pa);
+  }
+  return s;
+}
+
+}  // namespace climbsim::adhesion
