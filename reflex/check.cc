@@ -47,9 +47,8 @@ void CheckRange(std::string_view path, double value, double low, double high, bo
   const bool below = open_low ? !(value > low) : !(value >= low);
   const bool above = open_high ? !(value < high) : !(value <= high);
   if (!std::isfinite(value) || below || above) {
-    const std::string requirement = "in " + std::string(open_low ? "(" : "[") +
-                                    FormatValue(low) + ", " + FormatValue(high) +
-                                    (open_high ? ")" : "]");
+    const std::string requirement = "in " + std::string(open_low ? "(" : "[") + FormatValue(low) +
+                                    ", " + FormatValue(high) + (open_high ? ")" : "]");
     ThrowInvalid(path, requirement, value);
   }
 }
@@ -61,8 +60,9 @@ int DurationToSamples(std::string_view path, double duration_s, double dt_s, boo
   CheckNonNegative(path, duration_s);
   const double samples = duration_s / dt_s;
   if (samples > kMaxDurationSamples) {
-    ThrowInvalid(path, "at most " + FormatValue(kMaxDurationSamples * dt_s) +
-                           " s (1e8 control periods of dt_s = " + FormatValue(dt_s) + " s)",
+    ThrowInvalid(path,
+                 "at most " + FormatValue(kMaxDurationSamples * dt_s) +
+                     " s (1e8 control periods of dt_s = " + FormatValue(dt_s) + " s)",
                  duration_s);
   }
   const int n = static_cast<int>(std::lround(samples));

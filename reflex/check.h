@@ -15,15 +15,14 @@ std::string FormatValue(double value);
 // "<name>.<field>", or "<field>" when name is empty.
 std::string FieldPath(std::string_view name, std::string_view field);
 
-[[noreturn]] void ThrowInvalid(std::string_view path, std::string_view requirement,
-                               double value);
+[[noreturn]] void ThrowInvalid(std::string_view path, std::string_view requirement, double value);
 
 void CheckFinite(std::string_view path, double value);
 void CheckNonNegative(std::string_view path, double value);  // finite and >= 0
 void CheckPositive(std::string_view path, double value);     // finite and > 0
 // finite and in [low, high] (or (low, high] when open_low, [low, high) when open_high).
-void CheckRange(std::string_view path, double value, double low, double high,
-                bool open_low = false, bool open_high = false);
+void CheckRange(std::string_view path, double value, double low, double high, bool open_low = false,
+                bool open_high = false);
 void CheckPeriod(double dt_s);  // "dt_s must be finite and > 0"
 
 // A duration (finite, >= 0) as a whole number of control periods, rounded like the delays.

@@ -76,10 +76,9 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
   CheckNonNegative(FieldPath(peel, "knee_lift_rad"), params.peel.knee_lift_rad);
   CheckNonNegative(FieldPath(peel, "hip_pitch_lift_rad"), params.peel.hip_pitch_lift_rad);
   CheckRange(FieldPath(peel, "swing_fraction"), params.peel.swing_fraction, 0.0, 1.0, true);
-  CheckRange(FieldPath(peel, "knee_end_fraction"), params.peel.knee_end_fraction, 0.0, 1.0,
-             true);
-  CheckRange(FieldPath(peel, "hip_pitch_start_fraction"), params.peel.hip_pitch_start_fraction,
-             0.0, 1.0, false, true);
+  CheckRange(FieldPath(peel, "knee_end_fraction"), params.peel.knee_end_fraction, 0.0, 1.0, true);
+  CheckRange(FieldPath(peel, "hip_pitch_start_fraction"), params.peel.hip_pitch_start_fraction, 0.0,
+             1.0, false, true);
 
   // Re-grip.
   DurationToSamples(FieldPath(FieldPath(name, "regrip"), "hold_others_s"),
@@ -93,8 +92,7 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
   Validate(params.gto.press, dt_s, FieldPath(gto, "press"));
   CheckNonNegative(FieldPath(gto, "press.gain"), params.gto.press.gain);
   CheckNonNegative(FieldPath(gto, "press_max_offset_rad"), params.gto.press_max_offset_rad);
-  CheckRange(FieldPath(gto, "full_bond_fraction"), params.gto.full_bond_fraction, 0.0, 1.0,
-             true);
+  CheckRange(FieldPath(gto, "full_bond_fraction"), params.gto.full_bond_fraction, 0.0, 1.0, true);
 
   // Spindles.
   for (int j = 0; j < kLegJoints; ++j) {
@@ -110,8 +108,7 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
       dt_s_(dt_s),
       preload_ramp_samples_(DurationToSamples("", params.preload.ramp_s, dt_s, false)),
       preload_max_samples_(DurationToSamples("", params.preload.max_duration_s, dt_s, true)),
-      search_attempt_samples_(
-          DurationToSamples("", params.search.attempt_duration_s, dt_s, true)),
+      search_attempt_samples_(DurationToSamples("", params.search.attempt_duration_s, dt_s, true)),
       search_release_samples_(DurationToSamples("", params.search.release_s, dt_s, false)),
       regrip_samples_(DurationToSamples("", params.regrip.hold_others_s, dt_s, false)),
       hold_gto_(params.gto.hold, dt_s),
@@ -250,10 +247,9 @@ LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
   // Offsets. Preload: linear ramp, (m + 1)/n_ramp of full at the m-th period.
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   if (st.preloading) {
-    const double ramp =
-        preload_ramp_samples_ == 0
-            ? 1.0
-            : std::min(1.0, (st.preload_samples + 1.0) / preload_ramp_samples_);
+    const double ramp = preload_ramp_samples_ == 0
+                            ? 1.0
+                            : std::min(1.0, (st.preload_samples + 1.0) / preload_ramp_samples_);
     offset[kHipPitch] -= p.preload.hip_pitch_press_rad * ramp;
     offset[kKnee] -= p.preload.knee_press_rad * ramp;
     Fire(&out, st.preload_trigger == LegEventReason::kRegrip ? Reflex::kRegrip : Reflex::kPreload);
@@ -262,13 +258,10 @@ LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
   // Search: reach ρ = m/(N·n_a) plus a lift bump sin(π·s) within each attempt.
   if (st.searching) {
     const int m = st.search_samples;
-    const double rho =
-        static_cast<double>(m) / (p.search.max_attempts * search_attempt_samples_);
-    const double s =
-        static_cast<double>(m % search_attempt_samples_) / search_attempt_samples_;
+    const double rho = static_cast<double>(m) / (p.search.max_attempts * search_attempt_samples_);
+    const double s = static_cast<double>(m % search_attempt_samples_) / search_attempt_samples_;
     const double lift = p.search.lift_rad * std::sin(std::numbers::pi * s);
-    st.search_offset_rad = {p.search.reach_yaw_rad * rho,
-                            lift - p.search.reach_pitch_rad * rho,
+    st.search_offset_rad = {p.search.reach_yaw_rad * rho, lift - p.search.reach_pitch_rad * rho,
                             lift - p.search.reach_knee_rad * rho};
     offset += st.search_offset_rad;
     Fire(&out, Reflex::kSearch);
@@ -352,44 +345,70 @@ bool LegEvents::Contains(LegEventType type) const {
 
 std::string_view EventName(LegEventType type) {
   switch (type) {
-    case LegEventType::kPreloadStart: return "preload_start";
-    case LegEventType::kPreloadEnd: return "preload_end";
-    case LegEventType::kSearchStart: return "search_start";
-    case LegEventType::kSearchEnd: return "search_end";
-    case LegEventType::kPeel: return "peel";
-    case LegEventType::kRegrip: return "regrip";
-    case LegEventType::kGtoHold: return "gto_hold";
-    case LegEventType::kSpindle: return "spindle";
+    case LegEventType::kPreloadStart:
+      return "preload_start";
+    case LegEventType::kPreloadEnd:
+      return "preload_end";
+    case LegEventType::kSearchStart:
+      return "search_start";
+    case LegEventType::kSearchEnd:
+      return "search_end";
+    case LegEventType::kPeel:
+      return "peel";
+    case LegEventType::kRegrip:
+      return "regrip";
+    case LegEventType::kGtoHold:
+      return "gto_hold";
+    case LegEventType::kSpindle:
+      return "spindle";
   }
   return "unknown";
 }
 
 std::string_view ReasonName(LegEventReason reason) {
   switch (reason) {
-    case LegEventReason::kNone: return "";
-    case LegEventReason::kTouchdown: return "touchdown";
-    case LegEventReason::kRegrip: return "regrip";
-    case LegEventReason::kAttached: return "attached";
-    case LegEventReason::kForceLimit: return "force_limit";
-    case LegEventReason::kTimeLimit: return "time_limit";
-    case LegEventReason::kSwingStarted: return "swing_started";
-    case LegEventReason::kFound: return "found";
-    case LegEventReason::kAttemptsExhausted: return "attempts_exhausted";
-    case LegEventReason::kLoad: return "load";
-    case LegEventReason::kPartnerDetached: return "partner_detached";
+    case LegEventReason::kNone:
+      return "";
+    case LegEventReason::kTouchdown:
+      return "touchdown";
+    case LegEventReason::kRegrip:
+      return "regrip";
+    case LegEventReason::kAttached:
+      return "attached";
+    case LegEventReason::kForceLimit:
+      return "force_limit";
+    case LegEventReason::kTimeLimit:
+      return "time_limit";
+    case LegEventReason::kSwingStarted:
+      return "swing_started";
+    case LegEventReason::kFound:
+      return "found";
+    case LegEventReason::kAttemptsExhausted:
+      return "attempts_exhausted";
+    case LegEventReason::kLoad:
+      return "load";
+    case LegEventReason::kPartnerDetached:
+      return "partner_detached";
   }
   return "unknown";
 }
 
 std::string_view ReflexName(Reflex reflex) {
   switch (reflex) {
-    case Reflex::kPreload: return "preload";
-    case Reflex::kSearch: return "search";
-    case Reflex::kPeel: return "peel";
-    case Reflex::kRegrip: return "regrip";
-    case Reflex::kGtoHold: return "gto_hold";
-    case Reflex::kGtoPress: return "gto_press";
-    case Reflex::kSpindle: return "spindle";
+    case Reflex::kPreload:
+      return "preload";
+    case Reflex::kSearch:
+      return "search";
+    case Reflex::kPeel:
+      return "peel";
+    case Reflex::kRegrip:
+      return "regrip";
+    case Reflex::kGtoHold:
+      return "gto_hold";
+    case Reflex::kGtoPress:
+      return "gto_press";
+    case Reflex::kSpindle:
+      return "spindle";
   }
   return "unknown";
 }

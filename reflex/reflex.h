@@ -27,9 +27,11 @@
 //     length (spindle) and force (GTO) feedback, positive force feedback in stance.
 //   SCONE's reflex form: u = C0 + K_F·[F̃(t−Δ) − F0] + K_L·[l̃(t−Δ) − L0] + K_V·[ṽ(t−Δ) − V0]₊.
 //   Ekeberg Ö, Pearson K (2005) J Neurophysiol 94:4256: a leg leaves stance when unloaded.
-//   Tian Y et al. (2006) PNAS 103:19320 and Autumn K et al. (2006) J Exp Biol 209:3569:
-//     geckos detach a toe by hyperextending it (rolling it up and back), not by a normal pull.
+//   Tian Y et al. (2006) PNAS 103:19320: geckos detach by rolling their toes up and back
+//     (hyperextension), which cuts adhesion by orders of magnitude; Autumn K et al. (2006)
+//     J Exp Biol 209:3569 find the toe releases at a critical angle rather than like tape.
 //   Kendall K (1975) J Phys D 8:1449: peeling needs far less force than a normal pull-off.
+//   Dürr V (2001) J Exp Biol 204:1589: a leg that finds no ground searches in rhythmic loops.
 #ifndef CLIMBSIM_REFLEX_REFLEX_H_
 #define CLIMBSIM_REFLEX_REFLEX_H_
 
@@ -84,11 +86,11 @@ class DelayLine {
 // One joint's stretch reflex (Geyer and Herr 2010; SCONE's K_L, L0, K_V, V0 terms).
 // Defaults suit the ~100 g gecko robot: a 0.2 rad stretch gives a 0.075 rad offset after 10 ms.
 struct SpindleParams {
-  double length_gain = 0.5;                  // K_L, rad of offset per rad of stretch, >= 0
-  double velocity_gain_s = 0.02;             // K_V, rad of offset per rad/s of stretch rate, >= 0
-  double length_threshold_rad = 0.05;        // L0, dead zone on the stretch, >= 0
-  double velocity_threshold_rad_per_s = 0.5; // V0, dead zone on the stretch rate, >= 0
-  double delay_s = 0.01;                     // Δ, >= 0, rounded to whole samples
+  double length_gain = 0.5;                   // K_L, rad of offset per rad of stretch, >= 0
+  double velocity_gain_s = 0.02;              // K_V, rad of offset per rad/s of stretch rate, >= 0
+  double length_threshold_rad = 0.05;         // L0, dead zone on the stretch, >= 0
+  double velocity_threshold_rad_per_s = 0.5;  // V0, dead zone on the stretch rate, >= 0
+  double delay_s = 0.01;                      // Δ, >= 0, rounded to whole samples
 };
 
 // Throws std::invalid_argument ("<name>.<field> must be ..., got <value>") unless every field is
@@ -164,7 +166,7 @@ class GtoReflex {
 
   const GtoParams& params() const { return params_; }
   int delay_samples() const { return load_delay_.delay_samples(); }
-  bool loaded() const { return loaded_; }              // F̃(t−Δ) > F0 at the last Update
+  bool loaded() const { return loaded_; }                // F̃(t−Δ) > F0 at the last Update
   double delayed_load() const { return delayed_load_; }  // F̃(t−Δ) at the last Update
   int64_t nonfinite_inputs() const { return nonfinite_inputs_; }
 
@@ -187,18 +189,18 @@ inline constexpr int kLegJoints = 3;
 // Press on touchdown (and on re-grip) until the pad attaches or a limit is reached.
 // The offset ramps linearly from 1/n_ramp of full at the first period to full after ramp_s.
 struct PreloadParams {
-  bool enabled = true;               // the touchdown preload; re-grip presses even if false
-  double hip_pitch_press_rad = 0.15; // full press on hip pitch, >= 0, applied as −0.15 rad
-  double knee_press_rad = 0.10;      // full press on the knee, >= 0, applied as −0.10 rad
-  double ramp_s = 0.05;              // time to full press, >= 0 (0: full at once)
-  double force_limit_n = 1.0;        // stop once the compressive preload reaches this, > 0
-  double max_duration_s = 0.2;       // stop after this long, >= one control period
+  bool enabled = true;                // the touchdown preload; re-grip presses even if false
+  double hip_pitch_press_rad = 0.15;  // full press on hip pitch, >= 0, applied as −0.15 rad
+  double knee_press_rad = 0.10;       // full press on the knee, >= 0, applied as −0.10 rad
+  double ramp_s = 0.05;               // time to full press, >= 0 (0: full at once)
+  double force_limit_n = 1.0;         // stop once the compressive preload reaches this, > 0
+  double max_duration_s = 0.2;        // stop after this long, >= one control period
 };
 
 // Search when a swing ends without touchdown: reach further towards the surface, with a lift
 // in each attempt so that the pad is re-placed rather than dragged. Attempt k = 0..N−1 runs
 // for n_a samples; with s = (sample within the attempt)/n_a ∈ [0, 1) and the reach fraction
-// ρ = (k + s)/N growing without jumps from 0 to 1 over all attempts:
+// ρ = (k + s)/N, which grows without jumps from 0 (the first period: no offset) towards 1:
 //   hip_yaw   = +reach_yaw_rad·ρ
 //   hip_pitch = −reach_pitch_rad·ρ + lift_rad·sin(π·s)
 //   knee      = −reach_knee_rad·ρ  + lift_rad·sin(π·s)
@@ -206,19 +208,19 @@ struct PreloadParams {
 // linearly over release_s (as after the last attempt fails).
 struct SearchParams {
   bool enabled = true;
-  double reach_yaw_rad = 0.10;         // full forward reach, >= 0
-  double reach_pitch_rad = 0.20;       // full extension towards the surface on hip pitch, >= 0
-  double reach_knee_rad = 0.10;        // full extension towards the surface on the knee, >= 0
-  double lift_rad = 0.08;              // peak lift within each attempt, >= 0
-  double attempt_duration_s = 0.15;    // one attempt, >= one control period
-  int max_attempts = 3;                // N >= 1
-  double release_s = 0.1;              // fade of the held offset, >= 0 (0: at once)
+  double reach_yaw_rad = 0.10;       // full forward reach, >= 0
+  double reach_pitch_rad = 0.20;     // full extension towards the surface on hip pitch, >= 0
+  double reach_knee_rad = 0.10;      // full extension towards the surface on the knee, >= 0
+  double lift_rad = 0.08;            // peak lift within each attempt, >= 0
+  double attempt_duration_s = 0.15;  // one attempt, >= one control period
+  int max_attempts = 3;              // N >= 1
+  double release_s = 0.1;            // fade of the held offset, >= 0 (0: at once)
 };
 
-// Peel at swing onset while still attached. With s = swing progress / swing_fraction ∈ [0, 1]
-// and the bump b(u) = sin²(π·u) for u ∈ [0, 1], 0 outside:
+// Peel at swing onset while still attached. With s = swing progress / swing_fraction ∈ [0, 1],
+// h = hip_pitch_start_fraction and the bump b(u) = sin²(π·u) for u ∈ [0, 1], 0 outside:
 //   knee      = +knee_lift_rad·b(s / knee_end_fraction)
-//   hip_pitch = +hip_pitch_lift_rad·b((s − hip_pitch_start_fraction)/(1 − hip_pitch_start_fraction))
+//   hip_pitch = +hip_pitch_lift_rad·b((s − h) / (1 − h))
 // The knee leads: flexing it first tilts the pad, lifting its heel (trailing, proximal edge)
 // while the toe edge still holds, so the pad carries a peeling moment M. Over a bonded b×h pad
 // the edge stress is F/(b·h) + 6·M/(b·h²) (DESIGN.md §3), so the edge row breaks and a crack
@@ -229,11 +231,11 @@ struct SearchParams {
 // the robot's geometry (mjcf/): the sim checks it, this module only schedules.
 struct PeelParams {
   bool enabled = true;
-  double knee_lift_rad = 0.25;           // peak knee flexion, >= 0
-  double hip_pitch_lift_rad = 0.15;      // peak hip pitch lift, >= 0
-  double swing_fraction = 0.3;           // share of the swing the schedule spans, in (0, 1]
-  double knee_end_fraction = 0.6;        // knee bump over s ∈ [0, this], in (0, 1]
-  double hip_pitch_start_fraction = 0.4; // hip bump over s ∈ [this, 1], in [0, 1)
+  double knee_lift_rad = 0.25;            // peak knee flexion, >= 0
+  double hip_pitch_lift_rad = 0.15;       // peak hip pitch lift, >= 0
+  double swing_fraction = 0.3;            // share of the swing the schedule spans, in (0, 1]
+  double knee_end_fraction = 0.6;         // knee bump over s ∈ [0, this], in (0, 1]
+  double hip_pitch_start_fraction = 0.4;  // hip bump over s ∈ [this, 1], in [0, 1)
 };
 
 // Re-grip: a pad that loses bonds during stance while it was attached (it should be holding)
@@ -255,8 +257,8 @@ struct RegripParams {
 // it would leave the pair without a grip).
 struct GtoHoldParams {
   bool enabled = true;
-  GtoParams hold{.gain = 0.2, .threshold = 0.15, .delay_s = 0.01};   // rad/N, N, s; gain >= 0
-  double hold_max_offset_rad = 0.15;                                 // >= 0
+  GtoParams hold{.gain = 0.2, .threshold = 0.15, .delay_s = 0.01};  // rad/N, N, s; gain >= 0
+  double hold_max_offset_rad = 0.15;                                // >= 0
   bool count_compression = false;  // true on floors: a weight-bearing leg is loaded too
   GtoParams press{.gain = 0.1, .threshold = 0.05, .delay_s = 0.01};  // rad/N, N, s; gain >= 0
   double press_max_offset_rad = 0.10;                                // >= 0
@@ -287,17 +289,17 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name 
 
 // What the simulator tells a leg once per control period.
 struct LegSensing {
-  bool stance = false;          // the CPG's phase for this leg: true = stance, false = swing
-  double phase_progress = 0.0;  // progress within the current phase, 0..1 (clamped)
-  bool touching = false;        // the pad touches a surface
-  bool attached = false;        // the pad is attached (weld on)
-  double bonded_fraction = 0.0; // bonded share of the pad, 0..1
-  double normal_load_n = 0.0;   // pad normal force, N; + pulls the pad off (adhesive load)
-  double preload_n = 0.0;       // compressive contact force pressing the pad on, N, >= 0
-  bool bonds_lost = false;      // the pad lost bonds this period
+  bool stance = false;           // the CPG's phase for this leg: true = stance, false = swing
+  double phase_progress = 0.0;   // progress within the current phase, 0..1 (clamped)
+  bool touching = false;         // the pad touches a surface
+  bool attached = false;         // the pad is attached (weld on)
+  double bonded_fraction = 0.0;  // bonded share of the pad, 0..1
+  double normal_load_n = 0.0;    // pad normal force, N; + pulls the pad off (adhesive load)
+  double preload_n = 0.0;        // compressive contact force pressing the pad on, N, >= 0
+  bool bonds_lost = false;       // the pad lost bonds this period
   Eigen::Vector3d stretch_rad = Eigen::Vector3d::Zero();  // q − q_cpg per Joint
   Eigen::Vector3d stretch_velocity_rad_per_s = Eigen::Vector3d::Zero();
-  bool partner_attached = true; // the partner leg's pad is attached
+  bool partner_attached = true;  // the partner leg's pad is attached
 };
 
 enum class LegEventType : uint8_t {
@@ -313,16 +315,16 @@ enum class LegEventType : uint8_t {
 
 enum class LegEventReason : uint8_t {
   kNone,
-  kTouchdown,        // preload_start: the pad touched down in stance, not attached
-  kRegrip,           // preload_start: started by a re-grip
-  kAttached,         // preload_end: the pad attached during the preload
-  kForceLimit,       // preload_end: preload_n reached force_limit_n
-  kTimeLimit,        // preload_end: max_duration_s elapsed
-  kSwingStarted,     // preload_end/search_end: the CPG left stance anyway
-  kFound,            // search_end: the pad touched (or attached)
-  kAttemptsExhausted,// search_end: max_attempts done without touching
-  kLoad,             // gto_hold: the delayed load is above threshold
-  kPartnerDetached,  // gto_hold: the partner is not attached (and the leg is not loaded)
+  kTouchdown,          // preload_start: the pad touched down in stance, not attached
+  kRegrip,             // preload_start: started by a re-grip
+  kAttached,           // preload_end: the pad attached during the preload
+  kForceLimit,         // preload_end: preload_n reached force_limit_n
+  kTimeLimit,          // preload_end: max_duration_s elapsed
+  kSwingStarted,       // preload_end/search_end: the CPG left stance anyway
+  kFound,              // search_end: the pad touched (or attached)
+  kAttemptsExhausted,  // search_end: max_attempts done without touching
+  kLoad,               // gto_hold: the delayed load is above threshold
+  kPartnerDetached,    // gto_hold: the partner is not attached (and the leg is not loaded)
 };
 
 enum class Reflex : uint8_t { kPreload, kSearch, kPeel, kRegrip, kGtoHold, kGtoPress, kSpindle };
@@ -364,37 +366,50 @@ struct LegReflexOutput {
 
 // What a LegReflex remembers between periods; times are counted in control periods.
 struct LegReflexState {
+  // Preload: running, periods since its start, and what started it (kTouchdown or kRegrip).
   bool preloading = false;
-  int preload_samples = 0;          // periods since the preload started
-  LegEventReason preload_trigger = LegEventReason::kNone;  // kTouchdown or kRegrip
+  int preload_samples = 0;
+  LegEventReason preload_trigger = LegEventReason::kNone;
+  // Search: running, periods since its start, the last offset (held once found, until the
+  // swing starts), and the periods of release left.
   bool searching = false;
-  int search_samples = 0;           // periods since the search started
-  Eigen::Vector3d search_offset_rad = Eigen::Vector3d::Zero();  // last search offset
-  bool search_holding = false;      // found: the offset is held until swing onset
-  int search_release_left = 0;      // periods of release left (0: none)
+  int search_samples = 0;
+  Eigen::Vector3d search_offset_rad = Eigen::Vector3d::Zero();
+  bool search_holding = false;
+  int search_release_left = 0;
   bool peeling = false;
-  int regrip_left = 0;              // periods of hold_others left
+  int regrip_left = 0;  // periods of hold_others left
   bool gto_holding = false;
   bool spindle_active = false;
-  bool prev_stance = false;         // the last period's sensing; the first Update behaves
-  bool prev_touching = false;       // as if the leg had been in swing, in the air, detached
+  // The last period's sensing; the first Update behaves as if the leg had been in swing, in
+  // the air, detached.
+  bool prev_stance = false;
+  bool prev_touching = false;
   bool prev_attached = false;
-  int64_t nonfinite_inputs = 0;     // non-finite sensing values replaced by 0
+  int64_t nonfinite_inputs = 0;  // non-finite sensing values replaced by 0
 };
 
-// One leg's climbing reflexes, updated once per control period. The state machine:
+// One leg's climbing reflexes, updated once per control period. The state machine
+// (touchdown = stance ∧ touching now, not both last period):
 //
-//  reflex   | starts when (this period)                  | acts                         | ends when
-//  preload  | touchdown (stance ∧ touching now, not both | press ramp; hold_stance      | attach (edge), preload_n >=
-//           | last period) ∧ ¬attached                   |                              | limit, time limit, swing
-//  search   | swing → stance ∧ ¬touching ∧ ¬attached     | reach + lift; hold_stance    | touching ∨ attached (found),
-//           |                                            |                              | N attempts, swing
-//  peel     | stance → swing ∧ attached                  | knee, then hip pitch lift    | s >= 1 or stance
-//  regrip   | stance ∧ bonds_lost ∧ attached last period | preload (reason regrip);     | hold_others_s elapsed
-//           |                                            | hold_others                  |
-//  gto hold | delayed load > F0 (or partner detached)    | hold_stance; press           | unloaded
-//  gto press| stance ∧ attached ∧ bonded < full         | press ∝ delayed preload      | bond built
-//  spindle  | |stretch(t−Δ)| > L0 or |rate(t−Δ)| > V0    | resist the stretch           | inside the dead zones
+//  reflex    | starts when                     | acts                 | ends when (reason)
+//  ----------+---------------------------------+----------------------+------------------------
+//  preload   | touchdown ∧ ¬attached           | press ramp,          | attach edge (attached),
+//            |                                 | hold_stance          | preload_n >= limit
+//            |                                 |                      | (force_limit), time
+//            |                                 |                      | (time_limit), swing
+//  search    | swing → stance, ¬touching,      | reach + lift,        | touching ∨ attached
+//            | ¬attached                       | hold_stance          | (found), N attempts
+//            |                                 |                      | (attempts_exhausted),
+//            |                                 |                      | swing (swing_started)
+//  peel      | stance → swing ∧ attached       | knee, then hip lift  | s >= 1, or stance
+//  regrip    | stance ∧ bonds_lost ∧ attached  | preload (regrip),    | hold_others_s elapsed
+//            | last period                     | hold_others          |
+//  gto hold  | stance ∧ (delayed load > F0 ∨   | hold_stance, press   | unloaded ∧ partner
+//            | partner detached)               | if loaded            | attached
+//  gto press | stance ∧ attached ∧             | press ∝ delayed      | bond built
+//            | bonded < full_bond_fraction     | preload              |
+//  spindle   | |q̃(t−Δ)| > L0 ∨ |q̇(t−Δ)| > V0   | resist the stretch   | inside the dead zones
 //
 // A reflex whose `enabled` is false never acts and emits nothing. gto_hold and spindle emit
 // one event at onset (not every period); `fired` says every period which reflexes act.

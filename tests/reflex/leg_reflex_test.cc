@@ -37,9 +37,9 @@ LegReflexParams PreloadOnly() {
   p.preload.enabled = true;
   p.preload.hip_pitch_press_rad = 0.15;
   p.preload.knee_press_rad = 0.10;
-  p.preload.ramp_s = 0.05;          // 5 periods
+  p.preload.ramp_s = 0.05;  // 5 periods
   p.preload.force_limit_n = 1.0;
-  p.preload.max_duration_s = 0.2;   // 20 periods
+  p.preload.max_duration_s = 0.2;  // 20 periods
   return p;
 }
 
@@ -47,8 +47,8 @@ LegReflexParams PreloadOnly() {
 TEST(ReflexPreload, TouchdownPressesUntilAttached) {
   LegReflex leg(PreloadOnly(), kDt);
   Recorder rec(&leg);
-  rec.Step(Swing());                                    // #0
-  for (int m = 0; m < 7; ++m) {                         // #1..#7: touching, not attached
+  rec.Step(Swing());             // #0
+  for (int m = 0; m < 7; ++m) {  // #1..#7: touching, not attached
     const LegReflexOutput& out = rec.Step(Touching(Stance()));
     const double ramp = std::min(1.0, (m + 1.0) / 5.0);
     EXPECT_EQ(out.target_offset_rad[kHipPitch], -(0.15 * ramp)) << m;
@@ -61,22 +61,22 @@ TEST(ReflexPreload, TouchdownPressesUntilAttached) {
   EXPECT_EQ(attached.target_offset_rad, Eigen::Vector3d::Zero());
   EXPECT_FALSE(attached.hold_stance);
   rec.Repeat(Attached(Stance(), 0.2), 10);
-  EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
-                                  At(8, E::kPreloadEnd, R::kAttached)}));
+  EXPECT_EQ(rec.events(),
+            (Events{At(1, E::kPreloadStart, R::kTouchdown), At(8, E::kPreloadEnd, R::kAttached)}));
 }
 
 TEST(ReflexPreload, ForceLimitEndsThePress) {
   LegReflex leg(PreloadOnly(), kDt);
   Recorder rec(&leg);
-  rec.Step(Swing());                                    // #0
+  rec.Step(Swing());  // #0
   LegSensing pressing = Touching(Stance());
   pressing.preload_n = 0.5;
-  rec.Repeat(pressing, 3);                              // #1..#3
-  pressing.preload_n = 1.0;                             // reaches force_limit_n exactly
-  const LegReflexOutput& out = rec.Step(pressing);      // #4
+  rec.Repeat(pressing, 3);                          // #1..#3
+  pressing.preload_n = 1.0;                         // reaches force_limit_n exactly
+  const LegReflexOutput& out = rec.Step(pressing);  // #4
   EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
   EXPECT_FALSE(out.hold_stance);
-  rec.Repeat(pressing, 30);                             // still touching: no new preload
+  rec.Repeat(pressing, 30);  // still touching: no new preload
   EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
                                   At(4, E::kPreloadEnd, R::kForceLimit)}));
 }
@@ -85,8 +85,8 @@ TEST(ReflexPreload, ForceLimitEndsThePress) {
 TEST(ReflexPreload, TimeLimitEndsThePressAfterExactlyMaxDuration) {
   LegReflex leg(PreloadOnly(), kDt);
   Recorder rec(&leg);
-  rec.Step(Swing());                                    // #0
-  rec.Repeat(Touching(Stance()), 60);                   // #1..#60
+  rec.Step(Swing());                   // #0
+  rec.Repeat(Touching(Stance()), 60);  // #1..#60
   EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
                                   At(21, E::kPreloadEnd, R::kTimeLimit)}));
   for (int k = 1; k <= 60; ++k) {
@@ -99,7 +99,7 @@ TEST(ReflexPreload, SwingOnsetAbortsThePress) {
   LegReflex leg(PreloadOnly(), kDt);
   Recorder rec(&leg);
   rec.Step(Swing());
-  rec.Repeat(Touching(Stance()), 3);                    // #1..#3
+  rec.Repeat(Touching(Stance()), 3);                            // #1..#3
   const LegReflexOutput& out = rec.Step(Touching(Swing(0.0)));  // #4
   EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
   EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
@@ -110,8 +110,8 @@ TEST(ReflexPreload, SwingOnsetAbortsThePress) {
 TEST(ReflexPreload, TouchingBeforeStanceStartsAtStanceOnset) {
   LegReflex leg(PreloadOnly(), kDt);
   Recorder rec(&leg);
-  rec.Repeat(Touching(Swing()), 3);                     // #0..#2
-  rec.Step(Touching(Stance(0.0)));                      // #3
+  rec.Repeat(Touching(Swing()), 3);  // #0..#2
+  rec.Step(Touching(Stance(0.0)));   // #3
   EXPECT_EQ(rec.events(), (Events{At(3, E::kPreloadStart, R::kTouchdown)}));
 }
 
@@ -120,8 +120,8 @@ TEST(ReflexPreload, SilentWhenAttachedOnTouchdownInSwingOrSwitchedOff) {
     LegReflex leg(PreloadOnly(), kDt);
     Recorder rec(&leg);
     rec.Step(Swing());
-    rec.Repeat(Attached(Stance()), 10);   // attached at touchdown: nothing to do
-    rec.Repeat(Touching(Swing()), 10);    // touching in swing: not a touchdown
+    rec.Repeat(Attached(Stance()), 10);  // attached at touchdown: nothing to do
+    rec.Repeat(Touching(Swing()), 10);   // touching in swing: not a touchdown
     EXPECT_TRUE(rec.events().empty());
   }
   {
@@ -150,7 +150,7 @@ LegReflexParams SearchOnly() {
   p.search.lift_rad = 0.08;
   p.search.attempt_duration_s = 0.1;  // 10 periods
   p.search.max_attempts = 3;
-  p.search.release_s = 0.05;          // 5 periods
+  p.search.release_s = 0.05;  // 5 periods
   return p;
 }
 
@@ -167,25 +167,26 @@ TEST(ReflexSearch, NoTouchdownSearchesForExactlyMaxAttempts) {
   const LegReflexParams p = SearchOnly();
   LegReflex leg(p, kDt);
   Recorder rec(&leg);
-  rec.Step(Swing());                                    // #0
-  for (int m = 0; m < 30; ++m) {                        // #1..#30
+  rec.Step(Swing());              // #0
+  for (int m = 0; m < 30; ++m) {  // #1..#30
     const LegReflexOutput& out = rec.Step(Stance());
     // Same formula, evaluated in a different order: rounding only.
-    EXPECT_TRUE(out.target_offset_rad.isApprox(SearchOffset(p.search, m), 1e-12) ||
-                m == 0) << m << ": " << out.target_offset_rad.transpose();
+    EXPECT_TRUE(out.target_offset_rad.isApprox(SearchOffset(p.search, m), 1e-12) || m == 0)
+        << m << ": " << out.target_offset_rad.transpose();
     EXPECT_TRUE(out.hold_stance) << m;
   }
   EXPECT_EQ(rec.output(1).target_offset_rad, Eigen::Vector3d::Zero());  // m = 0: ρ = 0, s = 0
   const Eigen::Vector3d reached = rec.output(30).target_offset_rad;
-  for (int r = 1; r <= 6; ++r) {                        // #31..#36: released over 5 periods
+  for (int r = 1; r <= 6; ++r) {  // #31..#36: released over 5 periods
     const LegReflexOutput& out = rec.Step(Stance());
     EXPECT_FALSE(out.hold_stance);
     const double left = std::max(0, 5 - r) / 5.0;
     EXPECT_TRUE(out.target_offset_rad.isApprox(reached * left, 1e-12) ||
-                (left == 0.0 && out.target_offset_rad.isZero(0.0))) << r;
+                (left == 0.0 && out.target_offset_rad.isZero(0.0)))
+        << r;
   }
-  EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart),
-                                  At(31, E::kSearchEnd, R::kAttemptsExhausted)}));
+  EXPECT_EQ(rec.events(),
+            (Events{At(1, E::kSearchStart), At(31, E::kSearchEnd, R::kAttemptsExhausted)}));
 }
 
 // Touching during the search: search_end(found), then the touchdown preload at once; the
@@ -195,18 +196,18 @@ TEST(ReflexSearch, FoundThenPreloadAndTheReachIsHeldUntilSwing) {
   p.preload.enabled = true;
   LegReflex leg(p, kDt);
   Recorder rec(&leg);
-  rec.Step(Swing());                                    // #0
-  rec.Repeat(Stance(), 13);                             // #1..#13: m = 0..12
+  rec.Step(Swing());         // #0
+  rec.Repeat(Stance(), 13);  // #1..#13: m = 0..12
   const Eigen::Vector3d reached = rec.output(13).target_offset_rad;
   EXPECT_TRUE(reached.isApprox(SearchOffset(p.search, 12), 1e-12));
   const LegReflexOutput& found = rec.Step(Touching(Stance()));  // #14
-  EXPECT_TRUE(found.hold_stance);                       // preloading now
-  rec.Repeat(Attached(Stance()), 5);                    // #15..#19
-  EXPECT_EQ(rec.output(19).target_offset_rad, reached); // preload over: the reach alone
+  EXPECT_TRUE(found.hold_stance);                               // preloading now
+  rec.Repeat(Attached(Stance()), 5);                            // #15..#19
+  EXPECT_EQ(rec.output(19).target_offset_rad, reached);         // preload over: the reach alone
   EXPECT_FALSE(rec.output(19).hold_stance);
-  rec.Step(Attached(Swing(0.0)));                       // #20: release starts
+  rec.Step(Attached(Swing(0.0)));  // #20: release starts
   EXPECT_TRUE(rec.output(20).target_offset_rad.isApprox(reached * 0.8, 1e-12));
-  rec.Repeat(Swing(), 4);                               // #21..#24
+  rec.Repeat(Swing(), 4);  // #21..#24
   EXPECT_EQ(rec.output(24).target_offset_rad, Eigen::Vector3d::Zero());
   EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart), At(14, E::kSearchEnd, R::kFound),
                                   At(14, E::kPreloadStart, R::kTouchdown),
@@ -217,10 +218,9 @@ TEST(ReflexSearch, SwingOnsetAbortsTheSearch) {
   LegReflex leg(SearchOnly(), kDt);
   Recorder rec(&leg);
   rec.Step(Swing());
-  rec.Repeat(Stance(), 4);                              // #1..#4
-  rec.Step(Swing(0.0));                                 // #5
-  EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart),
-                                  At(5, E::kSearchEnd, R::kSwingStarted)}));
+  rec.Repeat(Stance(), 4);  // #1..#4
+  rec.Step(Swing(0.0));     // #5
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart), At(5, E::kSearchEnd, R::kSwingStarted)}));
 }
 
 TEST(ReflexSearch, SilentWhenTouchingAtStanceOnsetOrSwitchedOff) {
@@ -266,7 +266,7 @@ LegReflexParams PeelOnly() {
 TEST(ReflexPeel, SwingOnsetWhileAttachedLiftsKneeFirstThenHip) {
   LegReflex leg(PeelOnly(), kDt);
   Recorder rec(&leg);
-  rec.Repeat(Attached(Stance()), 3);                    // #0..#2
+  rec.Repeat(Attached(Stance()), 3);                              // #0..#2
   const LegReflexOutput& onset = rec.Step(Attached(Swing(0.0)));  // #3
   EXPECT_EQ(onset.target_offset_rad, Eigen::Vector3d::Zero());    // b(0) = 0
   EXPECT_TRUE(onset.Fired(Reflex::kPeel));
@@ -274,13 +274,13 @@ TEST(ReflexPeel, SwingOnsetWhileAttachedLiftsKneeFirstThenHip) {
   EXPECT_NEAR(knee_peak.target_offset_rad[kKnee], 0.25, 1e-15);
   EXPECT_EQ(knee_peak.target_offset_rad[kHipPitch], 0.0);
   EXPECT_EQ(knee_peak.target_offset_rad[kHipYaw], 0.0);
-  const LegReflexOutput& hip_peak = rec.Step(Swing(0.35));        // s = 0.7, detached by now
+  const LegReflexOutput& hip_peak = rec.Step(Swing(0.35));  // s = 0.7, detached by now
   EXPECT_EQ(hip_peak.target_offset_rad[kKnee], 0.0);
   EXPECT_NEAR(hip_peak.target_offset_rad[kHipPitch], 0.15, 1e-15);
-  const LegReflexOutput& done = rec.Step(Swing(0.5));             // s = 1
+  const LegReflexOutput& done = rec.Step(Swing(0.5));  // s = 1
   EXPECT_EQ(done.target_offset_rad, Eigen::Vector3d::Zero());
   EXPECT_FALSE(done.Fired(Reflex::kPeel));
-  rec.Step(Swing(0.2));                                 // later samples stay silent
+  rec.Step(Swing(0.2));  // later samples stay silent
   EXPECT_EQ(rec.output(rec.updates() - 1).target_offset_rad, Eigen::Vector3d::Zero());
   EXPECT_EQ(rec.events(), (Events{At(3, E::kPeel)}));
 }
@@ -298,8 +298,8 @@ TEST(ReflexPeel, KneeLeadsHipOverTheSchedule) {
     if (first_knee < 0 && out.target_offset_rad[kKnee] > 0.0) first_knee = i;
     if (first_hip < 0 && out.target_offset_rad[kHipPitch] > 0.0) first_hip = i;
   }
-  EXPECT_EQ(first_knee, 1);   // s = 0.01
-  EXPECT_EQ(first_hip, 41);   // s = 0.41, just after hip_pitch_start_fraction
+  EXPECT_EQ(first_knee, 1);  // s = 0.01
+  EXPECT_EQ(first_hip, 41);  // s = 0.41, just after hip_pitch_start_fraction
 }
 
 TEST(ReflexPeel, SilentWhenDetachedAtSwingOnsetOrSwitchedOff) {
@@ -340,18 +340,18 @@ LegReflexParams RegripOnly() {
 TEST(ReflexRegrip, BondsLostInStancePressesAgainAndHoldsOthers) {
   LegReflex leg(RegripOnly(), kDt);
   Recorder rec(&leg);
-  rec.Repeat(Attached(Stance()), 2);                    // #0..#1
+  rec.Repeat(Attached(Stance()), 2);  // #0..#1
   LegSensing lost = Attached(Stance(), 0.7);
   lost.bonds_lost = true;
-  const LegReflexOutput& out = rec.Step(lost);          // #2
+  const LegReflexOutput& out = rec.Step(lost);  // #2
   EXPECT_TRUE(out.hold_others);
   EXPECT_TRUE(out.hold_stance);
   EXPECT_EQ(out.target_offset_rad[kHipPitch], -(0.15 * (1.0 / 5.0)));
   EXPECT_TRUE(out.Fired(Reflex::kRegrip));
-  rec.Repeat(Attached(Stance(), 0.7), 40);              // #3..#42
+  rec.Repeat(Attached(Stance(), 0.7), 40);  // #3..#42
   for (int k = 2; k <= 42; ++k) {
-    EXPECT_EQ(rec.output(k).hold_others, k <= 6) << k;  // 5 periods: #2..#6
-    EXPECT_EQ(rec.output(k).hold_stance, k <= 21) << k; // 20 periods of press: #2..#21
+    EXPECT_EQ(rec.output(k).hold_others, k <= 6) << k;   // 5 periods: #2..#6
+    EXPECT_EQ(rec.output(k).hold_stance, k <= 21) << k;  // 20 periods of press: #2..#21
   }
   EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(2, E::kPreloadStart, R::kRegrip),
                                   At(22, E::kPreloadEnd, R::kTimeLimit)}));
@@ -362,16 +362,16 @@ TEST(ReflexRegrip, BondsLostInStancePressesAgainAndHoldsOthers) {
 TEST(ReflexRegrip, ReattachEndsThePressAndRepeatedLossExtendsTheHold) {
   LegReflex leg(RegripOnly(), kDt);
   Recorder rec(&leg);
-  rec.Repeat(Attached(Stance()), 2);                    // #0..#1
+  rec.Repeat(Attached(Stance()), 2);  // #0..#1
   LegSensing lost = Attached(Stance(), 0.5);
   lost.bonds_lost = true;
-  rec.Step(lost);                                       // #2: regrip
-  rec.Step(Attached(Stance(), 0.5));                    // #3
-  rec.Step(lost);                                       // #4: again, within the episode
+  rec.Step(lost);                     // #2: regrip
+  rec.Step(Attached(Stance(), 0.5));  // #3
+  rec.Step(lost);                     // #4: again, within the episode
   LegSensing off = Touching(Stance());
   off.bonds_lost = true;
-  rec.Step(off);                                        // #5: detached (was attached at #4)
-  rec.Step(Attached(Stance(), 0.1));                    // #6: attached again
+  rec.Step(off);                      // #5: detached (was attached at #4)
+  rec.Step(Attached(Stance(), 0.1));  // #6: attached again
   for (int k = 7; k < 15; ++k) rec.Step(Attached(Stance(), 0.2));
   // The last loss, at #5, holds the others for 5 periods: #5..#9.
   for (int k = 2; k < 15; ++k) EXPECT_EQ(rec.output(k).hold_others, k <= 9) << k;
@@ -390,9 +390,9 @@ TEST(ReflexRegrip, SilentInSwingWhenNotHoldingOrSwitchedOff) {
     LegReflex leg(RegripOnly(), kDt);
     Recorder rec(&leg);
     rec.Repeat(Attached(Swing()), 2);
-    rec.Repeat(lost_in_swing, 5);            // peeling in swing is expected
+    rec.Repeat(lost_in_swing, 5);  // peeling in swing is expected
     rec.Repeat(Touching(Stance()), 2);
-    rec.Repeat(lost_unattached, 5);          // not attached last period: not holding
+    rec.Repeat(lost_unattached, 5);  // not attached last period: not holding
     EXPECT_TRUE(rec.events().empty());
     EXPECT_FALSE(rec.output(rec.updates() - 1).hold_others);
   }
@@ -429,12 +429,12 @@ TEST(ReflexGtoHold, LoadedLegHoldsStanceUnloadedLegReleases) {
   LegReflex leg(GtoOnly(), kDt);
   Recorder rec(&leg);
   LegSensing s = Attached(Stance());
-  s.normal_load_n = 0.25;                               // exactly F0: unloaded
-  rec.Repeat(s, 5);                                     // #0..#4
+  s.normal_load_n = 0.25;  // exactly F0: unloaded
+  rec.Repeat(s, 5);        // #0..#4
   s.normal_load_n = 0.75;
-  rec.Repeat(s, 10);                                    // #5..#14
+  rec.Repeat(s, 10);  // #5..#14
   s.normal_load_n = 0.125;
-  rec.Repeat(s, 10);                                    // #15..#24
+  rec.Repeat(s, 10);  // #15..#24
   for (int k = 0; k < 25; ++k) {
     const bool loaded = k >= 7 && k < 17;
     EXPECT_EQ(rec.output(k).hold_stance, loaded) << k;
@@ -456,7 +456,7 @@ TEST(ReflexGtoHold, PressIsCappedAndNeverHoldsInSwing) {
   const LegReflexOutput& in_swing = rec.Step(swing);
   EXPECT_FALSE(in_swing.hold_stance);
   EXPECT_EQ(in_swing.target_offset_rad, Eigen::Vector3d::Zero());
-  rec.Step(s);                                          // back in stance: a new hold onset
+  rec.Step(s);  // back in stance: a new hold onset
   EXPECT_EQ(rec.events(), (Events{At(2, E::kGtoHold, R::kLoad), At(6, E::kGtoHold, R::kLoad)}));
 }
 
@@ -483,11 +483,11 @@ TEST(ReflexGtoHold, DetachedPartnerHoldsStance) {
   LegReflex leg(p, kDt);
   Recorder rec(&leg);
   LegSensing s = Attached(Stance());
-  rec.Repeat(s, 3);                                     // #0..#2
+  rec.Repeat(s, 3);  // #0..#2
   s.partner_attached = false;
-  rec.Repeat(s, 3);                                     // #3..#5
+  rec.Repeat(s, 3);  // #3..#5
   s.partner_attached = true;
-  rec.Step(s);                                          // #6
+  rec.Step(s);  // #6
   for (int k = 0; k < 7; ++k) EXPECT_EQ(rec.output(k).hold_stance, k >= 3 && k <= 5) << k;
   EXPECT_EQ(rec.output(4).target_offset_rad, Eigen::Vector3d::Zero());  // holds, no press
   EXPECT_EQ(rec.events(), (Events{At(3, E::kGtoHold, R::kPartnerDetached)}));
@@ -503,16 +503,16 @@ TEST(ReflexGtoHold, PadBuildingItsBondIsPressed) {
   Recorder rec(&leg);
   LegSensing s = Attached(Stance(), 0.5);
   s.preload_n = 0.75;
-  rec.Repeat(s, 3);                                     // #0..#2
-  EXPECT_EQ(rec.output(0).target_offset_rad[kHipPitch], 0.0);  // Δ not yet elapsed
+  rec.Repeat(s, 3);                                                // #0..#2
+  EXPECT_EQ(rec.output(0).target_offset_rad[kHipPitch], 0.0);      // Δ not yet elapsed
   EXPECT_EQ(rec.output(1).target_offset_rad[kHipPitch], -0.0625);  // 0.125·(0.75 − 0.25)
   EXPECT_TRUE(rec.output(1).Fired(Reflex::kGtoPress));
-  EXPECT_FALSE(rec.output(1).hold_stance);              // pressed, not loaded
+  EXPECT_FALSE(rec.output(1).hold_stance);  // pressed, not loaded
   s.preload_n = 5.0;
   EXPECT_EQ(rec.Repeat(s, 2).target_offset_rad[kHipPitch], -0.1);  // capped
-  s.bonded_fraction = 0.9375;                           // built
+  s.bonded_fraction = 0.9375;                                      // built
   EXPECT_EQ(rec.Step(s).target_offset_rad[kHipPitch], 0.0);
-  s = Touching(Stance());                               // not attached: the preload's job
+  s = Touching(Stance());  // not attached: the preload's job
   s.preload_n = 5.0;
   EXPECT_EQ(rec.Step(s).target_offset_rad[kHipPitch], 0.0);
   EXPECT_TRUE(rec.events().empty());
@@ -556,9 +556,9 @@ TEST(ReflexLegSpindle, EachJointResistsItsOwnStretchAfterTheDelay) {
   Recorder rec(&leg);
   LegSensing s = Swing();
   s.stretch_rad = {0.0, -0.3125, 0.5625};
-  rec.Repeat(s, 4);                                     // #0..#3
+  rec.Repeat(s, 4);  // #0..#3
   s.stretch_rad.setZero();
-  rec.Repeat(s, 3);                                     // #4..#6
+  rec.Repeat(s, 3);  // #4..#6
   EXPECT_EQ(rec.output(0).target_offset_rad, Eigen::Vector3d::Zero());
   for (int k = 1; k <= 4; ++k) {
     EXPECT_EQ(rec.output(k).target_offset_rad, Eigen::Vector3d(0.0, 0.125, -0.25)) << k;

@@ -94,8 +94,7 @@ class Recorder {
   std::vector<TimedEvent> events_;
 };
 
-inline TimedEvent At(int update, LegEventType type,
-                     LegEventReason reason = LegEventReason::kNone) {
+inline TimedEvent At(int update, LegEventType type, LegEventReason reason = LegEventReason::kNone) {
   return {update, {type, reason}};
 }
 
