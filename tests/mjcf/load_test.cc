@@ -1,0 +1,196 @@
+// Every MJCF file loads in plain MuJoCo, every robot composes with every scene the way the
+// simulator composes them, and every scene holds the gravity, surfaces and custom data that
+// mjcf/README.md promises.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "mjcf_test_util.h"
+
+namespace climbsim::mjcf_test {
+namespace {
+
+std::vector<std::string> AllMjcfFiles() {
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(MjcfDir())) {
+    if (entry.is_regular_file() && entry.path().extension() == ".xml") {
+      files.push_back(std::filesystem::relative(entry.path(), MjcfDir()).string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// The file set is what the README lists: 2 robots, 5 scenes, one viewer file per pair.
+TEST(MjcfFiles, TheDocumentedFilesExist) {
+  std::set<std::string> files;
+  for (const auto& f : AllMjcfFiles()) files.insert(f);
+  for (const auto& robot : RobotNames()) {
+    EXPECT_TRUE(files.count(robot + ".xml")) << robot;
+    for (const auto& scene : SceneNames()) {
+      EXPECT_TRUE(files.count("view/" + robot + "_" + scene + ".xml")) << robot << " " << scene;
+    }
+  }
+  for (const auto& scene : SceneNames()) EXPECT_TRUE(files.count("scenes/" + scene + ".xml"));
+  EXPECT_EQ(files.size(), 2u + 5u + 10u) << "a file was added or removed: update the README";
+}
+
+class MjcfFileLoads : public testing::TestWithParam<std::string> {};
+
+// Each file is a complete <mujoco> document: robots alone (they fall in space), scenes
+// alone, and the viewer files (relative includes). MuJoCo must report no error at all.
+TEST_P(MjcfFileLoads, WithoutError) {
+  std::string error;
+  ModelPtr m = Load(MjcfDir() / GetParam(), &error);
+  ASSERT_NE(m, nullptr) << error;
+  EXPECT_EQ(error, "");
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFiles, MjcfFileLoads, testing::ValuesIn(AllMjcfFiles()),
+                         [](const testing::TestParamInfo<std::string>& info) {
+                           std::string name = info.param;
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
+
+// What the simulator adds after the two includes: an inactive weld per pad for adhesion,
+// force/torque sensors at each ankle site and MuJoCo's adhesion actuator (the baseline).
+std::string SimulatorLikeExtras(const std::vector<std::string>& legs) {
+  std::ostringstream equality, sensor, actuator;
+  for (const auto& leg : legs) {
+    equality << "    <weld name=\"" << leg << "_bond\" body1=\"" << leg
+             << "_pad\" active=\"false\"/>\n";
+    sensor << "    <force name=\"" << leg << "_ankle_force\" site=\"" << leg << "_ankle\"/>\n"
+           << "    <torque name=\"" << leg << "_ankle_torque\" site=\"" << leg << "_ankle\"/>\n";
+    actuator << "    <adhesion name=\"" << leg << "_adhesion\" body=\"" << leg
+             << "_pad\" ctrlrange=\"0 1\" gain=\"1\"/>\n";
+  }
+  return "  <equality>\n" + equality.str() + "  </equality>\n  <sensor>\n" + sensor.str() +
+         "  </sensor>\n  <actuator>\n" + actuator.str() + "  </actuator>\n";
+}
+
+using RobotScene = std::tuple<std::string, std::string>;
+class MjcfComposition : public testing::TestWithParam<RobotScene> {};
+
+// Robot x scene composes with the simulator's extra sections and steps cleanly: no name
+// clashes (defaults, assets, custom), the options are the scene's, and 0.2 s of free
+// motion gives finite states and no MuJoCo warnings.
+TEST_P(MjcfComposition, LoadsAndStepsWithSimulatorSections) {
+  const auto& [robot, scene] = GetParam();
+  std::string error;
+  ModelPtr alone = Load(RobotFile(robot), &error);
+  ASSERT_NE(alone, nullptr) << error;
+  const std::vector<std::string> legs = LegNames(alone.get());
+  ASSERT_FALSE(legs.empty());
+
+  ModelPtr m = LoadComposed(robot, scene, SimulatorLikeExtras(legs), &error);
+  ASSERT_NE(m, nullptr) << error;
+  EXPECT_EQ(error, "");
+
+  // Robot actuators (3 per leg) first, then the simulator's adhesion actuators.
+  EXPECT_EQ(m->nu, static_cast<int>(4 * legs.size()));
+  EXPECT_EQ(m->neq, static_cast<int>(legs.size()));
+  EXPECT_EQ(m->nsensor, static_cast<int>(2 * legs.size()));
+  EXPECT_EQ(m->opt.timestep, 0.001) << "timestep comes from the scene only";
+  EXPECT_EQ(LegNames(m.get()), legs);
+  EXPECT_EQ(CustomNumeric(m.get(), "climbsim_travel").size(), 3u);
+  EXPECT_GE(mj_name2id(m.get(), mjOBJ_BODY, "base"), 0);
+
+  DataPtr d(mj_makeData(m.get()));
+  for (int i = 0; i < 200; ++i) mj_step(m.get(), d.get());
+  EXPECT_EQ(WarningCount(d.get()), 0);
+  for (int i = 0; i < m->nq; ++i) ASSERT_TRUE(std::isfinite(d->qpos[i]));
+}
+
+INSTANTIATE_TEST_SUITE_P(AllPairs, MjcfComposition,
+                         testing::Combine(testing::ValuesIn(RobotNames()),
+                                          testing::ValuesIn(SceneNames())),
+                         [](const testing::TestParamInfo<RobotScene>& info) {
+                           return std::get<0>(info.param) + "_" + std::get<1>(info.param);
+                         });
+
+struct SceneSpec {
+  std::string scene;
+  std::array<double, 3> gravity;  // m/s^2
+  std::vector<std::string> surfaces;
+  std::array<double, 3> travel;
+};
+
+class MjcfScene : public testing::TestWithParam<SceneSpec> {};
+
+// Gravity, timestep, friction cone, named surfaces and travel direction, as documented. The
+// incline's default is 30 deg: 9.81 (-sin 30, 0, -cos 30) = (-4.905, 0, -8.49571).
+TEST_P(MjcfScene, HasDocumentedGravitySurfacesAndTravel) {
+  const SceneSpec& spec = GetParam();
+  std::string error;
+  ModelPtr m = Load(SceneFile(spec.scene), &error);
+  ASSERT_NE(m, nullptr) << error;
+  EXPECT_EQ(m->opt.timestep, 0.001);
+  // Elliptic cones with impratio 10 keep MuJoCo's soft-friction creep small (README).
+  EXPECT_EQ(m->opt.cone, mjCONE_ELLIPTIC);
+  EXPECT_EQ(m->opt.impratio, 10.0);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(m->opt.gravity[i], spec.gravity[i], 1e-5) << i;
+  EXPECT_NEAR(
+      std::sqrt(m->opt.gravity[0] * m->opt.gravity[0] + m->opt.gravity[1] * m->opt.gravity[1] +
+                m->opt.gravity[2] * m->opt.gravity[2]),
+      9.81, 1e-5);
+  for (const auto& surface : spec.surfaces) {
+    const int g = mj_name2id(m.get(), mjOBJ_GEOM, surface.c_str());
+    ASSERT_GE(g, 0) << surface;
+    EXPECT_EQ(m->geom_bodyid[g], 0) << surface << " must be static";
+    // Scene bits: contype 1 / conaffinity 2 (robot geoms are contype 2 / conaffinity 1).
+    EXPECT_EQ(m->geom_contype[g], 1) << surface;
+    EXPECT_EQ(m->geom_conaffinity[g], 2) << surface;
+  }
+  // Every geom in a scene is a named surface: robots must find them by name.
+  for (int g = 0; g < m->ngeom; ++g) EXPECT_NE(Name(m.get(), mjOBJ_GEOM, g), "") << g;
+  const auto travel = CustomNumeric(m.get(), "climbsim_travel");
+  ASSERT_EQ(travel.size(), 3u);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(travel[i], spec.travel[i]) << i;
+  // The main surface is the plane z = 0 with normal +z, big enough to walk on (>= 4 m).
+  const int plane = mj_name2id(m.get(), mjOBJ_GEOM, spec.surfaces[0].c_str());
+  EXPECT_EQ(m->geom_type[plane], mjGEOM_PLANE);
+  EXPECT_EQ(m->geom_pos[3 * plane + 2], 0.0);
+  EXPECT_EQ(m->geom_quat[4 * plane], 1.0);
+  EXPECT_GE(m->geom_size[3 * plane], 2.0);
+  EXPECT_GE(m->geom_size[3 * plane + 1], 2.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllScenes, MjcfScene,
+    testing::Values(SceneSpec{"floor", {0, 0, -9.81}, {"floor"}, {1, 0, 0}},
+                    SceneSpec{"wall", {-9.81, 0, 0}, {"wall"}, {1, 0, 0}},
+                    SceneSpec{"ceiling", {0, 0, 9.81}, {"ceiling"}, {1, 0, 0}},
+                    SceneSpec{"incline", {-4.905, 0, -8.49571}, {"incline"}, {1, 0, 0}},
+                    SceneSpec{"floor_to_wall", {0, 0, -9.81}, {"floor", "wall"}, {1, 0, 1}}),
+    [](const testing::TestParamInfo<SceneSpec>& info) { return info.param.scene; });
+
+// The floor-to-wall wall: a box whose -x face is the plane x = 0.30, at least 1 m tall from
+// the floor up, wide enough (>= 1 m) that a robot cannot walk around it; spawn at x = 0.
+TEST(MjcfFloorToWall, WallFaceAtThirtyCentimetresAndOneMetreTall) {
+  std::string error;
+  ModelPtr m = Load(SceneFile("floor_to_wall"), &error);
+  ASSERT_NE(m, nullptr) << error;
+  const int wall = mj_name2id(m.get(), mjOBJ_GEOM, "wall");
+  ASSERT_GE(wall, 0);
+  ASSERT_EQ(m->geom_type[wall], mjGEOM_BOX);
+  EXPECT_EQ(m->geom_quat[4 * wall], 1.0) << "axis-aligned box";
+  const mjtNum* pos = m->geom_pos + 3 * wall;
+  const mjtNum* size = m->geom_size + 3 * wall;
+  EXPECT_NEAR(pos[0] - size[0], 0.30, 1e-12);
+  EXPECT_LE(pos[2] - size[2], 0.0);
+  EXPECT_GE(pos[2] + size[2], 1.0);
+  EXPECT_GE(2 * size[1], 1.0);
+  const auto spawn = CustomNumeric(m.get(), "climbsim_spawn");
+  ASSERT_EQ(spawn.size(), 3u);
+  EXPECT_EQ(spawn[0], 0.0);
+  EXPECT_EQ(spawn[1], 0.0);
+  EXPECT_EQ(spawn[2], 0.0);
+}
+
+}  // namespace
+}  // namespace climbsim::mjcf_test
