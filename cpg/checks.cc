@@ -1,0 +1,84 @@
+#include "cpg/internal/checks.h"
+
+#include "cpg/cpg.h"
+
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+namespace climbsim::cpg::internal {
+
+double WrapTwoPi(double theta_rad) {
+  double wrapped = theta_rad - kTwoPi * std::floor(theta_rad / kTwoPi);
+  if (wrapped >= kTwoPi || wrapped < 0.0) wrapped = 0.0;
+  return wrapped;
+}
+
+double WrapPi(double delta_rad) { return WrapTwoPi(delta_rad + kPi) - kPi; }
+
+std::string Num(double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+void Fail(std::string_view field, std::string_view requirement, double got) {
+  throw std::invalid_argument(std::string(field) + " must be " + std::string(requirement) +
+                              ", got " + Num(got));
+}
+
+void Fail(std::string_view message) { throw std::invalid_argument(std::string(message)); }
+
+void CheckFinite(std::string_view field, double value) {
+  if (!std::isfinite(value)) Fail(field, "finite", value);
+}
+
+void CheckPositive(std::string_view field, double value) {
+  if (!(std::isfinite(value) && value > 0.0)) Fail(field, "finite and > 0", value);
+}
+
+void CheckNonNegative(std::string_view field, double value) {
+  if (!(std::isfinite(value) && value >= 0.0)) Fail(field, "finite and >= 0", value);
+}
+
+void CheckSquare(std::string_view field, const Eigen::MatrixXd& m, int n, std::string_view why_n) {
+  if (m.rows() != n || m.cols() != n) {
+    Fail(std::string(field) + " must be " + std::to_string(n) + "x" + std::to_string(n) + " (" +
+         std::string(why_n) + "), got " + std::to_string(m.rows()) + "x" +
+         std::to_string(m.cols()));
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (!std::isfinite(m(i, j))) {
+        Fail(std::string(field) + "(" + std::to_string(i) + "," + std::to_string(j) +
+                 ")",
+             "finite", m(i, j));
+      }
+    }
+  }
+}
+
+void CheckZeroDiagonal(std::string_view field, const Eigen::MatrixXd& m) {
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    if (m(i, i) != 0.0) {
+      Fail(std::string(field) + "(" + std::to_string(i) + "," + std::to_string(i) + ")",
+           "0 (an oscillator is not coupled to itself)", m(i, i));
+    }
+  }
+}
+
+void CheckStepperParams(std::string_view owner, const StepperParams& params) {
+  const std::string prefix = std::string(owner) + ".stepper.";
+  if (params.type != Stepper::kEuler && params.type != Stepper::kRk4 &&
+      params.type != Stepper::kDopri5) {
+    Fail(prefix + "type", "kEuler, kRk4 or kDopri5", static_cast<double>(params.type));
+  }
+  CheckNonNegative(prefix + "abs_tol", params.abs_tol);
+  CheckNonNegative(prefix + "rel_tol", params.rel_tol);
+  if (params.abs_tol == 0.0 && params.rel_tol == 0.0) {
+    Fail(prefix + "abs_tol and " + prefix +
+         "rel_tol are both 0: Dopri5 could never meet them; give one of them > 0");
+  }
+}
+
+}  // namespace climbsim::cpg::internal

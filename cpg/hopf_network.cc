@@ -1,0 +1,245 @@
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "cpg/cpg.h"
+#include "cpg/internal/checks.h"
+
+namespace climbsim::cpg {
+namespace {
+
+using internal::kPi;
+using internal::kTwoPi;
+
+// The network's size comes from coupling_per_s; the bias must agree with it.
+const HopfNetworkParams& Validated(const HopfNetworkParams& p) {
+  const int n = static_cast<int>(p.coupling_per_s.rows());
+  if (n < 1) {
+    internal::Fail(
+        "HopfNetworkParams.coupling_per_s must be n x n with n >= 1 oscillators, got " +
+        std::to_string(p.coupling_per_s.rows()) + "x" + std::to_string(p.coupling_per_s.cols()));
+  }
+  internal::CheckPositive("HopfNetworkParams.stance_frequency_hz", p.stance_frequency_hz);
+  internal::CheckPositive("HopfNetworkParams.swing_frequency_hz", p.swing_frequency_hz);
+  internal::CheckPositive("HopfNetworkParams.mu", p.mu);
+  internal::CheckPositive("HopfNetworkParams.alpha_per_s", p.alpha_per_s);
+  internal::CheckPositive("HopfNetworkParams.beta_per_s", p.beta_per_s);
+  internal::CheckPositive("HopfNetworkParams.b", p.b);
+  const std::string why = "one row and column per oscillator, n = coupling_per_s.rows()";
+  internal::CheckSquare("HopfNetworkParams.coupling_per_s", p.coupling_per_s, n, why);
+  internal::CheckZeroDiagonal("HopfNetworkParams.coupling_per_s", p.coupling_per_s);
+  internal::CheckSquare("HopfNetworkParams.phase_bias_rad", p.phase_bias_rad, n, why);
+  if (p.coupling_form != HopfCoupling::kRotation &&
+      p.coupling_form != HopfCoupling::kTimeWarpedRotation) {
+    internal::Fail("HopfNetworkParams.coupling_form", "kRotation or kTimeWarpedRotation",
+                   static_cast<double>(p.coupling_form));
+  }
+  internal::CheckStepperParams("HopfNetworkParams", p.stepper);
+  return p;
+}
+
+// 1/(1 + e^{−z}) without overflow for either sign of z (b·y can be large far off the cycle).
+double Logistic(double z) {
+  if (z >= 0.0) return 1.0 / (1.0 + std::exp(-z));
+  const double e = std::exp(z);
+  return e / (1.0 + e);
+}
+
+}  // namespace
+
+struct HopfNetwork::Rhs {
+  HopfNetwork* network;
+  void operator()(const std::vector<double>& z, std::vector<double>& dzdt, double) const {
+    network->Derivative(z.data(), dzdt.data());
+  }
+};
+
+HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
+    : params_(Validated(params)),
+      n_(static_cast<int>(params.coupling_per_s.rows())),
+      omega_stance_rad_per_s_(kTwoPi * params.stance_frequency_hz),
+      omega_swing_rad_per_s_(kTwoPi * params.swing_frequency_hz),
+      sqrt_mu_(std::sqrt(params.mu)),
+      weight_per_s_(n_ * n_),
+      bias_rad_(n_ * n_),
+      cos_bias_(n_ * n_),
+      sin_bias_(n_ * n_),
+      swing_share_(params.stance_frequency_hz /
+                   (params.stance_frequency_hz + params.swing_frequency_hz)),
+      time_phase_rad_(n_),
+      radius_(n_),
+      feedback_rad_per_s_(n_, 0.0),
+      phase_rad_(n_),
+      amplitude_(n_),
+      unwrapped_rad_(n_),
+      driver_(params.stepper, 2 * n_) {
+  for (int i = 0; i < n_; ++i) {
+    for (int j = 0; j < n_; ++j) {
+      weight_per_s_[i * n_ + j] = params_.coupling_per_s(i, j);
+      bias_rad_[i * n_ + j] = params_.phase_bias_rad(i, j);
+      cos_bias_[i * n_ + j] = std::cos(params_.phase_bias_rad(i, j));
+      sin_bias_[i * n_ + j] = std::sin(params_.phase_bias_rad(i, j));
+    }
+  }
+  Eigen::VectorXd theta(n_);
+  for (int j = 0; j < n_; ++j) theta[j] = params_.phase_bias_rad(0, j);
+  Reset(theta, Eigen::VectorXd::Ones(n_));
+}
+
+void HopfNetwork::Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd& amplitude) {
+  if (theta_rad.size() != n_ || amplitude.size() != n_) {
+    internal::Fail("HopfNetwork::Reset: theta_rad and amplitude must have " +
+                   std::to_string(n_) + " entries (one per oscillator), got " +
+                   std::to_string(theta_rad.size()) + " and " + std::to_string(amplitude.size()));
+  }
+  for (int i = 0; i < n_; ++i) {
+    internal::CheckFinite("HopfNetwork::Reset: theta_rad[" + std::to_string(i) + "]",
+                          theta_rad[i]);
+    internal::CheckPositive("HopfNetwork::Reset: amplitude[" + std::to_string(i) + "]",
+                            amplitude[i]);
+  }
+  std::vector<double>& z = driver_.x();
+  for (int i = 0; i < n_; ++i) {
+    // θ = ϑ + π: swing starts at ϑ = −π, (x, y) = (−sqrt(μ), 0).
+    const double radius = amplitude[i] * sqrt_mu_;
+    z[i] = radius * std::cos(theta_rad[i] - kPi);
+    z[n_ + i] = radius * std::sin(theta_rad[i] - kPi);
+    feedback_rad_per_s_[i] = 0.0;
+  }
+  UpdateOutputs(/*accumulate=*/false);
+  for (int i = 0; i < n_; ++i) unwrapped_rad_[i] = phase_rad_[i];
+  driver_.Restart();
+  time_s_ = 0.0;
+  steps_ = 0;
+  rhs_evaluations_ = 0;
+  status_ = StepStatus::kOk;
+}
+
+// Phase θ (swing [0, π), stance [π, 2π)) → phase uniform in time Φ, in the b → ∞ limit on
+// the limit cycle: swing takes the share 1 − D of the period, stance D.
+double HopfNetwork::TimePhase(double theta_rad) const {
+  return theta_rad < kPi ? 2.0 * swing_share_ * theta_rad
+                         : kTwoPi * swing_share_ + 2.0 * (1.0 - swing_share_) * (theta_rad - kPi);
+}
+
+double HopfNetwork::PhaseFromTimePhase(double time_phase_rad) const {
+  const double swing_end = kTwoPi * swing_share_;
+  return time_phase_rad < swing_end
+             ? time_phase_rad / (2.0 * swing_share_)
+             : kPi + (time_phase_rad - swing_end) / (2.0 * (1.0 - swing_share_));
+}
+
+void HopfNetwork::Derivative(const double* z, double* dzdt) {
+  ++rhs_evaluations_;
+  const double* x = z;
+  const double* y = z + n_;
+  const bool warped = params_.coupling_form == HopfCoupling::kTimeWarpedRotation;
+  if (warped) {
+    for (int j = 0; j < n_; ++j) {
+      time_phase_rad_[j] = TimePhase(std::atan2(y[j], x[j]) + kPi);
+      radius_[j] = std::hypot(x[j], y[j]);
+    }
+  }
+  for (int i = 0; i < n_; ++i) {
+    const double pull = params_.mu - (x[i] * x[i] + y[i] * y[i]);
+    // ω_stance/(e^{−by} + 1) + ω_swing/(e^{by} + 1) = ω_swing + (ω_stance − ω_swing)·σ(by).
+    const double omega = omega_swing_rad_per_s_ +
+                         (omega_stance_rad_per_s_ - omega_swing_rad_per_s_) *
+                             Logistic(params_.b * y[i]);
+    // Feedback on the tangent (−y, x): adds exactly feedback to dϑ/dt (cpg.h).
+    const double rate = omega + feedback_rad_per_s_[i];
+    double dx = params_.alpha_per_s * pull * x[i] - rate * y[i];
+    double dy = params_.beta_per_s * pull * y[i] + rate * x[i];
+    for (int j = 0; j < n_; ++j) {
+      const double k = weight_per_s_[i * n_ + j];
+      if (k == 0.0) continue;
+      double target_x, target_y;
+      if (warped) {
+        // Where z_i would be if it lagged z_j by φ_ij in time: back in the time phase, then to
+        // the circle of radius r_j. θ = ϑ + π, so the point is −r_j·(cos θ*, sin θ*).
+        const double theta = PhaseFromTimePhase(
+            internal::WrapTwoPi(time_phase_rad_[j] - bias_rad_[i * n_ + j]));
+        target_x = -radius_[j] * std::cos(theta);
+        target_y = -radius_[j] * std::sin(theta);
+      } else {
+        // R(−φ_ij)·z_j = (cos φ·x_j + sin φ·y_j, −sin φ·x_j + cos φ·y_j).
+        const double c = cos_bias_[i * n_ + j];
+        const double s = sin_bias_[i * n_ + j];
+        target_x = c * x[j] + s * y[j];
+        target_y = -s * x[j] + c * y[j];
+      }
+      // Diffusive: minus z_i, so that the term vanishes at the lock.
+      dx += k * (target_x - x[i]);
+      dy += k * (target_y - y[i]);
+    }
+    dzdt[i] = dx;
+    dzdt[n_ + i] = dy;
+  }
+}
+
+void HopfNetwork::UpdateOutputs(bool accumulate) {
+  const std::vector<double>& z = driver_.x();
+  for (int i = 0; i < n_; ++i) {
+    const double x = z[i];
+    const double y = z[n_ + i];
+    const double theta = internal::WrapTwoPi(std::atan2(y, x) + kPi);
+    if (accumulate) unwrapped_rad_[i] += internal::WrapPi(theta - phase_rad_[i]);
+    phase_rad_[i] = theta;
+    amplitude_[i] = std::hypot(x, y) / sqrt_mu_;
+  }
+}
+
+void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s) {
+  if (!(dt_s >= 0.0)) internal::Fail("HopfNetwork::Step: dt_s", ">= 0", dt_s);
+  if (!feedback_rad_per_s.empty() && static_cast<int>(feedback_rad_per_s.size()) != n_) {
+    internal::Fail("HopfNetwork::Step: feedback_rad_per_s must be empty or have " +
+                   std::to_string(n_) + " entries, got " +
+                   std::to_string(feedback_rad_per_s.size()));
+  }
+  if (dt_s == 0.0) return;
+  bool feedback_changed = false;
+  for (int i = 0; i < n_; ++i) {
+    const double f = feedback_rad_per_s.empty() ? 0.0 : feedback_rad_per_s[i];
+    if (f != feedback_rad_per_s_[i]) {
+      feedback_changed = true;
+      feedback_rad_per_s_[i] = f;
+    }
+  }
+  if (feedback_changed) driver_.InvalidateDerivative();
+
+  double unfinished_s = 0.0;
+  const bool finished = driver_.Advance(Rhs{this}, dt_s, &unfinished_s);
+  ++steps_;
+  time_s_ += dt_s - unfinished_s;
+  UpdateOutputs(/*accumulate=*/true);
+
+  bool finite = true;
+  for (double value : driver_.x()) finite = finite && std::isfinite(value);
+  status_ = !finite ? StepStatus::kNonFinite
+            : !finished ? StepStatus::kStepSizeUnderflow
+                        : StepStatus::kOk;
+}
+
+std::span<const double> HopfNetwork::x() const {
+  return std::span<const double>(driver_.x().data(), n_);
+}
+
+std::span<const double> HopfNetwork::y() const {
+  return std::span<const double>(driver_.x().data() + n_, n_);
+}
+
+double HopfNetwork::duty_factor() const {
+  return omega_swing_rad_per_s_ / (omega_stance_rad_per_s_ + omega_swing_rad_per_s_);
+}
+
+double HopfNetwork::stride_frequency_hz() const {
+  const double f_stance = params_.stance_frequency_hz;
+  const double f_swing = params_.swing_frequency_hz;
+  return 2.0 * f_stance * f_swing / (f_stance + f_swing);
+}
+
+IntegrationStats HopfNetwork::stats() const {
+  return {steps_, driver_.accepted_steps(), driver_.rejected_steps(), rhs_evaluations_};
+}
+
+}  // namespace climbsim::cpg

@@ -1,0 +1,43 @@
+// Internal to climbsim::cpg: parameter checks with messages that name the field and the value
+// ("PhaseNetworkParams.frequency_hz must be > 0, got -1"), and angle wrapping.
+#ifndef CLIMBSIM_CPG_INTERNAL_CHECKS_H_
+#define CLIMBSIM_CPG_INTERNAL_CHECKS_H_
+
+#include <string>
+#include <string_view>
+
+#include <Eigen/Core>
+
+namespace climbsim::cpg {
+struct StepperParams;  // cpg.h
+}  // namespace climbsim::cpg
+
+namespace climbsim::cpg::internal {
+
+inline constexpr double kTwoPi = 6.283185307179586476925286766559;
+inline constexpr double kPi = 3.141592653589793238462643383279;
+
+// θ into [0, 2π). The final test catches θ a hair below 0, for which θ + 2π rounds to 2π.
+double WrapTwoPi(double theta_rad);
+// Δ into [−π, π).
+double WrapPi(double delta_rad);
+
+// Shortest round-trip text of a value ("0.1", "1e-08", "nan").
+std::string Num(double value);
+
+[[noreturn]] void Fail(std::string_view field, std::string_view requirement, double got);
+[[noreturn]] void Fail(std::string_view message);
+
+void CheckFinite(std::string_view field, double value);
+void CheckPositive(std::string_view field, double value);     // finite and > 0
+void CheckNonNegative(std::string_view field, double value);  // finite and >= 0
+// rows × cols == n × n and all entries finite.
+void CheckSquare(std::string_view field, const Eigen::MatrixXd& m, int n, std::string_view why_n);
+// All entries finite, zero diagonal.
+void CheckZeroDiagonal(std::string_view field, const Eigen::MatrixXd& m);
+// StepperParams as cpg.h documents; owner is "PhaseNetworkParams" or "HopfNetworkParams".
+void CheckStepperParams(std::string_view owner, const StepperParams& params);
+
+}  // namespace climbsim::cpg::internal
+
+#endif  // CLIMBSIM_CPG_INTERNAL_CHECKS_H_

@@ -1,0 +1,58 @@
+#include <cmath>
+#include <string>
+
+#include "cpg/cpg.h"
+#include "cpg/internal/checks.h"
+
+namespace climbsim::cpg {
+namespace {
+
+using internal::kPi;
+using internal::kTwoPi;
+
+void CheckDutyFactor(double duty_factor) {
+  if (!(duty_factor > 0.0 && duty_factor < 1.0)) {
+    internal::Fail("LegShape.duty_factor", "in (0, 1)", duty_factor);
+  }
+}
+
+}  // namespace
+
+void ValidateLegShape(const LegShape& shape) {
+  CheckDutyFactor(shape.duty_factor);
+  for (int k = 0; k < 3; ++k) {
+    internal::CheckFinite("LegShape.stride_rad[" + std::to_string(k) + "]", shape.stride_rad[k]);
+    internal::CheckFinite("LegShape.lift_rad[" + std::to_string(k) + "]", shape.lift_rad[k]);
+  }
+}
+
+LegCommand ShapeLeg(const LegShape& shape, double theta_rad, double amplitude) {
+  CheckDutyFactor(shape.duty_factor);
+  internal::CheckFinite("ShapeLeg: theta_rad", theta_rad);
+  const double theta = internal::WrapTwoPi(theta_rad);
+  const double swing_end_rad = kTwoPi * (1.0 - shape.duty_factor);
+  LegCommand command{};
+  if (theta < swing_end_rad) {
+    const double p = theta / swing_end_rad;
+    const double s = std::sin(kPi * p);
+    command.stance = false;
+    command.progress = p;
+    command.stride = -std::cos(kPi * p);
+    command.lift = s * s;
+  } else {
+    // min: θ just below 2π can round q up to 1; progress stays in [0, 1).
+    const double q = std::fmin((theta - swing_end_rad) / (kTwoPi * shape.duty_factor),
+                               std::nextafter(1.0, 0.0));
+    command.stance = true;
+    command.progress = q;
+    command.stride = 1.0 - 2.0 * q;
+    command.lift = 0.0;
+  }
+  for (int k = 0; k < 3; ++k) {
+    command.joint_rad[k] =
+        amplitude * command.stride * shape.stride_rad[k] + command.lift * shape.lift_rad[k];
+  }
+  return command;
+}
+
+}  // namespace climbsim::cpg

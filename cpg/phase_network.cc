@@ -1,0 +1,172 @@
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "cpg/cpg.h"
+#include "cpg/internal/checks.h"
+
+namespace climbsim::cpg {
+namespace {
+
+using internal::kTwoPi;
+
+// The network's size comes from target_amplitude; everything else must agree with it.
+const PhaseNetworkParams& Validated(const PhaseNetworkParams& p) {
+  const int n = static_cast<int>(p.target_amplitude.size());
+  if (n < 1) {
+    internal::Fail(
+        "PhaseNetworkParams.target_amplitude must have one entry per oscillator (at least 1), "
+        "got 0");
+  }
+  internal::CheckPositive("PhaseNetworkParams.frequency_hz", p.frequency_hz);
+  const std::string why = "one row and column per oscillator, n = target_amplitude.size()";
+  internal::CheckSquare("PhaseNetworkParams.coupling_per_s", p.coupling_per_s, n, why);
+  internal::CheckZeroDiagonal("PhaseNetworkParams.coupling_per_s", p.coupling_per_s);
+  internal::CheckSquare("PhaseNetworkParams.phase_bias_rad", p.phase_bias_rad, n, why);
+  for (int i = 0; i < n; ++i) {
+    internal::CheckNonNegative("PhaseNetworkParams.target_amplitude[" + std::to_string(i) + "]",
+                               p.target_amplitude[i]);
+  }
+  internal::CheckNonNegative("PhaseNetworkParams.amplitude_rate_per_s", p.amplitude_rate_per_s);
+  internal::CheckStepperParams("PhaseNetworkParams", p.stepper);
+  return p;
+}
+
+}  // namespace
+
+// The functor odeint calls; a pointer, so copying it (odeint does) costs nothing.
+struct PhaseNetwork::Rhs {
+  PhaseNetwork* network;
+  void operator()(const std::vector<double>& x, std::vector<double>& dxdt, double) const {
+    network->Derivative(x.data(), dxdt.data());
+  }
+};
+
+PhaseNetwork::PhaseNetwork(const PhaseNetworkParams& params)
+    : params_(Validated(params)),
+      n_(static_cast<int>(params.target_amplitude.size())),
+      omega_rad_per_s_(kTwoPi * params.frequency_hz),
+      weight_per_s_(n_ * n_),
+      cos_bias_(n_ * n_),
+      sin_bias_(n_ * n_),
+      sin_theta_(n_),
+      cos_theta_(n_),
+      feedback_rad_per_s_(n_, 0.0),
+      theta_before_rad_(n_),
+      unwrapped_rad_(n_),
+      driver_(params.stepper, 2 * n_) {
+  for (int i = 0; i < n_; ++i) {
+    for (int j = 0; j < n_; ++j) {
+      weight_per_s_[i * n_ + j] = params_.coupling_per_s(i, j);
+      cos_bias_[i * n_ + j] = std::cos(params_.phase_bias_rad(i, j));
+      sin_bias_[i * n_ + j] = std::sin(params_.phase_bias_rad(i, j));
+    }
+  }
+  // The locked pattern θ_j − θ_0 = φ_0j, at zero amplitude: the legs start from neutral.
+  Eigen::VectorXd theta(n_);
+  for (int j = 0; j < n_; ++j) theta[j] = params_.phase_bias_rad(0, j);
+  Reset(theta, Eigen::VectorXd::Zero(n_));
+}
+
+void PhaseNetwork::Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd& amplitude) {
+  if (theta_rad.size() != n_ || amplitude.size() != n_) {
+    internal::Fail("PhaseNetwork::Reset: theta_rad and amplitude must have " +
+                   std::to_string(n_) + " entries (one per oscillator), got " +
+                   std::to_string(theta_rad.size()) + " and " + std::to_string(amplitude.size()));
+  }
+  for (int i = 0; i < n_; ++i) {
+    internal::CheckFinite("PhaseNetwork::Reset: theta_rad[" + std::to_string(i) + "]",
+                          theta_rad[i]);
+    internal::CheckNonNegative("PhaseNetwork::Reset: amplitude[" + std::to_string(i) + "]",
+                               amplitude[i]);
+  }
+  std::vector<double>& x = driver_.x();
+  for (int i = 0; i < n_; ++i) {
+    x[i] = internal::WrapTwoPi(theta_rad[i]);
+    x[n_ + i] = amplitude[i];
+    unwrapped_rad_[i] = x[i];
+    feedback_rad_per_s_[i] = 0.0;
+  }
+  driver_.Restart();
+  time_s_ = 0.0;
+  steps_ = 0;
+  rhs_evaluations_ = 0;
+  status_ = StepStatus::kOk;
+}
+
+void PhaseNetwork::Derivative(const double* x, double* dxdt) {
+  ++rhs_evaluations_;
+  const double* theta = x;
+  const double* r = x + n_;
+  // sin(θ_j − θ_i − φ_ij) from sin/cos of each θ and of each φ: 2n trig calls, not n².
+  for (int j = 0; j < n_; ++j) {
+    sin_theta_[j] = std::sin(theta[j]);
+    cos_theta_[j] = std::cos(theta[j]);
+  }
+  for (int i = 0; i < n_; ++i) {
+    double coupling = 0.0;
+    for (int j = 0; j < n_; ++j) {
+      const double w = weight_per_s_[i * n_ + j];
+      if (w == 0.0) continue;
+      const double sin_diff = sin_theta_[j] * cos_theta_[i] - cos_theta_[j] * sin_theta_[i];
+      const double cos_diff = cos_theta_[j] * cos_theta_[i] + sin_theta_[j] * sin_theta_[i];
+      coupling += w * r[j] * (sin_diff * cos_bias_[i * n_ + j] - cos_diff * sin_bias_[i * n_ + j]);
+    }
+    dxdt[i] = omega_rad_per_s_ + coupling + feedback_rad_per_s_[i];
+    dxdt[n_ + i] = params_.amplitude_rate_per_s * (params_.target_amplitude[i] - r[i]);
+  }
+}
+
+void PhaseNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s) {
+  if (!(dt_s >= 0.0)) internal::Fail("PhaseNetwork::Step: dt_s", ">= 0", dt_s);
+  if (!feedback_rad_per_s.empty() && static_cast<int>(feedback_rad_per_s.size()) != n_) {
+    internal::Fail("PhaseNetwork::Step: feedback_rad_per_s must be empty or have " +
+                   std::to_string(n_) + " entries, got " +
+                   std::to_string(feedback_rad_per_s.size()));
+  }
+  if (dt_s == 0.0) return;
+  // A new feedback changes the right-hand side: Dopri5's carried-over derivative is stale.
+  bool feedback_changed = false;
+  for (int i = 0; i < n_; ++i) {
+    const double f = feedback_rad_per_s.empty() ? 0.0 : feedback_rad_per_s[i];
+    if (f != feedback_rad_per_s_[i]) {
+      feedback_changed = true;
+      feedback_rad_per_s_[i] = f;
+    }
+  }
+  if (feedback_changed) driver_.InvalidateDerivative();
+
+  std::vector<double>& x = driver_.x();
+  for (int i = 0; i < n_; ++i) theta_before_rad_[i] = x[i];
+  double unfinished_s = 0.0;
+  const bool finished = driver_.Advance(Rhs{this}, dt_s, &unfinished_s);
+  ++steps_;
+  time_s_ += dt_s - unfinished_s;
+
+  // Wrap after the step, not inside it: the right-hand side is 2π-periodic in θ, so Dopri5's
+  // carried-over derivative stays valid, and Dopri5's error test sees |θ| ≤ 2π, not a phase
+  // that grows without bound (its relative tolerance would loosen with it).
+  bool finite = true;
+  for (int i = 0; i < n_; ++i) {
+    unwrapped_rad_[i] += x[i] - theta_before_rad_[i];
+    x[i] = internal::WrapTwoPi(x[i]);
+    finite = finite && std::isfinite(x[i]) && std::isfinite(x[n_ + i]);
+  }
+  status_ = !finite ? StepStatus::kNonFinite
+            : !finished ? StepStatus::kStepSizeUnderflow
+                        : StepStatus::kOk;
+}
+
+std::span<const double> PhaseNetwork::phase_rad() const {
+  return std::span<const double>(driver_.x().data(), n_);
+}
+
+std::span<const double> PhaseNetwork::amplitude() const {
+  return std::span<const double>(driver_.x().data() + n_, n_);
+}
+
+IntegrationStats PhaseNetwork::stats() const {
+  return {steps_, driver_.accepted_steps(), driver_.rejected_steps(), rhs_evaluations_};
+}
+
+}  // namespace climbsim::cpg
