@@ -3,6 +3,7 @@
 // convention for every leg.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "mjcf_test_util.h"
@@ -49,6 +50,28 @@ class MjcfContract : public testing::TestWithParam<RobotSpec> {
     mj_kinematics(m_.get(), d_.get());
     const mjtNum* p = d_->site_xpos + 3 * Id(mjOBJ_SITE, name);
     return {p[0], p[1], p[2]};
+  }
+  // Horizontal separation (m) of two horizontal box pads from the current kinematics, by
+  // the separating-axis test on their footprints (> 0: apart by at least that much).
+  double PadSeparation(int a, int b) const {
+    double best = -1e300;
+    for (int g : {a, b}) {
+      for (int axis = 0; axis < 2; ++axis) {
+        // Footprint axis `axis` of geom g in world xy (column of geom_xmat).
+        const double ux = d_->geom_xmat[9 * g + axis], uy = d_->geom_xmat[9 * g + 3 + axis];
+        double extent = 0;
+        for (int h : {a, b}) {
+          for (int k = 0; k < 2; ++k) {
+            extent += m_->geom_size[3 * h + k] *
+                      std::abs(d_->geom_xmat[9 * h + k] * ux + d_->geom_xmat[9 * h + 3 + k] * uy);
+          }
+        }
+        const double centre = (d_->geom_xpos[3 * a] - d_->geom_xpos[3 * b]) * ux +
+                              (d_->geom_xpos[3 * a + 1] - d_->geom_xpos[3 * b + 1]) * uy;
+        best = std::max(best, std::abs(centre) - extent);
+      }
+    }
+    return best;
   }
   ModelPtr m_;
   DataPtr d_;
@@ -265,6 +288,31 @@ TEST_P(MjcfContract, GaitAnglesGiveSeveralCentimetresOfStrideAndLift) {
     const auto p0 = SiteWithJoint(site, leg + "_hip_pitch", 0.0);
     const auto up = SiteWithJoint(site, leg + "_hip_pitch", 0.4);
     EXPECT_GE(up[2] - p0[2], 0.015) << leg;
+  }
+}
+
+// Robot geoms do not collide with each other, so the geometry must keep neighbouring pads
+// apart: two neighbouring legs of a side swung towards each other by the gait's 0.4 rad of
+// hip yaw leave at least 5 mm between their pads (README).
+TEST_P(MjcfContract, NeighbouringPadsStayApartAtGaitYawAngles) {
+  const auto& legs = GetParam().legs;
+  for (size_t i = 0; i + 1 < legs.size(); ++i) {
+    // Legs are listed front to back per side (gecko: LF RF LH RH, spider: L1 L2 L3 R1 R2 R3).
+    const std::string front = legs[i];
+    std::string back;
+    for (size_t k = i + 1; k < legs.size(); ++k) {
+      if (legs[k][0] == front[0]) {
+        back = legs[k];
+        break;
+      }
+    }
+    if (back.empty()) continue;
+    mj_resetData(m_.get(), d_.get());
+    d_->qpos[m_->jnt_qposadr[Id(mjOBJ_JOINT, front + "_hip_yaw")]] = -0.4;
+    d_->qpos[m_->jnt_qposadr[Id(mjOBJ_JOINT, back + "_hip_yaw")]] = 0.4;
+    mj_kinematics(m_.get(), d_.get());
+    const int a = Id(mjOBJ_GEOM, front + "_pad"), b = Id(mjOBJ_GEOM, back + "_pad");
+    EXPECT_GE(PadSeparation(a, b), 0.005) << front << " vs " << back;
   }
 }
 
