@@ -195,6 +195,8 @@ void BondGrid::ClearField() {
   std::fill(row_tau3_.begin(), row_tau3_.end(), 0.0);
   tau_x_per_w_ = 0.0;
   tau_y_per_v_ = 0.0;
+  col_sigma_max_ = 0.0;
+  col_tau3_max_ = 0.0;
   unsupported_ = false;
 }
 
@@ -275,10 +277,14 @@ void BondGrid::ComputeField(const PadLoad& load) {
 
   // The separable parts: σ = col_sigma + row_sigma, 3τ² = col_tau3 + row_tau3.
   const double sigma0 = load.fn_n / (n * da);
+  col_sigma_max_ = -std::numeric_limits<double>::infinity();
+  col_tau3_max_ = 0.0;
   for (int ix = 0; ix < nx; ++ix) {
     col_sigma_[ix] = sigma0 + g_x * (col_x_m_[ix] - x_c);
     const double tau_y = tau_y_per_v_ * col_v_[ix];
     col_tau3_[ix] = 3.0 * tau_y * tau_y;
+    col_sigma_max_ = std::max(col_sigma_max_, col_sigma_[ix]);
+    col_tau3_max_ = std::max(col_tau3_max_, col_tau3_[ix]);
   }
   for (int iy = 0; iy < ny; ++iy) {
     row_sigma_[iy] = g_y * (row_y_m_[iy] - y_c);
@@ -287,7 +293,47 @@ void BondGrid::ComputeField(const PadLoad& load) {
   }
 }
 
-StressSummary BondGrid::CheckBonds(bool do_break, int round) {
+int BondGrid::BreakOverThreshold(int round) {
+  if (bonded_count_ == 0) return 0;
+  const int nx = params_.grid_x;
+  const int ny = params_.grid_y;
+  const double sigma_t = params_.sigma_t_pa;
+  const double mu = params_.mu;
+  int broken = 0;
+  for (int iy = 0; iy < ny; ++iy) {
+    if (row_count_[iy] == 0) continue;
+    const double row_sigma = row_sigma_[iy];
+    const double row_tau3 = row_tau3_[iy];
+    // Row bound: every bond's demand σ₊² + 3τ² is at most (max σ)₊² + max 3τ² over the row's
+    // columns (floating-point addition is monotone), and every threshold is ≥ σ_T. Below
+    // σ_T² nothing in this row can break: skip it.
+    if (!unsupported_) {
+      const double sigma_bound = std::max(col_sigma_max_ + row_sigma, 0.0);
+      if (sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3) < sigma_t_sq_) continue;
+    }
+    const uint8_t* state = state_.data() + iy * nx;
+    for (int ix = 0; ix < nx; ++ix) {
+      if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
+      const double sigma = col_sigma_[ix] + row_sigma;
+      const double tau3 = col_tau3_[ix] + row_tau3;
+      // Rupture in squares (seed eqs. 7–8).
+      bool breaks;
+      if (sigma >= 0.0) {
+        breaks = sigma * sigma + tau3 >= sigma_t_sq_;
+      } else {
+        const double threshold = sigma_t - mu * sigma;
+        breaks = tau3 >= threshold * threshold;
+      }
+      if (!(breaks || unsupported_)) continue;
+      SetState(iy * nx + ix, BondState::kBroken);
+      broken_log_[broken_count_++] = BrokenBond{.index = iy * nx + ix, .round = round};
+      ++broken;
+    }
+  }
+  return broken;
+}
+
+StressSummary BondGrid::Summary() const {
   StressSummary summary;
   if (bonded_count_ == 0) return summary;
   const int nx = params_.grid_x;
@@ -296,37 +342,27 @@ StressSummary BondGrid::CheckBonds(bool do_break, int round) {
   const double mu = params_.mu;
   double max_sigma = -std::numeric_limits<double>::infinity();
   double max_vm_sq = 0.0;
-  double max_tension_sq = 0.0;     // largest σ² + 3τ² among bonds in tension
-  double max_compression_u2 = 0.0; // largest 3τ²/(σ_T + μ|σ|)² among bonds in compression
+  double max_tension_sq = 0.0;      // largest σ² + 3τ² among bonds in tension
+  double max_compression_u2 = 0.0;  // largest 3τ²/(σ_T + μ|σ|)² among bonds in compression
   int over = 0;
   for (int iy = 0; iy < ny; ++iy) {
     if (row_count_[iy] == 0) continue;
-    const double row_sigma = row_sigma_[iy];
-    const double row_tau3 = row_tau3_[iy];
-    const int base = iy * nx;
+    const uint8_t* state = state_.data() + iy * nx;
     for (int ix = 0; ix < nx; ++ix) {
-      if (state_[base + ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
-      const double sigma = col_sigma_[ix] + row_sigma;
-      const double tau3 = col_tau3_[ix] + row_tau3;
+      if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
+      const double sigma = col_sigma_[ix] + row_sigma_[iy];
+      const double tau3 = col_tau3_[ix] + row_tau3_[iy];
       const double vm_sq = sigma * sigma + tau3;
       max_sigma = std::max(max_sigma, sigma);
       max_vm_sq = std::max(max_vm_sq, vm_sq);
-      // Rupture, compared in squares (seed eqs. 7–8).
-      bool breaks;
       if (sigma >= 0.0) {
-        breaks = vm_sq >= sigma_t_sq_;
         max_tension_sq = std::max(max_tension_sq, vm_sq);
+        over += vm_sq >= sigma_t_sq_ ? 1 : 0;
       } else {
         const double threshold = sigma_t - mu * sigma;
         const double threshold_sq = threshold * threshold;
-        breaks = tau3 >= threshold_sq;
         max_compression_u2 = std::max(max_compression_u2, tau3 / threshold_sq);
-      }
-      if (!(breaks || unsupported_)) continue;
-      ++over;
-      if (do_break) {
-        SetState(base + ix, BondState::kBroken);
-        broken_log_[broken_count_++] = BrokenBond{.index = base + ix, .round = round};
+        over += tau3 >= threshold_sq ? 1 : 0;
       }
     }
   }
@@ -335,7 +371,7 @@ StressSummary BondGrid::CheckBonds(bool do_break, int round) {
   summary.peak_utilisation =
       unsupported_ ? std::numeric_limits<double>::infinity()
                    : std::sqrt(std::max(max_tension_sq / sigma_t_sq_, max_compression_u2));
-  summary.over_threshold = over;
+  summary.over_threshold = unsupported_ ? bonded_count_ : over;
   summary.load_unsupported = unsupported_;
   return summary;
 }
@@ -349,16 +385,14 @@ BondGrid::UpdateResult BondGrid::Update(const PadLoad& load_pad) {
     result.detached = detached();
     return result;
   }
-  // Rounds of the cascade until one breaks nothing (at most one per bond, plus one).
+  // Rounds of the cascade until one breaks nothing (at most one per bond, plus one); the
+  // field of the last round, over the bonds left, stays for stress() and Summary().
   while (true) {
     ComputeField(load_pad);
-    const StressSummary summary = CheckBonds(/*do_break=*/true, result.rounds + 1);
-    if (summary.over_threshold == 0) {
-      result.field = summary;
-      break;
-    }
+    const int broken = BreakOverThreshold(result.rounds + 1);
+    if (broken == 0) break;
     ++result.rounds;
-    result.broken += summary.over_threshold;
+    result.broken += broken;
   }
   result.detached = detached();
   return result;
@@ -370,7 +404,7 @@ StressSummary BondGrid::Evaluate(const PadLoad& load_pad) {
     return StressSummary{};
   }
   ComputeField(load_pad);
-  return CheckBonds(/*do_break=*/false, 0);
+  return Summary();
 }
 
 BondStress BondGrid::stress(int index) const {

@@ -192,18 +192,23 @@ class BondGrid {
 
   // --- Loading (no allocation) ---
   struct UpdateResult {
-    int broken = 0;         // bonds broken in this update
-    int rounds = 0;         // cascade rounds that broke at least one bond
-    bool detached = false;  // fewer than min_bonds bonded after the cascade
+    int broken = 0;           // bonds broken in this update
+    int rounds = 0;           // cascade rounds that broke at least one bond
+    bool detached = false;    // fewer than min_bonds bonded after the cascade
     bool load_finite = true;  // false: a NaN/inf load component; nothing was evaluated
-    StressSummary field;    // the field over the bonds left (after the cascade)
   };
   // Stresses, rupture and the cascade to a fixed point under load_pad. Logs the broken
-  // bonds (last_broken()) and keeps the final field for stress().
+  // bonds (last_broken()) and keeps the field over the bonds left for stress() and
+  // Summary(). A round costs O(N_x + N_y) plus a scan of the rows whose bound
+  // (max σ)₊² + max 3τ² reaches σ_T² (bond_grid.cc): a pad that holds comfortably is not
+  // scanned bond by bond.
   UpdateResult Update(const PadLoad& load_pad);
-  // The stress field over the current bonded set under load_pad, breaking nothing. A
-  // non-finite load gives an empty summary and an all-zero field.
+  // The stress field over the current bonded set under load_pad, breaking nothing; returns
+  // Summary(). A non-finite load gives an empty summary and an all-zero field.
   StressSummary Evaluate(const PadLoad& load_pad);
+  // Peaks of the current field (last Update, after its cascade, or Evaluate) over the
+  // bonded set: one scan of the bonds.
+  StressSummary Summary() const;
 
   // --- Queries ---
   const PadParams& params() const { return params_; }
@@ -243,9 +248,9 @@ class BondGrid {
   // parts: σ_i = col_sigma_[ix] + row_sigma_[iy], 3τ² = col_tau3_[ix] + row_tau3_[iy].
   void ComputeField(const PadLoad& load);
   void ClearField();
-  // Checks every bonded bond against the current field; breaks those over threshold when
-  // do_break (logging them with round), and returns the summary of the checked bonds.
-  StressSummary CheckBonds(bool do_break, int round);
+  // Breaks (and logs, with round) every bonded bond over its threshold in the current
+  // field; returns how many.
+  int BreakOverThreshold(int round);
   void SetState(int index, BondState new_state);
 
   PadParams params_;
@@ -277,6 +282,8 @@ class BondGrid {
   std::vector<double> row_tau3_;
   double tau_x_per_w_ = 0.0;  // τ_x = tau_x_per_w_·w
   double tau_y_per_v_ = 0.0;  // τ_y = tau_y_per_v_·v
+  double col_sigma_max_ = 0.0;  // max over columns of col_sigma_
+  double col_tau3_max_ = 0.0;   // max over columns of col_tau3_
   bool unsupported_ = false;
 
   // The log of the last Update.
