@@ -133,11 +133,14 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
   ++rhs_evaluations_;
   const double* x = z;
   const double* y = z + n_;
-  const bool warped = params_.coupling_form == HopfCoupling::kTimeWarpedRotation;
+  // With equal halves (D = ½) W is the identity and the warped form is the plain rotation,
+  // which needs no trigonometry here.
+  const bool warped = params_.coupling_form == HopfCoupling::kTimeWarpedRotation &&
+                      swing_share_ != 0.5;
   if (warped) {
     for (int j = 0; j < n_; ++j) {
       time_phase_rad_[j] = TimePhase(std::atan2(y[j], x[j]) + kPi);
-      radius_[j] = std::hypot(x[j], y[j]);
+      radius_[j] = std::sqrt(x[j] * x[j] + y[j] * y[j]);
     }
   }
   for (int i = 0; i < n_; ++i) {
