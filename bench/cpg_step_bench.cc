@@ -49,9 +49,9 @@ void BM_Step(benchmark::State& state) {
     benchmark::DoNotOptimize(network->phase_rad().data());
   }
   const IntegrationStats after = network->stats();
-  state.counters["rhs_per_step"] = static_cast<double>(after.rhs_evaluations -
-                                                       before.rhs_evaluations) /
-                                   static_cast<double>(after.steps - before.steps);
+  state.counters["rhs_per_step"] =
+      static_cast<double>(after.rhs_evaluations - before.rhs_evaluations) /
+      static_cast<double>(after.steps - before.steps);
   static const char* kStepper[] = {"euler", "rk4", "dopri5"};
   state.SetLabel(std::string(hopf ? "hopf" : "phase") + "/" + std::to_string(legs) + "legs/" +
                  kStepper[state.range(2)] + (feedback_on ? "/fb" : ""));

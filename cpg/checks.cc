@@ -1,10 +1,10 @@
 #include "cpg/internal/checks.h"
 
-#include "cpg/cpg.h"
-
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
+
+#include "cpg/cpg.h"
 
 namespace climbsim::cpg::internal {
 
@@ -50,9 +50,8 @@ void CheckSquare(std::string_view field, const Eigen::MatrixXd& m, int n, std::s
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       if (!std::isfinite(m(i, j))) {
-        Fail(std::string(field) + "(" + std::to_string(i) + "," + std::to_string(j) +
-                 ")",
-             "finite", m(i, j));
+        Fail(std::string(field) + "(" + std::to_string(i) + "," + std::to_string(j) + ")", "finite",
+             m(i, j));
       }
     }
   }

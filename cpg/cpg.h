@@ -25,6 +25,7 @@
 #ifndef CLIMBSIM_CPG_CPG_H_
 #define CLIMBSIM_CPG_CPG_H_
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -32,8 +33,6 @@
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "cpg/internal/odeint_driver.h"
 
@@ -71,10 +70,10 @@ enum class StepStatus {
 
 // Counters since construction or the last Reset, for benchmarks and diagnostics.
 struct IntegrationStats {
-  std::int64_t steps = 0;             // calls of Step
-  std::int64_t accepted_steps = 0;    // odeint steps taken (Euler/RK4: == steps)
-  std::int64_t rejected_steps = 0;    // Dopri5 only
-  std::int64_t rhs_evaluations = 0;   // right-hand side calls: the cost
+  std::int64_t steps = 0;            // calls of Step
+  std::int64_t accepted_steps = 0;   // odeint steps taken (Euler/RK4: == steps)
+  std::int64_t rejected_steps = 0;   // Dopri5 only
+  std::int64_t rhs_evaluations = 0;  // right-hand side calls: the cost
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -280,7 +279,8 @@ class PhaseNetwork final : public OscillatorNetwork {
 //                        finite b, hence the residue).
 //                        Near the lock its phase dynamics are the phase network's, in Φ:
 //                        dΦ_i/dt ≈ Ω + Σ_j k_ij·(Φ_j − Φ_i − φ_ij). For D = ½, W is the
-//                        identity and the two forms coincide. Costs n² sin/cos per evaluation.
+//                        identity and the two forms coincide. Costs n atan2 and 2n sin/cos
+//                        per evaluation (the rotation by angle addition).
 //
 // Feedback. feedback_i (rad/s) enters as u_i on the tangent (−y_i, x_i), which adds exactly
 // u_i to dϑ_i/dt at any radius and leaves the radius alone. Righetti and Ijspeert add their
@@ -371,7 +371,6 @@ class HopfNetwork final : public OscillatorNetwork {
   // dz/dt for z = [x_0..x_{n−1}, y_0..y_{n−1}], with the feedback held in feedback_.
   void Derivative(const double* z, double* dzdt);
   double TimePhase(double theta_rad) const;
-  double PhaseFromTimePhase(double time_phase_rad) const;
   // phase_rad_, amplitude_ from the state; adds the wrapped phase change to unwrapped_rad_
   // if accumulate.
   void UpdateOutputs(bool accumulate);
@@ -382,12 +381,19 @@ class HopfNetwork final : public OscillatorNetwork {
   double omega_swing_rad_per_s_;
   double sqrt_mu_;
   std::vector<double> weight_per_s_;
-  std::vector<double> bias_rad_;
   std::vector<double> cos_bias_;
   std::vector<double> sin_bias_;
   double swing_share_;  // 1 − D: share of the time spent in swing (b → ∞)
+  // kTimeWarpedRotation by angle addition (hopf_network.cc): per pair, φ_ij wrapped to
+  // [0, 2π) and cos/sin of four constant angles; per oscillator and evaluation, its time
+  // phase, radius and cos/sin of its time phase scaled by each half's slope.
+  std::vector<double> warp_bias_rad_;
+  std::vector<double> warp_cos_;
+  std::vector<double> warp_sin_;
   std::vector<double> time_phase_rad_;
   std::vector<double> radius_;
+  std::vector<double> scaled_cos_;
+  std::vector<double> scaled_sin_;
   std::vector<double> feedback_rad_per_s_;
   std::vector<double> phase_rad_;
   std::vector<double> amplitude_;

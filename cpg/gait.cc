@@ -71,8 +71,8 @@ Eigen::MatrixXd PhaseBiasFromOffsets(const std::vector<double>& offsets_cycles) 
 Eigen::MatrixXd AllToAllCoupling(int num_oscillators, double weight_per_s) {
   if (num_oscillators < 1) internal::Fail("num_oscillators", ">= 1", num_oscillators);
   internal::CheckFinite("weight_per_s", weight_per_s);
-  Eigen::MatrixXd coupling = Eigen::MatrixXd::Constant(num_oscillators, num_oscillators,
-                                                       weight_per_s);
+  Eigen::MatrixXd coupling =
+      Eigen::MatrixXd::Constant(num_oscillators, num_oscillators, weight_per_s);
   coupling.diagonal().setZero();
   return coupling;
 }
@@ -100,8 +100,7 @@ HopfFrequencies HopfFrequenciesForGait(double stride_frequency_hz, double duty_f
 HopfNetworkParams HopfNetworkParamsForGait(const Gait& gait, double stride_frequency_hz,
                                            double coupling_per_s) {
   const int n = static_cast<int>(gait.offsets_cycles.size());
-  const HopfFrequencies frequencies = HopfFrequenciesForGait(stride_frequency_hz,
-                                                             gait.duty_factor);
+  const HopfFrequencies frequencies = HopfFrequenciesForGait(stride_frequency_hz, gait.duty_factor);
   HopfNetworkParams params;
   params.stance_frequency_hz = frequencies.stance_frequency_hz;
   params.swing_frequency_hz = frequencies.swing_frequency_hz;

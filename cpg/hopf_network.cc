@@ -15,9 +15,9 @@ using internal::kTwoPi;
 const HopfNetworkParams& Validated(const HopfNetworkParams& p) {
   const int n = static_cast<int>(p.coupling_per_s.rows());
   if (n < 1) {
-    internal::Fail(
-        "HopfNetworkParams.coupling_per_s must be n x n with n >= 1 oscillators, got " +
-        std::to_string(p.coupling_per_s.rows()) + "x" + std::to_string(p.coupling_per_s.cols()));
+    internal::Fail("HopfNetworkParams.coupling_per_s must be n x n with n >= 1 oscillators, got " +
+                   std::to_string(p.coupling_per_s.rows()) + "x" +
+                   std::to_string(p.coupling_per_s.cols()));
   }
   internal::CheckPositive("HopfNetworkParams.stance_frequency_hz", p.stance_frequency_hz);
   internal::CheckPositive("HopfNetworkParams.swing_frequency_hz", p.swing_frequency_hz);
@@ -61,13 +61,17 @@ HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
       omega_swing_rad_per_s_(kTwoPi * params.swing_frequency_hz),
       sqrt_mu_(std::sqrt(params.mu)),
       weight_per_s_(n_ * n_),
-      bias_rad_(n_ * n_),
       cos_bias_(n_ * n_),
       sin_bias_(n_ * n_),
       swing_share_(params.stance_frequency_hz /
                    (params.stance_frequency_hz + params.swing_frequency_hz)),
+      warp_bias_rad_(n_ * n_),
+      warp_cos_(4 * n_ * n_),
+      warp_sin_(4 * n_ * n_),
       time_phase_rad_(n_),
       radius_(n_),
+      scaled_cos_(2 * n_),
+      scaled_sin_(2 * n_),
       feedback_rad_per_s_(n_, 0.0),
       phase_rad_(n_),
       amplitude_(n_),
@@ -76,9 +80,25 @@ HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
   for (int i = 0; i < n_; ++i) {
     for (int j = 0; j < n_; ++j) {
       weight_per_s_[i * n_ + j] = params_.coupling_per_s(i, j);
-      bias_rad_[i * n_ + j] = params_.phase_bias_rad(i, j);
       cos_bias_[i * n_ + j] = std::cos(params_.phase_bias_rad(i, j));
       sin_bias_[i * n_ + j] = std::sin(params_.phase_bias_rad(i, j));
+    }
+  }
+  // Time-warped rotation. W⁻¹ is linear on each half: θ = a_s + c_s·Φ (s = 0 swing, 1
+  // stance). The target time phase is Φ_j − ψ_ij + 2π·m, ψ_ij = φ_ij wrapped to [0, 2π) and
+  // m = 1 when Φ_j < ψ_ij, so θ* = c_s·Φ_j + β, β = a_s − c_s·ψ_ij + 2π·m·c_s: four constant
+  // angles per pair, whose cos/sin are taken here once.
+  const double slope[2] = {1.0 / (2.0 * swing_share_), 1.0 / (2.0 * (1.0 - swing_share_))};
+  const double intercept[2] = {0.0, kPi - kTwoPi * swing_share_ * slope[1]};
+  for (int ij = 0; ij < n_ * n_; ++ij) {
+    const double psi = internal::WrapTwoPi(params_.phase_bias_rad(ij / n_, ij % n_));
+    warp_bias_rad_[ij] = psi;
+    for (int half = 0; half < 2; ++half) {
+      for (int m = 0; m < 2; ++m) {
+        const double beta = intercept[half] - slope[half] * psi + kTwoPi * m * slope[half];
+        warp_cos_[4 * ij + 2 * half + m] = std::cos(beta);
+        warp_sin_[4 * ij + 2 * half + m] = std::sin(beta);
+      }
     }
   }
   Eigen::VectorXd theta(n_);
@@ -88,13 +108,12 @@ HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
 
 void HopfNetwork::Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd& amplitude) {
   if (theta_rad.size() != n_ || amplitude.size() != n_) {
-    internal::Fail("HopfNetwork::Reset: theta_rad and amplitude must have " +
-                   std::to_string(n_) + " entries (one per oscillator), got " +
-                   std::to_string(theta_rad.size()) + " and " + std::to_string(amplitude.size()));
+    internal::Fail("HopfNetwork::Reset: theta_rad and amplitude must have " + std::to_string(n_) +
+                   " entries (one per oscillator), got " + std::to_string(theta_rad.size()) +
+                   " and " + std::to_string(amplitude.size()));
   }
   for (int i = 0; i < n_; ++i) {
-    internal::CheckFinite("HopfNetwork::Reset: theta_rad[" + std::to_string(i) + "]",
-                          theta_rad[i]);
+    internal::CheckFinite("HopfNetwork::Reset: theta_rad[" + std::to_string(i) + "]", theta_rad[i]);
     internal::CheckPositive("HopfNetwork::Reset: amplitude[" + std::to_string(i) + "]",
                             amplitude[i]);
   }
@@ -122,33 +141,31 @@ double HopfNetwork::TimePhase(double theta_rad) const {
                          : kTwoPi * swing_share_ + 2.0 * (1.0 - swing_share_) * (theta_rad - kPi);
 }
 
-double HopfNetwork::PhaseFromTimePhase(double time_phase_rad) const {
-  const double swing_end = kTwoPi * swing_share_;
-  return time_phase_rad < swing_end
-             ? time_phase_rad / (2.0 * swing_share_)
-             : kPi + (time_phase_rad - swing_end) / (2.0 * (1.0 - swing_share_));
-}
-
 void HopfNetwork::Derivative(const double* z, double* dzdt) {
   ++rhs_evaluations_;
   const double* x = z;
   const double* y = z + n_;
   // With equal halves (D = ½) W is the identity and the warped form is the plain rotation,
   // which needs no trigonometry here.
-  const bool warped = params_.coupling_form == HopfCoupling::kTimeWarpedRotation &&
-                      swing_share_ != 0.5;
+  const bool warped =
+      params_.coupling_form == HopfCoupling::kTimeWarpedRotation && swing_share_ != 0.5;
   if (warped) {
+    const double slope[2] = {1.0 / (2.0 * swing_share_), 1.0 / (2.0 * (1.0 - swing_share_))};
     for (int j = 0; j < n_; ++j) {
       time_phase_rad_[j] = TimePhase(std::atan2(y[j], x[j]) + kPi);
       radius_[j] = std::sqrt(x[j] * x[j] + y[j] * y[j]);
+      for (int half = 0; half < 2; ++half) {
+        scaled_cos_[2 * j + half] = std::cos(slope[half] * time_phase_rad_[j]);
+        scaled_sin_[2 * j + half] = std::sin(slope[half] * time_phase_rad_[j]);
+      }
     }
   }
   for (int i = 0; i < n_; ++i) {
     const double pull = params_.mu - (x[i] * x[i] + y[i] * y[i]);
     // ω_stance/(e^{−by} + 1) + ω_swing/(e^{by} + 1) = ω_swing + (ω_stance − ω_swing)·σ(by).
-    const double omega = omega_swing_rad_per_s_ +
-                         (omega_stance_rad_per_s_ - omega_swing_rad_per_s_) *
-                             Logistic(params_.b * y[i]);
+    const double omega =
+        omega_swing_rad_per_s_ +
+        (omega_stance_rad_per_s_ - omega_swing_rad_per_s_) * Logistic(params_.b * y[i]);
     // Feedback on the tangent (−y, x): adds exactly feedback to dϑ/dt (cpg.h).
     const double rate = omega + feedback_rad_per_s_[i];
     double dx = params_.alpha_per_s * pull * x[i] - rate * y[i];
@@ -158,12 +175,19 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
       if (k == 0.0) continue;
       double target_x, target_y;
       if (warped) {
-        // Where z_i would be if it lagged z_j by φ_ij in time: back in the time phase, then to
-        // the circle of radius r_j. θ = ϑ + π, so the point is −r_j·(cos θ*, sin θ*).
-        const double theta = PhaseFromTimePhase(
-            internal::WrapTwoPi(time_phase_rad_[j] - bias_rad_[i * n_ + j]));
-        target_x = -radius_[j] * std::cos(theta);
-        target_y = -radius_[j] * std::sin(theta);
+        // Where z_i would be if it lagged z_j by φ_ij in time: θ* = W⁻¹(W(θ_j) − φ_ij) on the
+        // circle of radius r_j; θ = ϑ + π, so the point is −r_j·(cos θ*, sin θ*). cos/sin of
+        // θ* = c_s·Φ_j + β by angle addition (constructor).
+        const int ij = i * n_ + j;
+        const int m = time_phase_rad_[j] < warp_bias_rad_[ij] ? 1 : 0;
+        const double target_phase = time_phase_rad_[j] - warp_bias_rad_[ij] + kTwoPi * m;
+        const int half = target_phase < kTwoPi * swing_share_ ? 0 : 1;
+        const double c = scaled_cos_[2 * j + half];
+        const double s = scaled_sin_[2 * j + half];
+        const double cb = warp_cos_[4 * ij + 2 * half + m];
+        const double sb = warp_sin_[4 * ij + 2 * half + m];
+        target_x = -radius_[j] * (c * cb - s * sb);
+        target_y = -radius_[j] * (s * cb + c * sb);
       } else {
         // R(−φ_ij)·z_j = (cos φ·x_j + sin φ·y_j, −sin φ·x_j + cos φ·y_j).
         const double c = cos_bias_[i * n_ + j];
@@ -218,7 +242,7 @@ void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s) 
 
   bool finite = true;
   for (double value : driver_.x()) finite = finite && std::isfinite(value);
-  status_ = !finite ? StepStatus::kNonFinite
+  status_ = !finite     ? StepStatus::kNonFinite
             : !finished ? StepStatus::kStepSizeUnderflow
                         : StepStatus::kOk;
 }

@@ -41,8 +41,8 @@ LegCommand ShapeLeg(const LegShape& shape, double theta_rad, double amplitude) {
     command.lift = s * s;
   } else {
     // min: θ just below 2π can round q up to 1; progress stays in [0, 1).
-    const double q = std::fmin((theta - swing_end_rad) / (kTwoPi * shape.duty_factor),
-                               std::nextafter(1.0, 0.0));
+    const double q =
+        std::fmin((theta - swing_end_rad) / (kTwoPi * shape.duty_factor), std::nextafter(1.0, 0.0));
     command.stance = true;
     command.progress = q;
     command.stride = 1.0 - 2.0 * q;

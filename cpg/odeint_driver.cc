@@ -8,7 +8,7 @@ namespace climbsim::cpg::internal {
 OdeintDriver::OdeintDriver(const StepperParams& params, std::size_t state_size)
     : method_(params.type == Stepper::kEuler ? Method::kEuler
               : params.type == Stepper::kRk4 ? Method::kRk4
-                                              : Method::kDopri5),
+                                             : Method::kDopri5),
       x_(state_size, 0.0),
       dopri5_(Dopri5::error_checker_type(params.abs_tol, params.rel_tol, 1.0, 1.0)) {
   // Size every stepper's scratch now, so that no Step ever resizes (allocates).

@@ -70,9 +70,9 @@ PhaseNetwork::PhaseNetwork(const PhaseNetworkParams& params)
 
 void PhaseNetwork::Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd& amplitude) {
   if (theta_rad.size() != n_ || amplitude.size() != n_) {
-    internal::Fail("PhaseNetwork::Reset: theta_rad and amplitude must have " +
-                   std::to_string(n_) + " entries (one per oscillator), got " +
-                   std::to_string(theta_rad.size()) + " and " + std::to_string(amplitude.size()));
+    internal::Fail("PhaseNetwork::Reset: theta_rad and amplitude must have " + std::to_string(n_) +
+                   " entries (one per oscillator), got " + std::to_string(theta_rad.size()) +
+                   " and " + std::to_string(amplitude.size()));
   }
   for (int i = 0; i < n_; ++i) {
     internal::CheckFinite("PhaseNetwork::Reset: theta_rad[" + std::to_string(i) + "]",
@@ -152,7 +152,7 @@ void PhaseNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s)
     x[i] = internal::WrapTwoPi(x[i]);
     finite = finite && std::isfinite(x[i]) && std::isfinite(x[n_ + i]);
   }
-  status_ = !finite ? StepStatus::kNonFinite
+  status_ = !finite     ? StepStatus::kNonFinite
             : !finished ? StepStatus::kStepSizeUnderflow
                         : StepStatus::kOk;
 }

@@ -3,10 +3,9 @@
 #ifndef CLIMBSIM_CPG_INTERNAL_CHECKS_H_
 #define CLIMBSIM_CPG_INTERNAL_CHECKS_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <string_view>
-
-#include <Eigen/Core>
 
 namespace climbsim::cpg {
 struct StepperParams;  // cpg.h

@@ -11,15 +11,14 @@
 #define CLIMBSIM_CPG_INTERNAL_ODEINT_DRIVER_H_
 
 #include <algorithm>
-#include <cstddef>
-#include <cstdint>
-#include <vector>
-
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
 #include <boost/numeric/odeint/stepper/controlled_step_result.hpp>
 #include <boost/numeric/odeint/stepper/euler.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace climbsim::cpg {
 
@@ -63,8 +62,8 @@ class OdeintDriver {
   enum class Method { kEuler, kRk4, kDopri5 };
   using Euler = boost::numeric::odeint::euler<State>;
   using Rk4 = boost::numeric::odeint::runge_kutta4<State>;
-  using Dopri5 =
-      boost::numeric::odeint::controlled_runge_kutta<boost::numeric::odeint::runge_kutta_dopri5<State>>;
+  using Dopri5 = boost::numeric::odeint::controlled_runge_kutta<
+      boost::numeric::odeint::runge_kutta_dopri5<State>>;
 
   Method method_;
   State x_;

@@ -48,8 +48,7 @@ TEST(CpgGait, UnknownNameOrWrongLegCountThrowsAndListsTheNames) {
     FAIL() << "no throw";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'gallop'"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("trot, lateral_sequence"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("trot, lateral_sequence"), std::string::npos) << e.what();
   }
   EXPECT_THROW(GaitPreset("trot", 6), std::invalid_argument);
   EXPECT_THROW(GaitPreset("tripod", 4), std::invalid_argument);
@@ -72,8 +71,8 @@ TEST(CpgGait, PhaseBiasIsTwoPiTimesOffsetDifference) {
 // The order in which legs start swing over one cycle, as groups of legs starting together
 // (within two steps), beginning with the group that contains leg `first`.
 std::vector<std::vector<std::string>> SwingOrder(const std::vector<std::vector<double>>& onsets,
-                                                 const std::vector<std::string>& names,
-                                                 int first, double tie_s) {
+                                                 const std::vector<std::string>& names, int first,
+                                                 double tie_s) {
   const double t_first = onsets[first][onsets[first].size() - 2];
   std::vector<std::pair<double, std::string>> events;
   for (size_t i = 0; i < onsets.size(); ++i) {

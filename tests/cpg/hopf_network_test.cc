@@ -158,6 +158,83 @@ TEST(CpgHopf, FeedbackAddsExactlyToThePhaseRateAndNotToTheRadius) {
   }
 }
 
+// The law of cpg.h written out the plain way (W and W⁻¹ as functions, one sin/cos per pair):
+// dz/dt at z, with feedback u. A second algorithm for what HopfNetwork computes.
+std::vector<double> LawWrittenOut(const HopfNetworkParams& p, const std::vector<double>& x,
+                                  const std::vector<double>& y, const std::vector<double>& u) {
+  const int n = static_cast<int>(x.size());
+  const double w_st = kTwoPi * p.stance_frequency_hz, w_sw = kTwoPi * p.swing_frequency_hz;
+  const double duty = w_sw / (w_st + w_sw);
+  auto wrap = [](double a) { return a - kTwoPi * std::floor(a / kTwoPi); };
+  auto warp = [&](double theta) {  // W: θ → Φ
+    return theta < kPi ? 2.0 * (1.0 - duty) * theta
+                       : kTwoPi * (1.0 - duty) + 2.0 * duty * (theta - kPi);
+  };
+  auto unwarp = [&](double phase) {  // W⁻¹
+    return phase < kTwoPi * (1.0 - duty) ? phase / (2.0 * (1.0 - duty))
+                                         : kPi + (phase - kTwoPi * (1.0 - duty)) / (2.0 * duty);
+  };
+  std::vector<double> dz(2 * n);
+  for (int i = 0; i < n; ++i) {
+    const double r2 = x[i] * x[i] + y[i] * y[i];
+    const double omega = w_st / (std::exp(-p.b * y[i]) + 1.0) + w_sw / (std::exp(p.b * y[i]) + 1.0);
+    double dx = p.alpha_per_s * (p.mu - r2) * x[i] - omega * y[i] - u[i] * y[i];
+    double dy = p.beta_per_s * (p.mu - r2) * y[i] + omega * x[i] + u[i] * x[i];
+    for (int j = 0; j < n; ++j) {
+      const double k = p.coupling_per_s(i, j), phi = p.phase_bias_rad(i, j);
+      double cx, cy;
+      if (p.coupling_form == HopfCoupling::kRotation) {
+        cx = std::cos(-phi) * x[j] - std::sin(-phi) * y[j];
+        cy = std::sin(-phi) * x[j] + std::cos(-phi) * y[j];
+      } else {
+        const double theta_j = wrap(std::atan2(y[j], x[j]) + kPi);
+        const double target = unwarp(wrap(warp(theta_j) - phi));
+        const double r_j = std::hypot(x[j], y[j]);
+        cx = r_j * std::cos(target - kPi);
+        cy = r_j * std::sin(target - kPi);
+      }
+      dx += k * (cx - x[i]);
+      dy += k * (cy - y[i]);
+    }
+    dz[i] = dx;
+    dz[n + i] = dy;
+  }
+  return dz;
+}
+
+TEST(CpgHopf, EulerIncrementEqualsTheLawWrittenOut) {
+  // One Euler step is z + dt·dz/dt exactly, so (z1 − z0)/dt is the network's right-hand side,
+  // up to rounding of z (1e-16) over dt (1e-3), ~1e-13; bound 1e-10·(1 + |rate|).
+  for (HopfCoupling form : {HopfCoupling::kTimeWarpedRotation, HopfCoupling::kRotation}) {
+    for (const char* name : {"lateral_sequence", "wave", "trot"}) {
+      const int legs = std::string(name) == "wave" ? 6 : 4;
+      HopfNetworkParams p = HopfNetworkParamsForGait(GaitPreset(name, legs), 0.9, 1.7);
+      p.coupling_form = form;
+      p.stepper.type = Stepper::kEuler;
+      std::mt19937 rng(5);
+      const Eigen::VectorXd theta0 = testing::RandomPhases(rng, legs);
+      const Eigen::VectorXd amplitude0 = testing::RandomAmplitudes(rng, legs, 0.2, 1.8);
+      std::vector<double> u(legs);
+      for (int i = 0; i < legs; ++i) u[i] = 0.7 * i - 1.0;
+      HopfNetwork network(p);
+      network.Reset(theta0, amplitude0);
+      const std::vector<double> x0(network.x().begin(), network.x().end());
+      const std::vector<double> y0(network.y().begin(), network.y().end());
+      const double dt_s = 1e-3;
+      network.Step(dt_s, u);
+      const std::vector<double> expected = LawWrittenOut(p, x0, y0, u);
+      for (int i = 0; i < legs; ++i) {
+        EXPECT_NEAR((network.x()[i] - x0[i]) / dt_s, expected[i],
+                    1e-10 * (1 + std::abs(expected[i])))
+            << name << " form " << static_cast<int>(form) << " leg " << i;
+        EXPECT_NEAR((network.y()[i] - y0[i]) / dt_s, expected[legs + i],
+                    1e-10 * (1 + std::abs(expected[legs + i])))
+            << name << " form " << static_cast<int>(form) << " leg " << i;
+      }
+    }
+  }
+}
+
 TEST(CpgHopf, PhaseMapsRighettiStanceToTheSecondHalf) {
   HopfNetwork network(Uncoupled(1, 1.0, 1.0, Stepper::kRk4));
   // Reset places θ on the circle at ϑ = θ − π: θ = 0 is (−sqrt(μ), 0), θ = π/2 is (0, −1)
@@ -210,9 +287,8 @@ Cycle MeasureCycle(HopfNetwork& network, int ref, double dt_s) {
 }
 
 int ReferenceLeg(const Gait& gait) {
-  return static_cast<int>(
-      std::min_element(gait.offsets_cycles.begin(), gait.offsets_cycles.end()) -
-      gait.offsets_cycles.begin());
+  return static_cast<int>(std::min_element(gait.offsets_cycles.begin(), gait.offsets_cycles.end()) -
+                          gait.offsets_cycles.begin());
 }
 
 const std::vector<std::pair<std::string, int>> kPresets = {
@@ -239,10 +315,10 @@ TEST(CpgHopf, CoupledNetworkLocksToEveryGaitsOffsetsInTime) {
           // interpolated within 1 ms steps; measured errors are below 5e-5 cycles; 1e-3
           // cycles (1 ms at 1 Hz) is one step.
           const double expected = gait.offsets_cycles[i] - gait.offsets_cycles[ref];
-          const double error = cycle.lag_cycles[i] - expected -
-                               std::round(cycle.lag_cycles[i] - expected);
-          EXPECT_NEAR(error, 0.0, 1e-3) << name << " form " << static_cast<int>(form)
-                                        << " seed " << seed << " leg " << i;
+          const double error =
+              cycle.lag_cycles[i] - expected - std::round(cycle.lag_cycles[i] - expected);
+          EXPECT_NEAR(error, 0.0, 1e-3)
+              << name << " form " << static_cast<int>(form) << " seed " << seed << " leg " << i;
         }
       }
     }
@@ -263,11 +339,11 @@ TEST(CpgHopf, TimeWarpedCouplingKeepsPeriodDutyFactorAndRadiusAtAnyStrength) {
       network.Reset(testing::RandomPhases(rng, legs), Eigen::VectorXd::Ones(legs));
       testing::RunFor(network, 40.0, 1e-3);
       const Cycle cycle = MeasureCycle(network, ref, 1e-3);
-      std::printf("%-16s k %.1f: period %.5f s (own %.5f), stance share %.5f (own %.5f, D %.4f),"
-                  " amplitude [%.5f, %.5f]\n",
-                  name.c_str(), k, cycle.period_s, period_s, cycle.stance_share,
-                  stance_s / period_s, gait.duty_factor, cycle.min_amplitude,
-                  cycle.max_amplitude);
+      std::printf(
+          "%-16s k %.1f: period %.5f s (own %.5f), stance share %.5f (own %.5f, D %.4f),"
+          " amplitude [%.5f, %.5f]\n",
+          name.c_str(), k, cycle.period_s, period_s, cycle.stance_share, stance_s / period_s,
+          gait.duty_factor, cycle.min_amplitude, cycle.max_amplitude);
       // W assumes b → ∞; at b = 100 the coupling does not quite vanish in the ±0.05 rad
       // where ω switches, and the residue grows with k. Measured worst (wave, k = 5/s):
       // period 2.5e-4 s short, stance share 2.1e-3 low, radius 1.5e-4 low. Bounds: 2e-3 s,

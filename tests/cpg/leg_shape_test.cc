@@ -108,8 +108,8 @@ TEST(CpgLegShape, JointTargetsEqualTheFormula) {
       const double wrapped = theta - kTwoPi * std::floor(theta / kTwoPi);
       const double s = kTwoPi / 3;
       const bool stance = wrapped >= s;
-      const double stride = stance ? 1.0 - 2.0 * (wrapped - s) / (kTwoPi * 2.0 / 3)
-                                   : -std::cos(kPi * wrapped / s);
+      const double stride =
+          stance ? 1.0 - 2.0 * (wrapped - s) / (kTwoPi * 2.0 / 3) : -std::cos(kPi * wrapped / s);
       const double lift = stance ? 0.0 : std::pow(std::sin(kPi * wrapped / s), 2);
       EXPECT_EQ(c.stance, stance) << theta;
       EXPECT_NEAR(c.stride, stride, 1e-12) << theta;

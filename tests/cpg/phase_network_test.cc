@@ -185,7 +185,7 @@ TEST(CpgPhaseNetwork, TegotaeFeedbackChangesThePhaseRateByExactlyMinusSigmaNCosT
   p.stepper.type = Stepper::kEuler;
   const Eigen::Vector4d theta0(0.3, 2.0, 3.5, 5.9);
   const Eigen::Vector4d r0(0.5, 0.8, 1.0, 1.2);
-  const double sigma = 6.0;                        // rad/(N·s), Owaki and Ishiguro 2017
+  const double sigma = 6.0;  // rad/(N·s), Owaki and Ishiguro 2017
   const std::vector<double> load_n = {0.0, 1.5, 3.0, 0.7};
   std::vector<double> feedback(4);
   for (int i = 0; i < 4; ++i) feedback[i] = TegotaeFeedback(sigma, load_n[i], theta0[i]);
