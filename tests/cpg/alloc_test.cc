@@ -19,6 +19,12 @@ std::atomic<long> g_malloc_calls{0};
 void* volatile g_sink = nullptr;
 }  // namespace
 
+// GCC sees our replacement delete call free() on memory from operator new and warns; that pair
+// is exactly what this file defines (new = malloc, delete = free).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 // Every replaceable allocation form; the array and nothrow ones do not all route through the
 // plain one in libstdc++, so each is counted itself.
 void* operator new(std::size_t size) {
