@@ -335,8 +335,9 @@ HopfNetworkParams HopfNetworkParamsForGait(const Gait& gait, double stride_frequ
 
 class HopfNetwork final : public OscillatorNetwork {
  public:
-  // Starts at t = 0 on the limit cycle (r = sqrt(μ)) in the phase pattern θ_i = φ_0i wrapped.
-  // Not at the origin: that is an equilibrium (unstable) the oscillators would never leave.
+  // Starts at t = 0 on the limit cycle (r = sqrt(μ)) in the gait's pattern: leg 0 at θ = 0,
+  // leg i lagging by φ_0i (kTimeWarpedRotation: in time, θ_i = W⁻¹(φ_0i); kRotation: in
+  // angle, θ_i = φ_0i). Not at the origin: an unstable equilibrium it would never leave.
   explicit HopfNetwork(const HopfNetworkParams& params);
 
   // Places oscillator i at phase θ_i (this file's convention) and radius amplitude_i·sqrt(μ):

@@ -101,8 +101,16 @@ HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
       }
     }
   }
+  // The gait's pattern relative to leg 0 at θ = 0: lags in time phase, mapped back to θ by
+  // W⁻¹ (identity for D = ½), so that the warped coupling starts locked.
   Eigen::VectorXd theta(n_);
-  for (int j = 0; j < n_; ++j) theta[j] = params_.phase_bias_rad(0, j);
+  for (int j = 0; j < n_; ++j) {
+    const double lag = internal::WrapTwoPi(params_.phase_bias_rad(0, j));
+    const bool warped = params_.coupling_form == HopfCoupling::kTimeWarpedRotation;
+    theta[j] = !warped                       ? lag
+               : lag < kTwoPi * swing_share_ ? slope[0] * lag
+                                             : intercept[1] + slope[1] * lag;
+  }
   Reset(theta, Eigen::VectorXd::Ones(n_));
 }
 

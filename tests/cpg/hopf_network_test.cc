@@ -358,6 +358,24 @@ TEST(CpgHopf, TimeWarpedCouplingKeepsPeriodDutyFactorAndRadiusAtAnyStrength) {
   }
 }
 
+TEST(CpgHopf, DefaultStartIsAlreadyTheLockedGait) {
+  // From the constructor's state the gait's lags hold from the start (measured in the first
+  // three cycles, before the coupling could have corrected anything much).
+  for (const auto& [name, legs] : kPresets) {
+    const Gait gait = GaitPreset(name, legs);
+    const int ref = ReferenceLeg(gait);
+    HopfNetwork network(HopfNetworkParamsForGait(gait, 1.0, 2.0));
+    const Cycle cycle = MeasureCycle(network, ref, 1e-3);
+    for (int i = 0; i < legs; ++i) {
+      const double expected = gait.offsets_cycles[i] - gait.offsets_cycles[ref];
+      const double error =
+          cycle.lag_cycles[i] - expected - std::round(cycle.lag_cycles[i] - expected);
+      // As in the lock test, plus what the sigmoid's blend moves in the first cycles.
+      EXPECT_NEAR(error, 0.0, 2e-3) << name << " leg " << i;
+    }
+  }
+}
+
 TEST(CpgHopf, PlainRotationCouplingSpeedsUpAndEvensOutUnequalHalves) {
   // Pins the reason for the default (cpg.h, Coupling): with ω_stance ≠ ω_swing, plain
   // rotation coupling at k = 2/s shortens the period and pulls the stance share towards ½.
