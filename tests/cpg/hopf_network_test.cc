@@ -359,19 +359,21 @@ TEST(CpgHopf, TimeWarpedCouplingKeepsPeriodDutyFactorAndRadiusAtAnyStrength) {
 }
 
 TEST(CpgHopf, DefaultStartIsAlreadyTheLockedGait) {
-  // From the constructor's state the gait's lags hold from the start (measured in the first
-  // three cycles, before the coupling could have corrected anything much).
+  // From the constructor's state the gait's lags hold from the start. Coupling 0.01/s, so
+  // that it could not correct a wrong start within the three cycles measured.
   for (const auto& [name, legs] : kPresets) {
     const Gait gait = GaitPreset(name, legs);
     const int ref = ReferenceLeg(gait);
-    HopfNetwork network(HopfNetworkParamsForGait(gait, 1.0, 2.0));
+    HopfNetwork network(HopfNetworkParamsForGait(gait, 1.0, 0.01));
     const Cycle cycle = MeasureCycle(network, ref, 1e-3);
     for (int i = 0; i < legs; ++i) {
       const double expected = gait.offsets_cycles[i] - gait.offsets_cycles[ref];
       const double error =
           cycle.lag_cycles[i] - expected - std::round(cycle.lag_cycles[i] - expected);
-      // As in the lock test, plus what the sigmoid's blend moves in the first cycles.
-      EXPECT_NEAR(error, 0.0, 2e-3) << name << " leg " << i;
+      // W⁻¹ is the b → ∞ map; at b = 100 the blend near the switches moves a start by up to
+      // 3e-3 cycles (measured, wave). A geometric start would be off by 0.12 (lateral
+      // sequence) to 0.20 cycles (wave).
+      EXPECT_NEAR(error, 0.0, 5e-3) << name << " leg " << i;
     }
   }
 }
