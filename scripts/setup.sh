@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libmujoco-dev libqhull-dev libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
-  libeigen3-dev libboost-dev libnlopt-cxx-dev libyaml-cpp-dev libcli11-dev
+  libeigen3-dev libboost-dev libnlopt-cxx-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox ffmpeg
 )

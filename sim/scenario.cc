@@ -1,0 +1,121 @@
+#include "sim/scenario.h"
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace climbsim::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool IsPath(const std::string& s) {
+  return s.find('/') != std::string::npos || s.ends_with(".xml");
+}
+
+// A path in the file is relative to the file's folder, so scenarios can travel with models.
+std::string Absolute(const std::string& path, const std::string& scenario_file) {
+  fs::path p(path);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return fs::absolute(fs::path(scenario_file).parent_path() / p).lexically_normal().string();
+}
+
+const std::vector<std::string>& BuiltinScenes() {
+  static const std::vector<std::string> k{"floor", "wall", "ceiling", "incline", "floor_to_wall"};
+  return k;
+}
+
+}  // namespace
+
+std::string MjcfDir() {
+  if (const char* env = std::getenv("CLIMBSIM_MJCF_DIR"); env != nullptr && *env != '\0') {
+    return env;
+  }
+  return CLIMBSIM_DEFAULT_MJCF_DIR;
+}
+
+std::string RobotFile(const Scenario& s) {
+  return IsPath(s.robot) ? s.robot : MjcfDir() + "/" + s.robot + ".xml";
+}
+
+std::string SceneFile(const Scenario& s) {
+  return IsPath(s.scene.name) ? s.scene.name : MjcfDir() + "/scenes/" + s.scene.name + ".xml";
+}
+
+InputError ScenarioError(const Scenario& s, const std::string& key, const std::string& message) {
+  auto it = s.places.find(key);
+  const SourcePlace place = it == s.places.end() ? SourcePlace{} : it->second;
+  return InputError(s.source_file, place.line, place.column, key, message);
+}
+
+Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
+  Scenario s;
+  s.source_file = file;
+  YamlReadArchive archive(YamlMap(root, file, ""), &s.places);
+  archive.Read(&s);
+
+  // Model files must exist before anything runs.
+  if (IsPath(s.robot)) s.robot = Absolute(s.robot, file);
+  if (!fs::exists(RobotFile(s))) {
+    throw ScenarioError(s, "robot",
+                        IsPath(s.robot) ? "file not found: " + s.robot
+                                        : "no bundled robot '" + s.robot +
+                                              "' (gecko, spider) at " + RobotFile(s));
+  }
+  if (IsPath(s.scene.name)) {
+    s.scene.name = Absolute(s.scene.name, file);
+  } else {
+    bool known = false;
+    for (const auto& b : BuiltinScenes()) known |= b == s.scene.name;
+    if (!known) {
+      throw ScenarioError(s, "scene.name",
+                          "no bundled scene '" + s.scene.name +
+                              "' (floor, wall, ceiling, incline, floor_to_wall)");
+    }
+  }
+  if (!fs::exists(SceneFile(s))) {
+    throw ScenarioError(s, "scene.name", "file not found: " + SceneFile(s));
+  }
+  if (s.scene.name == "incline") {
+    if (!s.scene.incline_deg) s.scene.incline_deg = 30.0;
+  } else if (s.scene.incline_deg) {
+    throw ScenarioError(s, "scene.incline_deg", "applies to the incline scene only");
+  }
+  if (s.cpg && s.cpg->control_period_s) {
+    const double ratio = *s.cpg->control_period_s / s.physics.timestep_s;
+    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
+      throw ScenarioError(s, "cpg.control_period_s",
+                          "must be a whole multiple of physics.timestep_s");
+    }
+  }
+  return s;
+}
+
+Scenario LoadScenario(const std::string& path) {
+  if (!fs::exists(path)) throw InputError(path, 0, 0, "", "scenario file not found");
+  return ParseScenario(LoadYamlFile(path), path);
+}
+
+YAML::Node ScenarioToYaml(const Scenario& scenario) {
+  return YamlWriteArchive::Write(scenario);
+}
+
+std::string ScenarioToYamlText(const Scenario& scenario) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << ScenarioToYaml(scenario);
+  return std::string("# Resolved scenario: every key, defaults filled in.\n") + out.c_str() +
+         "\n";
+}
+
+std::vector<DocArchive::Row> ScenarioKeys() { return DocArchive::List<Scenario>(); }
+
+std::string ScenarioKeysMarkdown() {
+  std::string out = "| key | unit | default | allowed | meaning |\n|---|---|---|---|---|\n";
+  for (const auto& r : ScenarioKeys()) {
+    out += "| `" + r.key + "` | " + r.unit + " | " + r.default_value + " | " + r.allowed +
+           " | " + r.doc + " |\n";
+  }
+  return out;
+}
+
+}  // namespace climbsim::sim

@@ -1,0 +1,93 @@
+// Reading YAML with the place of every value: each getter validates type and range and, on
+// failure, throws climbsim::InputError naming file:line:col and the dotted key. A map
+// remembers which keys were read so that CheckNoUnknownKeys() can reject the rest (a typo
+// must not silently fall back to a default). Internal to sim/.
+#ifndef CLIMBSIM_SIM_YAML_READER_H_
+#define CLIMBSIM_SIM_YAML_READER_H_
+
+#include <yaml-cpp/yaml.h>
+
+#include <initializer_list>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/input_error.h"
+
+namespace climbsim::sim {
+
+// Closed or open interval for numeric checks; the text says it in messages ("> 0").
+struct Range {
+  double lo = -1e300;
+  double hi = 1e300;
+  bool lo_open = false;
+  bool hi_open = false;
+
+  static Range Any() { return {}; }
+  static Range Positive() { return {0.0, 1e300, true, false}; }
+  static Range NonNegative() { return {0.0, 1e300, false, false}; }
+  static Range Closed(double lo, double hi) { return {lo, hi, false, false}; }
+  static Range OpenClosed(double lo, double hi) { return {lo, hi, true, false}; }
+  bool Contains(double v) const;
+  std::string Describe() const;  // "must be > 0", "must be in [0, 1]"
+};
+
+// Reads a whole file; a YAML syntax error becomes an InputError at its place.
+YAML::Node LoadYamlFile(const std::string& path);
+
+class YamlMap {
+ public:
+  // `node` must be a map or null (null reads as an empty map); `path` is the dotted prefix of
+  // its keys in messages ("cpg"), empty at the top level.
+  YamlMap(const YAML::Node& node, std::string file, std::string path);
+
+  bool Has(std::string_view key) const;
+
+  // Optional values with defaults. Absent keys take the default; present ones are checked.
+  double Double(std::string_view key, double default_value, Range range = Range::Any());
+  int Int(std::string_view key, int default_value, int lo, int hi);
+  bool Bool(std::string_view key, bool default_value);
+  std::string String(std::string_view key, const std::string& default_value);
+  std::string Choice(std::string_view key, const std::string& default_value,
+                     const std::vector<std::string>& allowed);
+  // A list of numbers; `size` 0 accepts any non-empty length.
+  std::vector<double> Doubles(std::string_view key, const std::vector<double>& default_value,
+                              size_t size, Range range = Range::Any());
+  // A list of lists with `rows` x `cols` numbers.
+  std::vector<std::vector<double>> Matrix(std::string_view key, size_t rows, size_t cols,
+                                          Range range = Range::Any());
+
+  double RequiredDouble(std::string_view key, Range range = Range::Any());
+  std::string RequiredString(std::string_view key);
+
+  // A nested map (an empty one when the key is absent or null).
+  YamlMap Map(std::string_view key);
+  // The raw node of a key, marked as read (for values with several accepted shapes).
+  YAML::Node Raw(std::string_view key);
+
+  // Throws for the first key that no getter asked for.
+  void CheckNoUnknownKeys() const;
+
+  // An error at the key's value (or at this map when the key is absent).
+  InputError Error(std::string_view key, const std::string& message) const;
+  InputError ErrorAt(const YAML::Node& node, std::string_view key,
+                     const std::string& message) const;
+  std::string KeyPath(std::string_view key) const;
+  const std::string& file() const { return file_; }
+  const YAML::Node& node() const { return node_; }
+
+ private:
+  YAML::Node Get(std::string_view key);  // marks the key used; undefined node when absent
+  double ToDouble(const YAML::Node& value, std::string_view key) const;
+
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+  YAML::Mark mark_;
+  std::set<std::string, std::less<>> used_;
+};
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_SIM_YAML_READER_H_
