@@ -1,0 +1,17 @@
+// climbsim's simulation layer: scenario files, world assembly, the effect pipeline, the step
+// loop and recorders. The public header of sim/; tools/ and tests include only this.
+//
+//   climbsim::sim::Scenario s = climbsim::sim::LoadScenario("examples/gecko_floor.yaml");
+//   auto model = climbsim::sim::CompileScenario(s);      // once; read-only afterwards
+//   climbsim::sim::Simulation run(s, *model);             // owns its model copy and data
+//   climbsim::sim::RunResult r = run.Run();
+//   climbsim::sim::WriteRunDirectory("runs/gecko_floor", run);
+#ifndef CLIMBSIM_SIM_SIM_H_
+#define CLIMBSIM_SIM_SIM_H_
+
+#include "sim/input_error.h"
+#include "sim/scenario.h"
+#include "sim/simulation.h"
+#include "sim/world.h"
+
+#endif  // CLIMBSIM_SIM_SIM_H_

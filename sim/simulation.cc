@@ -1,0 +1,247 @@
+#include "sim/simulation.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+
+#include "sim/cpg_effect.h"
+#include "sim/trajectory.h"
+
+namespace climbsim::sim {
+namespace {
+
+// Warnings after which the state cannot be trusted. MuJoCo resets mjData on bad qpos, qvel
+// or qacc and carries on; climbsim stops instead and says where it happened.
+constexpr mjtWarning kFatalWarnings[] = {mjWARN_BADQPOS,     mjWARN_BADQVEL, mjWARN_BADQACC,
+                                         mjWARN_BADCTRL,     mjWARN_CONTACTFULL,
+                                         mjWARN_CNSTRFULL};
+
+const char* WarningName(int w) {
+  switch (w) {
+    case mjWARN_BADQPOS: return "mjWARN_BADQPOS (bad number in qpos)";
+    case mjWARN_BADQVEL: return "mjWARN_BADQVEL (bad number in qvel)";
+    case mjWARN_BADQACC: return "mjWARN_BADQACC (bad number in qacc)";
+    case mjWARN_BADCTRL: return "mjWARN_BADCTRL (bad number in ctrl)";
+    case mjWARN_CONTACTFULL: return "mjWARN_CONTACTFULL (too many contacts)";
+    case mjWARN_CNSTRFULL: return "mjWARN_CNSTRFULL (too many constraints)";
+    default: return "MuJoCo warning";
+  }
+}
+
+Eigen::Vector3d BaseAxis(const mjData* d, const RobotInfo& r, int axis) {
+  double mat[9];
+  mju_quat2Mat(mat, d->qpos + r.root_qpos_adr + 3);
+  return {mat[axis], mat[3 + axis], mat[6 + axis]};
+}
+
+Eigen::Vector3d BasePos(const mjData* d, const RobotInfo& r) {
+  const double* q = d->qpos + r.root_qpos_adr;
+  return {q[0], q[1], q[2]};
+}
+
+}  // namespace
+
+MjcfAdditions EffectAdditions(const Scenario& /*scenario*/) { return {}; }
+
+std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario) {
+  return CompiledModel::Build(scenario, EffectAdditions(scenario));
+}
+
+Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
+    : scenario_(scenario), world_(compiled) {
+  const RobotInfo& robot = world_.robot();
+  legs_.resize(robot.legs.size());
+
+  // Effects in pipeline order; only those the scenario names.
+  if (scenario_.cpg) {
+    effects_.push_back(std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_));
+  }
+  std::vector<const Effect*> column_sources;
+  for (const auto& e : effects_) column_sources.push_back(e.get());
+  if (scenario_.outputs.trajectory_rate_hz > 0.0) {
+    auto rec = std::make_unique<TrajectoryRecorder>(world_, scenario_.outputs.trajectory_rate_hz,
+                                                    scenario_.duration_s, column_sources);
+    trajectory_ = rec.get();
+    effects_.push_back(std::move(rec));
+  }
+  for (const auto& e : effects_) {
+    if (e->has_before_step()) before_.push_back(e.get());
+    if (e->has_after_step()) after_.push_back(e.get());
+  }
+
+  std::vector<std::string> pad_names;
+  for (const LegInfo& l : robot.legs) {
+    pad_names.push_back(mj_id2name(world_.model(), mjOBJ_BODY, l.pad_body));
+  }
+  // Room for a few events per pad per stride at up to 10 strides a second.
+  const size_t capacity =
+      static_cast<size_t>(64 + 100.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size()));
+  events_.Configure(std::move(pad_names), capacity);
+
+  steps_total_ = std::lround(scenario_.duration_s / world_.model()->opt.timestep);
+  Reset();
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::Reset() {
+  mjModel* m = world_.model();
+  mjData* d = world_.data();
+  mj_resetData(m, d);
+  for (auto& l : legs_) l = LegSignals{};
+  events_.Clear();
+  ctx_ = RunContext{};
+  ctx_.legs = &legs_;
+  ctx_.events = &events_;
+  result_ = RunResult{};
+  for (auto& e : effects_) e->Reset(world_, ctx_);
+
+  for (int w = 0; w < mjNWARNING; ++w) warnings_seen_[w] = d->warning[w].number;
+  const RobotInfo& r = world_.robot();
+  start_pos_ = BasePos(d, r);
+  up0_ = BaseAxis(d, r, 2);
+  forward0_ = BaseAxis(d, r, 0);
+  const Eigen::Vector3d g = world_.scene().gravity;
+  down_ = g.norm() > 0 ? Eigen::Vector3d(g.normalized()) : Eigen::Vector3d(0, 0, -1);
+  highest_ = -down_.dot(start_pos_);
+}
+
+bool Simulation::Step() {
+  mjModel* m = world_.model();
+  mjData* d = world_.data();
+  ctx_.time_s = d->time;
+  for (Effect* e : before_) e->BeforeStep(world_, ctx_);
+  mj_step(m, d);
+  for (Effect* e : after_) e->AfterStep(world_, ctx_);
+  ++ctx_.step;
+  return Monitor();
+}
+
+bool Simulation::Monitor() {
+  const mjData* d = world_.data();
+  const double t = ctx_.time_s + world_.model()->opt.timestep;
+  for (mjtWarning w : kFatalWarnings) {
+    if (d->warning[w].number > warnings_seen_[w]) {
+      char buf[256];
+      std::snprintf(buf, sizeof(buf), "step %ld, t = %.6f s: %s at index %d", ctx_.step, t,
+                    WarningName(w), d->warning[w].lastinfo);
+      result_.stable = false;
+      result_.failure = buf;  // the run ends here; this one allocation is fine
+      return false;
+    }
+  }
+  const RobotInfo& r = world_.robot();
+  const Eigen::Vector3d pos = BasePos(d, r);
+  if (!pos.allFinite()) {
+    char buf[128];
+    std::snprintf(buf, sizeof(buf), "step %ld, t = %.6f s: base position is not finite",
+                  ctx_.step, t);
+    result_.stable = false;
+    result_.failure = buf;
+    return false;
+  }
+  if (!result_.fell) {
+    const double height = -down_.dot(pos);
+    highest_ = std::max(highest_, height);
+    const bool dropped = highest_ - height > scenario_.fall.drop_m;
+    const bool turned_over = BaseAxis(d, r, 2).dot(up0_) < 0.0;
+    if (dropped || turned_over) {
+      result_.fell = true;
+      result_.fall_time_s = t;
+      if (scenario_.fall.stop) return false;
+    }
+  }
+  return true;
+}
+
+RunResult Simulation::Run(const std::function<void(double)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const long report_every = std::max<long>(1, steps_total_ / 200);
+  while (ctx_.step < steps_total_) {
+    if (!Step()) break;
+    if (progress && ctx_.step % report_every == 0) {
+      progress(static_cast<double>(ctx_.step) / steps_total_);
+    }
+  }
+  const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - start;
+  const mjData* d = world_.data();
+  const RobotInfo& r = world_.robot();
+  result_.steps = ctx_.step;
+  result_.sim_time_s = ctx_.step * world_.model()->opt.timestep;
+  result_.wall_time_s = wall.count();
+  if (result_.stable) {
+    result_.distance_m = world_.scene().travel.dot(BasePos(d, r) - start_pos_);
+    // Heading: the body's forward axis turned about the start surface normal.
+    const Eigen::Vector3d f = BaseAxis(d, r, 0);
+    const Eigen::Vector3d side = up0_.cross(forward0_);
+    result_.heading_deg = std::atan2(f.dot(side), f.dot(forward0_)) * 180.0 / M_PI;
+  }
+  if (progress) progress(1.0);
+  return result_;
+}
+
+nlohmann::json Simulation::Summary() const {
+  nlohmann::json j;
+  j["scenario"] = scenario_.source_file;
+  j["robot"] = scenario_.robot;
+  j["scene"] = scenario_.scene.name;
+  j["duration_s"] = result_.sim_time_s;
+  j["steps"] = result_.steps;
+  j["timestep_s"] = world_.model()->opt.timestep;
+  j["wall_time_s"] = result_.wall_time_s;
+  j["realtime_factor"] =
+      result_.wall_time_s > 0 ? result_.sim_time_s / result_.wall_time_s : 0.0;
+  j["stable"] = result_.stable;
+  j["failure"] = result_.failure;
+  j["distance_m"] = result_.distance_m;
+  j["mean_speed_mps"] = result_.sim_time_s > 0 ? result_.distance_m / result_.sim_time_s : 0.0;
+  j["heading_deg"] = result_.heading_deg;
+  j["fell"] = result_.fell;
+  j["fall_time_s"] = result_.fell ? nlohmann::json(result_.fall_time_s) : nlohmann::json();
+  j["robot_mass_kg"] = world_.robot().mass_kg;
+  nlohmann::json names = nlohmann::json::array();
+  for (const auto& e : effects_) names.push_back(e->name());
+  j["effects"] = names;
+  j["events"] = events_.rows().size();
+  j["events_dropped"] = events_.dropped();
+  for (const auto& e : effects_) e->Summarise(world_, &j);
+  return j;
+}
+
+std::string Simulation::TrajectoryCsv() const {
+  return trajectory_ != nullptr ? trajectory_->ToCsv() : std::string();
+}
+
+std::string Simulation::EventsCsv() const { return events_.ToCsv(world_.model()); }
+
+void WriteFileAtomic(const std::string& path, const std::string& content) {
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << content;
+    out.flush();
+    if (!out) {
+      std::filesystem::remove(tmp);
+      throw std::runtime_error("cannot write " + path);
+    }
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+void WriteRunDirectory(const std::string& dir, const Simulation& sim) {
+  std::filesystem::create_directories(dir);
+  WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
+  WriteFileAtomic(dir + "/model.xml", sim.world().compiled().xml());
+  const std::string traj = sim.TrajectoryCsv();
+  if (!traj.empty()) WriteFileAtomic(dir + "/trajectory.csv", traj);
+  WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());
+  // The summary last: its presence says the run directory is complete.
+  WriteFileAtomic(dir + "/summary.json", sim.Summary().dump(2) + "\n");
+}
+
+}  // namespace climbsim::sim

@@ -1,0 +1,100 @@
+// One run of a scenario: the World, the effects the scenario names, the step loop and its
+// monitor. Construction does everything that can fail on input (InputError); stepping
+// never allocates, takes no locks, and reports trouble through its return value: a run that
+// goes numerically bad stops with the step, the time and MuJoCo's warning.
+#ifndef CLIMBSIM_SIM_SIMULATION_H_
+#define CLIMBSIM_SIM_SIMULATION_H_
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/effect.h"
+#include "sim/events.h"
+#include "sim/scenario.h"
+#include "sim/world.h"
+
+namespace climbsim::sim {
+
+class TrajectoryRecorder;
+
+// What the effects of a scenario add to the MJCF (welds, sensors, actuators), so the
+// compiled model can be built once and shared read-only by many runs.
+MjcfAdditions EffectAdditions(const Scenario& scenario);
+
+// Compiles the model a scenario needs.
+std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario);
+
+struct RunResult {
+  bool stable = true;
+  std::string failure;       // "step 1234, t = 1.234 s: mjWARN_BADQACC ..." when unstable
+  long steps = 0;
+  double sim_time_s = 0.0;
+  double wall_time_s = 0.0;
+  bool fell = false;
+  double fall_time_s = -1.0;
+  double distance_m = 0.0;   // travel · base displacement
+  double heading_deg = 0.0;  // final heading about the start surface normal, 0 = as started
+};
+
+class Simulation {
+ public:
+  Simulation(const Scenario& scenario, const CompiledModel& compiled);
+  ~Simulation();
+
+  // Back to t = 0 (mj_resetData, then each effect's Reset). The constructor calls it.
+  void Reset();
+  // One physics step with every effect. False when the run must stop: numerically unstable
+  // (failure() says why) or fallen with fall.stop set.
+  bool Step();
+  // Steps to the scenario's duration or until Step() says stop. `progress` (may be empty)
+  // is called with the simulated fraction done, now and then.
+  RunResult Run(const std::function<void(double)>& progress = {});
+
+  const RunResult& result() const { return result_; }
+  long steps_total() const { return steps_total_; }
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  const Scenario& scenario() const { return scenario_; }
+  const std::vector<std::unique_ptr<Effect>>& effects() const { return effects_; }
+  const EventLog& events() const { return events_; }
+  std::vector<LegSignals>& legs() { return legs_; }
+
+  // Outputs of the run so far.
+  nlohmann::json Summary() const;
+  std::string TrajectoryCsv() const;  // empty when the trajectory is not recorded
+  std::string EventsCsv() const;
+
+ private:
+  bool Monitor();  // false to stop; fills result_
+
+  Scenario scenario_;
+  World world_;
+  std::vector<std::unique_ptr<Effect>> effects_;
+  std::vector<Effect*> before_, after_;
+  TrajectoryRecorder* trajectory_ = nullptr;
+  std::vector<LegSignals> legs_;
+  EventLog events_;
+  RunContext ctx_;
+  RunResult result_;
+  long steps_total_ = 0;
+
+  // Monitor state.
+  std::array<int, mjNWARNING> warnings_seen_{};
+  Eigen::Vector3d start_pos_, up0_, forward0_, down_;
+  double highest_ = 0.0;
+};
+
+// Writes DIR/scenario.yaml, trajectory.csv, events.csv, summary.json and model.xml, each to
+// a temporary name first and then renamed, so a killed run never leaves half a file.
+void WriteRunDirectory(const std::string& dir, const Simulation& sim);
+
+// Writes `content` to `path` atomically (temporary file in the same folder, then rename).
+void WriteFileAtomic(const std::string& path, const std::string& content);
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_SIM_SIMULATION_H_

@@ -1,0 +1,168 @@
+#include "sim/world.h"
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <sstream>
+
+namespace climbsim::sim {
+namespace {
+
+std::mutex& LoaderMutex() {
+  static std::mutex m;
+  return m;
+}
+
+int Id(const mjModel* m, mjtObj type, const std::string& name) {
+  return mj_name2id(m, type, name.c_str());
+}
+
+// The custom text "climbsim_legs": leg names separated by spaces.
+std::vector<std::string> LegNames(const mjModel* m) {
+  const int id = Id(m, mjOBJ_TEXT, "climbsim_legs");
+  if (id < 0) return {};
+  std::istringstream in(std::string(m->text_data + m->text_adr[id]));
+  std::vector<std::string> names;
+  for (std::string n; in >> n;) names.push_back(n);
+  return names;
+}
+
+// A custom numeric of `size` numbers, or false when the model lacks it.
+bool Numeric(const mjModel* m, const char* name, int size, double* out) {
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, name);
+  if (id < 0 || m->numeric_size[id] < size) return false;
+  for (int i = 0; i < size; ++i) out[i] = m->numeric_data[m->numeric_adr[id] + i];
+  return true;
+}
+
+}  // namespace
+
+std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
+                        const MjcfAdditions& add) {
+  std::string xml = "<mujoco model=\"climbsim\">\n";
+  xml += "  <include file=\"" + scene_file + "\"/>\n";
+  xml += "  <include file=\"" + robot_file + "\"/>\n";
+  if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
+  if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
+  if (!add.actuator.empty()) xml += "  <actuator>\n" + add.actuator + "  </actuator>\n";
+  if (!add.sensor.empty()) xml += "  <sensor>\n" + add.sensor + "  </sensor>\n";
+  xml += "</mujoco>\n";
+  return xml;
+}
+
+mjModel* CompileMjcf(const std::string& xml, std::string* error) {
+  std::lock_guard<std::mutex> lock(LoaderMutex());
+  // mjVFS is about 2 MB: on the heap, not on a worker thread's stack. The top file gets a
+  // bare name because MuJoCo 2.2.2 prefixes every include with the top file's folder.
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* name = "climbsim_composed.xml";
+  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
+    *error = "cannot create the model in MuJoCo's VFS";
+    return nullptr;
+  }
+  std::memcpy(vfs->filedata[vfs->nfile - 1], xml.data(), xml.size());
+  char err[1024] = {0};
+  mjModel* m = mj_loadXML(name, vfs.get(), err, sizeof(err));
+  mj_deleteVFS(vfs.get());
+  if (m == nullptr) *error = err;
+  return m;
+}
+
+std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
+                                                    const MjcfAdditions& additions) {
+  std::unique_ptr<CompiledModel> c(new CompiledModel());
+  c->xml_ = ComposeMjcf(RobotFile(s), SceneFile(s), additions);
+  std::string error;
+  c->model_ = CompileMjcf(c->xml_, &error);
+  if (c->model_ == nullptr) {
+    throw ScenarioError(s, "robot", "MuJoCo cannot load the model: " + error);
+  }
+  mjModel* m = c->model_;
+
+  // Physics options: the scenario wins over the files.
+  m->opt.timestep = s.physics.timestep_s;
+  m->opt.integrator = s.physics.integrator == "euler" ? mjINT_EULER
+                      : s.physics.integrator == "rk4" ? mjINT_RK4
+                                                      : mjINT_IMPLICIT;
+  m->opt.iterations = s.physics.solver_iterations;
+  m->opt.tolerance = s.physics.solver_tolerance;
+  m->opt.noslip_iterations = s.physics.noslip_iterations;
+  m->opt.cone = s.physics.cone == "elliptic" ? mjCONE_ELLIPTIC : mjCONE_PYRAMIDAL;
+  m->opt.impratio = s.physics.impratio;
+
+  // Scene: incline by rotating gravity about y (uphill stays +x), travel direction, spawn.
+  Eigen::Vector3d g(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
+  if (s.scene.name == "incline") {
+    const double a = s.scene.incline_deg.value_or(30.0) * M_PI / 180.0, norm = g.norm();
+    g = norm * Eigen::Vector3d(-std::sin(a), 0.0, -std::cos(a));
+    for (int i = 0; i < 3; ++i) m->opt.gravity[i] = g[i];
+  }
+  c->scene_.gravity = g;
+  double v[3];
+  if (Numeric(m, "climbsim_travel", 3, v)) c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
+  Eigen::Vector3d spawn = Eigen::Vector3d::Zero();
+  if (Numeric(m, "climbsim_spawn", 3, v)) spawn = Eigen::Vector3d(v[0], v[1], v[2]);
+
+  // Robot contract.
+  RobotInfo& r = c->robot_;
+  auto need = [&](mjtObj type, const std::string& name) {
+    const int id = Id(m, type, name);
+    if (id < 0) {
+      throw ScenarioError(s, "robot",
+                          "the robot model lacks '" + name + "' (see mjcf/README.md, contract)");
+    }
+    return id;
+  };
+  r.base_body = need(mjOBJ_BODY, "base");
+  const int root = need(mjOBJ_JOINT, "root");
+  if (m->jnt_type[root] != mjJNT_FREE) {
+    throw ScenarioError(s, "robot", "the robot's joint 'root' must be a free joint");
+  }
+  r.root_qpos_adr = m->jnt_qposadr[root];
+  r.root_dof_adr = m->jnt_dofadr[root];
+  r.mass_kg = m->body_subtreemass[r.base_body];
+  const char* joint_suffix[3] = {"_hip_yaw", "_hip_pitch", "_knee"};
+  for (const std::string& leg : LegNames(m)) {
+    LegInfo l;
+    l.name = leg;
+    for (int k = 0; k < 3; ++k) {
+      l.joint[k] = need(mjOBJ_JOINT, leg + joint_suffix[k]);
+      l.qpos_adr[k] = m->jnt_qposadr[l.joint[k]];
+      l.dof_adr[k] = m->jnt_dofadr[l.joint[k]];
+      l.actuator[k] = need(mjOBJ_ACTUATOR, leg + joint_suffix[k]);
+    }
+    l.pad_body = need(mjOBJ_BODY, leg + "_pad");
+    l.pad_geom = need(mjOBJ_GEOM, leg + "_pad");
+    l.ankle_site = need(mjOBJ_SITE, leg + "_ankle");
+    l.pad_face_site = need(mjOBJ_SITE, leg + "_pad_face");
+    r.legs.push_back(std::move(l));
+  }
+
+  // Spawn: the robot file's base position, moved by the scene and the scenario; yaw about +z.
+  double* q = m->qpos0 + r.root_qpos_adr;
+  for (int i = 0; i < 3; ++i) q[i] += spawn[i] + s.initial.offset_m[i];
+  const double half_yaw = 0.5 * s.initial.yaw_deg * M_PI / 180.0;
+  const double yaw_quat[4] = {std::cos(half_yaw), 0.0, 0.0, std::sin(half_yaw)};
+  double rotated[4];
+  mju_mulQuat(rotated, yaw_quat, q + 3);
+  mju_copy4(q + 3, rotated);
+  return c;
+}
+
+CompiledModel::~CompiledModel() {
+  if (model_ != nullptr) mj_deleteModel(model_);
+}
+
+World::World(const CompiledModel& compiled)
+    : compiled_(compiled),
+      model_(mj_copyModel(nullptr, compiled.model())),
+      data_(mj_makeData(model_)) {}
+
+World::~World() {
+  mj_deleteData(data_);
+  mj_deleteModel(model_);
+}
+
+}  // namespace climbsim::sim

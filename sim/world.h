@@ -1,0 +1,111 @@
+// The MuJoCo side of a run. CompiledModel composes a robot file, a scene file and what the
+// effects add (welds, sensors, actuators) into one model, applies the scenario's physics
+// options, spawn pose and incline, and reads the robot contract of mjcf/README.md (legs,
+// joints, pads). It is compiled once and never changes. Each run owns a World: its own
+// mj_copyModel and mjData, because MuJoCo 2.2.2 keeps run-time switches such as eq_active
+// in mjModel, so two runs must never share one.
+#ifndef CLIMBSIM_SIM_WORLD_H_
+#define CLIMBSIM_SIM_WORLD_H_
+
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/scenario.h"
+
+namespace climbsim::sim {
+
+// MJCF sections added to the composed model, as XML text.
+struct MjcfAdditions {
+  std::string equality;
+  std::string sensor;
+  std::string actuator;
+  std::string contact;
+};
+
+// One leg of the robot contract: ids resolved once so the step never looks up a name.
+struct LegInfo {
+  std::string name;                    // "LF"
+  std::array<int, 3> joint{};          // hip_yaw, hip_pitch, knee
+  std::array<int, 3> qpos_adr{};
+  std::array<int, 3> dof_adr{};
+  std::array<int, 3> actuator{};       // position servos, same names as the joints
+  int pad_body = -1;                   // "LF_pad"
+  int pad_geom = -1;
+  int ankle_site = -1;                 // "LF_ankle"
+  int pad_face_site = -1;              // "LF_pad_face"
+};
+
+struct RobotInfo {
+  int base_body = -1;
+  int root_qpos_adr = -1;
+  int root_dof_adr = -1;
+  std::vector<LegInfo> legs;           // order of the custom text "climbsim_legs"
+  double mass_kg = 0.0;
+};
+
+struct SceneInfo {
+  Eigen::Vector3d travel{1, 0, 0};     // progress = travel · displacement of the base
+  Eigen::Vector3d gravity{0, 0, -9.81};
+};
+
+class CompiledModel {
+ public:
+  // Composes and compiles; throws InputError (at the scenario's robot or scene key) when
+  // MuJoCo rejects the model or the robot lacks a contract item.
+  static std::unique_ptr<CompiledModel> Build(const Scenario& scenario,
+                                              const MjcfAdditions& additions);
+  ~CompiledModel();
+  CompiledModel(const CompiledModel&) = delete;
+  CompiledModel& operator=(const CompiledModel&) = delete;
+
+  const mjModel* model() const { return model_; }
+  const std::string& xml() const { return xml_; }  // the composed top file
+  const RobotInfo& robot() const { return robot_; }
+  const SceneInfo& scene() const { return scene_; }
+
+ private:
+  CompiledModel() = default;
+  mjModel* model_ = nullptr;
+  std::string xml_;
+  RobotInfo robot_;
+  SceneInfo scene_;
+};
+
+// One run's model copy and data.
+class World {
+ public:
+  explicit World(const CompiledModel& compiled);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  mjModel* model() { return model_; }
+  const mjModel* model() const { return model_; }
+  mjData* data() { return data_; }
+  const mjData* data() const { return data_; }
+  const RobotInfo& robot() const { return compiled_.robot(); }
+  const SceneInfo& scene() const { return compiled_.scene(); }
+  const CompiledModel& compiled() const { return compiled_; }
+
+ private:
+  const CompiledModel& compiled_;
+  mjModel* model_;
+  mjData* data_;
+};
+
+// The composed top-level MJCF for a robot and a scene file (absolute paths).
+std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
+                        const MjcfAdditions& additions);
+
+// Compiles MJCF text through MuJoCo's VFS (no temporary files). Serialised by a mutex:
+// the XML loader keeps process-wide state. Returns nullptr and fills error on failure.
+mjModel* CompileMjcf(const std::string& xml, std::string* error);
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_SIM_WORLD_H_
