@@ -1,0 +1,65 @@
+// climbsim simulate SCENARIO --out DIR
+#include <cstdio>
+#include <filesystem>
+
+#include "sim/sim.h"
+#include "tools/commands.h"
+#include "tools/progress.h"
+
+namespace climbsim::tools {
+
+int& ExitCode() {
+  static int code = 0;
+  return code;
+}
+
+namespace {
+
+void PrintSummary(const nlohmann::json& s, const std::string& dir) {
+  std::printf("climbsim simulate: %s on %s, %.2f s simulated in %.2f s (%.1fx real time)\n",
+              s["robot"].get<std::string>().c_str(), s["scene"].get<std::string>().c_str(),
+              s["duration_s"].get<double>(), s["wall_time_s"].get<double>(),
+              s["realtime_factor"].get<double>());
+  std::printf("  distance        %.4f m along the travel direction\n",
+              s["distance_m"].get<double>());
+  std::printf("  mean speed      %.4f m/s\n", s["mean_speed_mps"].get<double>());
+  std::printf("  heading         %.1f deg\n", s["heading_deg"].get<double>());
+  std::printf("  fell            %s\n", s["fell"].get<bool>() ? "yes" : "no");
+  std::string effects;
+  for (const auto& e : s["effects"]) effects += (effects.empty() ? "" : ", ") + e.get<std::string>();
+  std::printf("  effects         %s\n", effects.empty() ? "(none)" : effects.c_str());
+  if (!s["stable"].get<bool>()) {
+    std::printf("  UNSTABLE        %s\n", s["failure"].get<std::string>().c_str());
+  }
+  std::printf("  outputs         %s/{scenario.yaml,trajectory.csv,events.csv,summary.json}\n",
+              dir.c_str());
+}
+
+}  // namespace
+
+void AddSimulateCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("simulate", "Simulate a gait from a scenario file");
+  static std::string scenario_path, out_dir;
+  static bool quiet = false;
+  cmd->add_option("scenario", scenario_path, "scenario file (YAML; keys in docs/scenario.md)")
+      ->required();
+  cmd->add_option("--out", out_dir, "run directory to write")->required();
+  cmd->add_flag("--quiet", quiet, "no progress and no summary on the terminal");
+  cmd->footer("Example:\n  climbsim simulate examples/gecko_floor.yaml --out runs/gecko_floor");
+  cmd->callback([] {
+    const sim::Scenario scenario = sim::LoadScenario(scenario_path);
+    const auto model = sim::CompileScenario(scenario);
+    sim::Simulation run(scenario, *model);
+    Progress progress("simulate", !quiet);
+    const sim::RunResult r = run.Run([&](double f) { progress.Update(f); });
+    sim::WriteRunDirectory(out_dir, run);
+    if (!quiet) PrintSummary(run.Summary(), out_dir);
+    if (!r.stable) {
+      std::fprintf(stderr, "climbsim simulate: the run went numerically bad: %s\n",
+                   r.failure.c_str());
+      ExitCode() = 1;
+    }
+  });
+}
+
+}  // namespace climbsim::tools

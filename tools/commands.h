@@ -1,0 +1,19 @@
+// The verbs of the climbsim executable. Each Add*Command registers its options on the app
+// and sets the callback that runs it; a callback returns the process exit code through
+// ExitCode (0 ok, 1 failed run, 2 bad input).
+#ifndef CLIMBSIM_TOOLS_COMMANDS_H_
+#define CLIMBSIM_TOOLS_COMMANDS_H_
+
+#include <CLI/CLI.hpp>
+
+namespace climbsim::tools {
+
+// Exit code the chosen verb asked for.
+int& ExitCode();
+
+void AddSimulateCommand(CLI::App& app);
+void AddKeysCommand(CLI::App& app);
+
+}  // namespace climbsim::tools
+
+#endif  // CLIMBSIM_TOOLS_COMMANDS_H_
