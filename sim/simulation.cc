@@ -53,7 +53,7 @@ std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario) {
 }
 
 Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
-    : scenario_(scenario), world_(compiled) {
+    : scenario_(scenario), world_(compiled, scenario_) {
   const RobotInfo& robot = world_.robot();
   legs_.resize(robot.legs.size());
 
@@ -106,7 +106,7 @@ void Simulation::Reset() {
   start_pos_ = BasePos(d, r);
   up0_ = BaseAxis(d, r, 2);
   forward0_ = BaseAxis(d, r, 0);
-  const Eigen::Vector3d g = world_.scene().gravity;
+  const Eigen::Vector3d g = world_.gravity();
   down_ = g.norm() > 0 ? Eigen::Vector3d(g.normalized()) : Eigen::Vector3d(0, 0, -1);
   highest_ = -down_.dot(start_pos_);
 }

@@ -81,29 +81,13 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
   }
   mjModel* m = c->model_;
 
-  // Physics options: the scenario wins over the files.
-  m->opt.timestep = s.physics.timestep_s;
-  m->opt.integrator = s.physics.integrator == "euler" ? mjINT_EULER
-                      : s.physics.integrator == "rk4" ? mjINT_RK4
-                                                      : mjINT_IMPLICIT;
-  m->opt.iterations = s.physics.solver_iterations;
-  m->opt.tolerance = s.physics.solver_tolerance;
-  m->opt.noslip_iterations = s.physics.noslip_iterations;
-  m->opt.cone = s.physics.cone == "elliptic" ? mjCONE_ELLIPTIC : mjCONE_PYRAMIDAL;
-  m->opt.impratio = s.physics.impratio;
-
-  // Scene: incline by rotating gravity about y (uphill stays +x), travel direction, spawn.
-  Eigen::Vector3d g(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
-  if (s.scene.name == "incline") {
-    const double a = s.scene.incline_deg.value_or(30.0) * M_PI / 180.0, norm = g.norm();
-    g = norm * Eigen::Vector3d(-std::sin(a), 0.0, -std::cos(a));
-    for (int i = 0; i < 3; ++i) m->opt.gravity[i] = g[i];
-  }
-  c->scene_.gravity = g;
+  // The scene's own gravity and travel direction; the scenario's options apply per World.
+  c->scene_.gravity = Eigen::Vector3d(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
   double v[3];
   if (Numeric(m, "climbsim_travel", 3, v)) c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
-  Eigen::Vector3d spawn = Eigen::Vector3d::Zero();
-  if (Numeric(m, "climbsim_spawn", 3, v)) spawn = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (Numeric(m, "climbsim_spawn", 3, v)) {
+    for (int i = 0; i < 3; ++i) c->spawn_offset_[i] = v[i];
+  }
 
   // Robot contract.
   RobotInfo& r = c->robot_;
@@ -140,14 +124,8 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
     r.legs.push_back(std::move(l));
   }
 
-  // Spawn: the robot file's base position, moved by the scene and the scenario; yaw about +z.
-  double* q = m->qpos0 + r.root_qpos_adr;
-  for (int i = 0; i < 3; ++i) q[i] += spawn[i] + s.initial.offset_m[i];
-  const double half_yaw = 0.5 * s.initial.yaw_deg * M_PI / 180.0;
-  const double yaw_quat[4] = {std::cos(half_yaw), 0.0, 0.0, std::sin(half_yaw)};
-  double rotated[4];
-  mju_mulQuat(rotated, yaw_quat, q + 3);
-  mju_copy4(q + 3, rotated);
+  // Spawn: the robot file's base position moved by the scene's offset.
+  for (int i = 0; i < 3; ++i) m->qpos0[r.root_qpos_adr + i] += c->spawn_offset_[i];
   return c;
 }
 
@@ -155,10 +133,41 @@ CompiledModel::~CompiledModel() {
   if (model_ != nullptr) mj_deleteModel(model_);
 }
 
-World::World(const CompiledModel& compiled)
-    : compiled_(compiled),
-      model_(mj_copyModel(nullptr, compiled.model())),
-      data_(mj_makeData(model_)) {}
+World::World(const CompiledModel& compiled, const Scenario& s)
+    : compiled_(compiled), model_(mj_copyModel(nullptr, compiled.model())) {
+  mjModel* m = model_;
+  // Physics options: the scenario wins over the files.
+  m->opt.timestep = s.physics.timestep_s;
+  m->opt.integrator = s.physics.integrator == "euler" ? mjINT_EULER
+                      : s.physics.integrator == "rk4" ? mjINT_RK4
+                                                      : mjINT_IMPLICIT;
+  m->opt.iterations = s.physics.solver_iterations;
+  m->opt.tolerance = s.physics.solver_tolerance;
+  m->opt.noslip_iterations = s.physics.noslip_iterations;
+  m->opt.cone = s.physics.cone == "elliptic" ? mjCONE_ELLIPTIC : mjCONE_PYRAMIDAL;
+  m->opt.impratio = s.physics.impratio;
+
+  // Incline: rotate the scene's gravity about y so that uphill stays +x.
+  gravity_ = compiled.scene().gravity;
+  if (s.scene.name == "incline") {
+    const double a = s.scene.incline_deg.value_or(30.0) * M_PI / 180.0;
+    gravity_ = gravity_.norm() * Eigen::Vector3d(-std::sin(a), 0.0, -std::cos(a));
+    for (int i = 0; i < 3; ++i) m->opt.gravity[i] = gravity_[i];
+  }
+
+  // Initial pose: the scenario's offset and yaw about +z, on this run's copy only.
+  const int adr = compiled.robot().root_qpos_adr;
+  if (adr >= 0) {
+    double* q = m->qpos0 + adr;
+    for (int i = 0; i < 3; ++i) q[i] += s.initial.offset_m[i];
+    const double half_yaw = 0.5 * s.initial.yaw_deg * M_PI / 180.0;
+    const double yaw_quat[4] = {std::cos(half_yaw), 0.0, 0.0, std::sin(half_yaw)};
+    double rotated[4];
+    mju_mulQuat(rotated, yaw_quat, q + 3);
+    mju_copy4(q + 3, rotated);
+  }
+  data_ = mj_makeData(m);
+}
 
 World::~World() {
   mj_deleteData(data_);

@@ -1,9 +1,10 @@
 // The MuJoCo side of a run. CompiledModel composes a robot file, a scene file and what the
-// effects add (welds, sensors, actuators) into one model, applies the scenario's physics
-// options, spawn pose and incline, and reads the robot contract of mjcf/README.md (legs,
-// joints, pads). It is compiled once and never changes. Each run owns a World: its own
-// mj_copyModel and mjData, because MuJoCo 2.2.2 keeps run-time switches such as eq_active
-// in mjModel, so two runs must never share one.
+// effects add (welds, sensors, actuators) into one model and reads the robot contract of
+// mjcf/README.md (legs, joints, pads). It depends only on the scenario's structure (robot,
+// scene, which effects), is compiled once and never changes. Each run owns a World: its own
+// mj_copyModel, on which the scenario's values (physics options, incline gravity, initial
+// pose) are set, and its mjData. Runs never share a model: MuJoCo 2.2.2 keeps run-time
+// switches such as eq_active in mjModel.
 #ifndef CLIMBSIM_SIM_WORLD_H_
 #define CLIMBSIM_SIM_WORLD_H_
 
@@ -50,13 +51,14 @@ struct RobotInfo {
 
 struct SceneInfo {
   Eigen::Vector3d travel{1, 0, 0};     // progress = travel · displacement of the base
-  Eigen::Vector3d gravity{0, 0, -9.81};
+  Eigen::Vector3d gravity{0, 0, -9.81};  // the scene file's (an incline rotates it per World)
 };
 
 class CompiledModel {
  public:
-  // Composes and compiles; throws InputError (at the scenario's robot or scene key) when
-  // MuJoCo rejects the model or the robot lacks a contract item.
+  // Composes and compiles robot, scene and additions (the scenario's values are applied per
+  // World); throws InputError (at the scenario's robot key) when MuJoCo rejects the model
+  // or the robot lacks a contract item.
   static std::unique_ptr<CompiledModel> Build(const Scenario& scenario,
                                               const MjcfAdditions& additions);
   ~CompiledModel();
@@ -74,12 +76,14 @@ class CompiledModel {
   std::string xml_;
   RobotInfo robot_;
   SceneInfo scene_;
+  double spawn_offset_[3] = {0, 0, 0};
 };
 
 // One run's model copy and data.
 class World {
  public:
-  explicit World(const CompiledModel& compiled);
+  // Copies the model and sets the scenario's physics options, gravity and initial pose.
+  World(const CompiledModel& compiled, const Scenario& scenario);
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -90,12 +94,15 @@ class World {
   const mjData* data() const { return data_; }
   const RobotInfo& robot() const { return compiled_.robot(); }
   const SceneInfo& scene() const { return compiled_.scene(); }
+  // Gravity of this run (the scene's, rotated for an incline).
+  const Eigen::Vector3d& gravity() const { return gravity_; }
   const CompiledModel& compiled() const { return compiled_; }
 
  private:
   const CompiledModel& compiled_;
   mjModel* model_;
-  mjData* data_;
+  mjData* data_ = nullptr;
+  Eigen::Vector3d gravity_;
 };
 
 // The composed top-level MJCF for a robot and a scene file (absolute paths).

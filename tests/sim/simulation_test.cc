@@ -29,7 +29,8 @@ TEST(Simulation, NoEffectsIsBareMujocoBitForBit) {
     Simulation sim(s, *model);
     EXPECT_TRUE(sim.effects().empty());
 
-    mjModel* m = mj_copyModel(nullptr, model->model());
+    // The same model: the run's own copy, with the scenario's options applied.
+    mjModel* m = mj_copyModel(nullptr, sim.world().model());
     mjData* d = mj_makeData(m);
     mj_resetData(m, d);
     for (long i = 0; i < sim.steps_total(); ++i) mj_step(m, d);
