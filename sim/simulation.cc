@@ -135,6 +135,12 @@ bool Simulation::Monitor() {
       return false;
     }
   }
+  // Mechanical work of the actuators (positive and negative alike cost a servo energy).
+  const mjModel* m = world_.model();
+  double power_w = 0.0;
+  for (int i = 0; i < m->nu; ++i) power_w += std::abs(d->actuator_force[i] * d->actuator_velocity[i]);
+  result_.actuator_work_j += power_w * m->opt.timestep;
+
   const RobotInfo& r = world_.robot();
   const Eigen::Vector3d pos = BasePos(d, r);
   if (!pos.allFinite()) {
@@ -204,6 +210,11 @@ nlohmann::json Simulation::Summary() const {
   j["fell"] = result_.fell;
   j["fall_time_s"] = result_.fell ? nlohmann::json(result_.fall_time_s) : nlohmann::json();
   j["robot_mass_kg"] = world_.robot().mass_kg;
+  j["actuator_work_j"] = result_.actuator_work_j;
+  // Cost of transport: work per weight and distance (distance floored at 1 mm).
+  j["cost_of_transport"] = result_.actuator_work_j /
+                           (world_.robot().mass_kg * world_.gravity().norm() *
+                            std::max(result_.distance_m, 1e-3));
   nlohmann::json names = nlohmann::json::array();
   for (const auto& e : effects_) names.push_back(e->name());
   j["effects"] = names;

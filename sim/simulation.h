@@ -38,6 +38,7 @@ struct RunResult {
   double fall_time_s = -1.0;
   double distance_m = 0.0;   // travel · base displacement
   double heading_deg = 0.0;  // final heading about the start surface normal, 0 = as started
+  double actuator_work_j = 0.0;  // Σ over steps and actuators of |force · velocity| · dt
 };
 
 class Simulation {
