@@ -13,6 +13,7 @@
 
 #include "sim/archive.h"
 #include "sim/effect_params.h"
+#include "sim/optimise_params.h"
 
 namespace climbsim::sim {
 
@@ -90,6 +91,7 @@ struct Scenario {
   std::optional<CpgParams> cpg;
   OutputParams outputs;
   FallParams fall;
+  std::optional<OptimiseParams> optimise;
 
   // Not keys: where the scenario came from, and where each key was read.
   std::string source_file;
@@ -106,6 +108,7 @@ struct Scenario {
     a->Visit({"cpg", "", "effect: the central pattern generator driving the leg servos; absent: servos hold the neutral pose"}, &cpg);
     a->Visit({"outputs", "", "what is recorded"}, &outputs);
     a->Visit({"fall", "", "fall detection"}, &fall);
+    a->Visit({"optimise", "", "what `climbsim optimise` tunes and how (docs/optimise.md); simulate ignores it but reports the objective"}, &optimise);
   }
 };
 

@@ -1,0 +1,103 @@
+// Scenario keys of the `optimise:` block, read by `climbsim optimise` (optimise/). The block
+// is part of the scenario so that it is validated like every other key and travels with
+// best.yaml; `climbsim simulate` ignores it except to report the objective.
+#ifndef CLIMBSIM_SIM_OPTIMISE_PARAMS_H_
+#define CLIMBSIM_SIM_OPTIMISE_PARAMS_H_
+
+#include <string>
+#include <vector>
+
+#include "sim/archive.h"
+
+namespace climbsim::sim {
+
+// One tuned parameter: a dotted key of this scenario file and its search interval.
+struct OptimisedParameter {
+  std::string key;
+  double start = 0.0;
+  double min = 0.0;
+  double max = 0.0;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"key", "", "dotted key of this file: cpg.frequency_hz, cpg.stride_rad[0], reflex.preload.gain, cpg.phase_bias_rad[0][1]", {}, true}, &key);
+    a->Visit({"start", "", "start value (start 0 begins here; other starts are drawn in the bounds)", {}, true}, &start);
+    a->Visit({"min", "", "lower bound", {}, true}, &min);
+    a->Visit({"max", "", "upper bound", {}, true}, &max);
+  }
+  void Validate(const Checker& c) const {
+    if (!(min < max)) c.Fail("max", "must be greater than min");
+    if (start < min || start > max) c.Fail("start", "must lie in [min, max]");
+  }
+};
+
+// The cost J (m/s, minimised) of one rollout:
+//   J = −v + fall_penalty_mps·[fell] + overload_penalty_mps·n_overload + energy_weight_mps·CoT
+// v = distance along the travel direction / duration_s (a fall ends the run early, so the
+// distance is what was climbed before it), n_overload = pads detached by overload, CoT =
+// actuator work / (m·g·max(distance, 1 mm)). With runs > 1, runs 1.. are perturbed copies
+// (initial pose noise, σ_T spread), each with its own fixed seed, and J is their mean or
+// their worst.
+struct ObjectiveParams {
+  double fall_penalty_mps = 0.1;
+  double overload_penalty_mps = 0.005;
+  double energy_weight_mps = 0.0;
+  int runs = 1;
+  std::string aggregate = "mean";
+  double pose_noise_m = 0.002;
+  double yaw_noise_deg = 2.0;
+  double sigma_t_spread = 0.1;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"fall_penalty_mps", "m/s", "added to J when the robot falls", Range::NonNegative()}, &fall_penalty_mps);
+    a->Visit({"overload_penalty_mps", "m/s", "added to J per pad detached by overload", Range::NonNegative()}, &overload_penalty_mps);
+    a->Visit({"energy_weight_mps", "m/s", "weight of the cost of transport in J", Range::NonNegative()}, &energy_weight_mps);
+    a->Visit({"runs", "", "rollouts per evaluation: 1 nominal + runs−1 perturbed", Range::Closed(1, 100)}, &runs);
+    a->Choice({"aggregate", "", "how the runs' costs combine"}, &aggregate, {"mean", "worst"});
+    a->Visit({"pose_noise_m", "m", "standard deviation of the initial x and y offset of perturbed runs", Range::NonNegative()}, &pose_noise_m);
+    a->Visit({"yaw_noise_deg", "deg", "standard deviation of the initial heading of perturbed runs", Range::NonNegative()}, &yaw_noise_deg);
+    a->Visit({"sigma_t_spread", "", "relative standard deviation of adhesion.sigma_t_pa in perturbed runs", Range::Closed(0, 0.9)}, &sigma_t_spread);
+  }
+};
+
+struct OptimiseParams {
+  std::vector<OptimisedParameter> parameters;
+  ObjectiveParams objective;
+  std::string algorithm = "LN_SBPLX";
+  std::string local_algorithm = "LN_SBPLX";
+  double global_share = 0.5;
+  int max_evaluations = 400;
+  double max_time_s = 0.0;
+  double xtol_rel = 1e-4;
+  double ftol_abs = 0.0;
+  double initial_step = 0.1;
+  int starts = 2;
+  int seed = 1;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"parameters", "", "the tuned parameters (key, start, min, max)"}, &parameters);
+    a->Visit({"objective", "", "the cost each evaluation minimises"}, &objective);
+    a->Choice({"algorithm", "", "NLopt algorithm; chain = GN_CRS2_LM, then local_algorithm from its best"}, &algorithm,
+              {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA", "GN_CRS2_LM", "GN_ISRES", "GN_ESCH", "chain"});
+    a->Choice({"local_algorithm", "", "the local stage of chain"}, &local_algorithm,
+              {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA"});
+    a->Visit({"global_share", "", "share of each start's evaluations spent in chain's global stage", Range::OpenClosed(0, 1)}, &global_share);
+    a->Visit({"max_evaluations", "", "evaluations in all, shared equally by the starts", Range::Closed(1, 1000000)}, &max_evaluations);
+    a->Visit({"max_time_s", "s", "wall-time limit per start, 0 = none (a time limit makes results depend on the machine)", Range::NonNegative()}, &max_time_s);
+    a->Visit({"xtol_rel", "", "stop when a step changes every parameter by less than this share of its range", Range::NonNegative()}, &xtol_rel);
+    a->Visit({"ftol_abs", "m/s", "stop when J improves by less than this, 0 = off", Range::NonNegative()}, &ftol_abs);
+    a->Visit({"initial_step", "", "first step of local algorithms, as a share of each parameter's range", Range::OpenClosed(0, 1)}, &initial_step);
+    a->Visit({"starts", "", "independent starts (start 0 at the given start values, the others drawn in the bounds); run side by side", Range::Closed(1, 1000)}, &starts);
+    a->Visit({"seed", "", "seed of NLopt's random numbers and of the random starts", Range::Closed(0, 2147483647)}, &seed);
+  }
+  void Validate(const Checker& c) const {
+    if (parameters.empty()) c.Fail("parameters", "list at least one parameter to tune");
+    if (max_evaluations < starts) c.Fail("max_evaluations", "must be at least the number of starts");
+  }
+};
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_SIM_OPTIMISE_PARAMS_H_
