@@ -18,12 +18,14 @@ class InputError : public std::runtime_error {
         file_(file),
         line_(line),
         column_(column),
-        key_(key) {}
+        key_(key),
+        message_(message) {}
 
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   int column() const { return column_; }
   const std::string& key() const { return key_; }
+  const std::string& message() const { return message_; }  // without the place
 
  private:
   static std::string Format(const std::string& file, int line, int column,
@@ -41,6 +43,7 @@ class InputError : public std::runtime_error {
   int line_;
   int column_;
   std::string key_;
+  std::string message_;
 };
 
 }  // namespace climbsim

@@ -244,7 +244,8 @@ void WriteFileAtomic(const std::string& path, const std::string& content) {
   std::filesystem::rename(tmp, path);
 }
 
-void WriteRunDirectory(const std::string& dir, const Simulation& sim) {
+void WriteRunDirectory(const std::string& dir, const Simulation& sim,
+                       const nlohmann::json& extra) {
   std::filesystem::create_directories(dir);
   WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
   WriteFileAtomic(dir + "/model.xml", sim.world().compiled().xml());
@@ -252,7 +253,9 @@ void WriteRunDirectory(const std::string& dir, const Simulation& sim) {
   if (!traj.empty()) WriteFileAtomic(dir + "/trajectory.csv", traj);
   WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());
   // The summary last: its presence says the run directory is complete.
-  WriteFileAtomic(dir + "/summary.json", sim.Summary().dump(2) + "\n");
+  nlohmann::json summary = sim.Summary();
+  summary.update(extra);
+  WriteFileAtomic(dir + "/summary.json", summary.dump(2) + "\n");
 }
 
 }  // namespace climbsim::sim

@@ -91,7 +91,9 @@ class Simulation {
 
 // Writes DIR/scenario.yaml, trajectory.csv, events.csv, summary.json and model.xml, each to
 // a temporary name first and then renamed, so a killed run never leaves half a file.
-void WriteRunDirectory(const std::string& dir, const Simulation& sim);
+// `extra` is merged into summary.json (figures computed outside sim, such as the objective).
+void WriteRunDirectory(const std::string& dir, const Simulation& sim,
+                       const nlohmann::json& extra = nlohmann::json::object());
 
 // Writes `content` to `path` atomically (temporary file in the same folder, then rename).
 void WriteFileAtomic(const std::string& path, const std::string& content);

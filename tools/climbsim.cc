@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       "Example:\n  climbsim simulate examples/gecko_floor.yaml --out runs/gecko_floor\n"
       "Exit codes: 0 ok, 1 failed run, 2 bad input.");
   climbsim::tools::AddSimulateCommand(app);
+  climbsim::tools::AddOptimiseCommand(app);
   climbsim::tools::AddKeysCommand(app);
   try {
     app.parse(argc, argv);

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "optimise/optimise.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
@@ -28,6 +29,10 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
   std::string effects;
   for (const auto& e : s["effects"]) effects += (effects.empty() ? "" : ", ") + e.get<std::string>();
   std::printf("  effects         %s\n", effects.empty() ? "(none)" : effects.c_str());
+  if (s.contains("objective")) {
+    std::printf("  objective       %.17g m/s (optimise cost of this run)\n",
+                s["objective"].get<double>());
+  }
   if (!s["stable"].get<bool>()) {
     std::printf("  UNSTABLE        %s\n", s["failure"].get<std::string>().c_str());
   }
@@ -52,8 +57,15 @@ void AddSimulateCommand(CLI::App& app) {
     sim::Simulation run(scenario, *model);
     Progress progress("simulate", !quiet);
     const sim::RunResult r = run.Run([&](double f) { progress.Update(f); });
-    sim::WriteRunDirectory(out_dir, run);
-    if (!quiet) PrintSummary(run.Summary(), out_dir);
+    // A scenario with an optimise block (best.yaml) also reports the cost the optimiser saw.
+    nlohmann::json extra = nlohmann::json::object();
+    if (scenario.optimise) extra["objective"] = optimise::NominalCost(run).total;
+    sim::WriteRunDirectory(out_dir, run, extra);
+    if (!quiet) {
+      nlohmann::json summary = run.Summary();
+      summary.update(extra);
+      PrintSummary(summary, out_dir);
+    }
     if (!r.stable) {
       std::fprintf(stderr, "climbsim simulate: the run went numerically bad: %s\n",
                    r.failure.c_str());

@@ -13,6 +13,7 @@ int& ExitCode();
 
 void AddSimulateCommand(CLI::App& app);
 void AddKeysCommand(CLI::App& app);
+void AddOptimiseCommand(CLI::App& app);
 
 }  // namespace climbsim::tools
 

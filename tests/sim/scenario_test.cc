@@ -44,7 +44,7 @@ TEST(Scenario, MinimalFileLoadsWithDefaults) {
 TEST(Scenario, UnknownKeyNamesItsPlaceAndTheKnownKeys) {
   EXPECT_EQ(ErrorOf("unknown.yaml", "robot: gecko\nscene: floor\nduration_s: 1\ndurration: 2\n"),
             "unknown.yaml:4:1: durration: unknown key (known here: cpg, duration_s, fall, "
-            "initial, outputs, physics, robot, scene, seed)");
+            "initial, optimise, outputs, physics, robot, scene, seed)");
 }
 
 TEST(Scenario, UnknownNestedKey) {

@@ -1,0 +1,118 @@
+// climbsim's offline gait optimiser: NLopt tunes the parameters an `optimise:` block lists
+// (any numeric scenario key, by its dotted name) to minimise a documented cost over rollouts
+// of the scenario. Independent starts run side by side, one thread each, each with its own
+// model copy; the result does not depend on the number of threads. Every evaluation is
+// checkpointed atomically, so a killed run resumes to the same end.
+//
+//   climbsim::optimise::Options o;  o.out_dir = "runs/opt";  o.threads = 2;
+//   climbsim::optimise::Result r = climbsim::optimise::Optimise("examples/gecko_wall_optimise.yaml", o);
+#ifndef CLIMBSIM_OPTIMISE_OPTIMISE_H_
+#define CLIMBSIM_OPTIMISE_OPTIMISE_H_
+
+#include <yaml-cpp/yaml.h>
+
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/sim.h"
+
+namespace climbsim::optimise {
+
+// ---- Dotted keys ------------------------------------------------------------------------
+// "cpg.frequency_hz", "cpg.stride_rad[0]", "cpg.phase_bias_rad[0][1]", "reflex.preload.gain".
+// Set creates a missing map key; a list element must exist. Both throw std::invalid_argument
+// with a message naming the part of the key that does not fit.
+void SetDottedKey(YAML::Node root, std::string_view key, double value);
+double GetDottedKey(const YAML::Node& root, std::string_view key);
+
+// ---- Cost of a rollout ------------------------------------------------------------------
+// J in m/s, minimised (sim/optimise_params.h states the formula). A rollout that went
+// numerically bad, or whose scenario could not be built, costs kFailedCost.
+inline constexpr double kFailedCost = 10.0;
+
+struct Cost {
+  double total = 0.0;             // J
+  double speed_mps = 0.0;         // v
+  double fall_penalty = 0.0;
+  double overload_penalty = 0.0;
+  double energy_penalty = 0.0;
+  bool failed = false;
+  std::string failure;            // why, when failed
+};
+
+// The cost of a finished run of `sim` (its scenario's duration_s is T).
+Cost RolloutCost(const sim::Simulation& sim, const sim::ObjectiveParams& objective);
+
+// ---- The problem ------------------------------------------------------------------------
+// A scenario file with an optimise block. Parameter vectors are in the parameters' own units.
+class Problem {
+ public:
+  // Reads and validates the file; checks that each parameter's key names a number in the
+  // file and that its bounds and start give valid scenarios (InputError at the key).
+  explicit Problem(const std::string& scenario_file);
+  Problem(const YAML::Node& root, const std::string& file);
+
+  const sim::Scenario& scenario() const { return scenario_; }
+  const sim::OptimiseParams& params() const { return *scenario_.optimise; }
+  int dimension() const { return static_cast<int>(params().parameters.size()); }
+  std::vector<double> start() const;
+  std::vector<double> lower() const;
+  std::vector<double> upper() const;
+
+  // The YAML tree with x written in (and the optimise block's starts moved to x, so that an
+  // optimisation of best.yaml continues from there).
+  YAML::Node TreeFor(std::span<const double> x) const;
+  // Rollout `run` of x: run 0 is the nominal scenario, runs ≥ 1 perturbed with seeds that
+  // depend only on the scenario's seed and the run (common random numbers across x).
+  // fall.stop is set: a fall ends the rollout. Throws InputError if x makes it invalid.
+  sim::Scenario ScenarioFor(std::span<const double> x, int run) const;
+
+ private:
+  YAML::Node root_;  // as read, with its places; every tree for an x is a clone of it
+  std::string file_;
+  sim::Scenario scenario_;
+};
+
+// ---- Running it ---------------------------------------------------------------------------
+struct Evaluation {
+  int start = 0;
+  int index = 0;                  // 0-based within its start
+  std::vector<double> x;
+  double objective = 0.0;         // aggregate J over the runs
+  Cost nominal;                   // run 0 (what best.yaml replays)
+  int failed_runs = 0;
+  double wall_time_s = 0.0;
+};
+
+struct Options {
+  std::string out_dir;
+  int threads = 0;                // 0: all cores
+  bool resume = false;
+  int max_evaluations = 0;        // 0: the file's
+  bool quiet = false;
+};
+
+struct Result {
+  Evaluation best;
+  double start_objective = 0.0;   // start 0's first evaluation: the scenario as given
+  std::vector<Evaluation> history;  // ordered by start, then index
+  double wall_time_s = 0.0;
+  int evaluations_computed = 0;   // not served from a checkpoint
+};
+
+// Writes DIR/scenario.yaml, history.csv, best.yaml, convergence.png (and .csv), summary.json
+// and keeps DIR/checkpoint.json current after every evaluation (all atomically).
+// progress(fraction, best_objective) is called from worker threads under a lock.
+Result Optimise(const std::string& scenario_file, const Options& options,
+                const std::function<void(double, double)>& progress = {});
+
+// The cost of a nominal rollout of a scenario with an optimise block: what `climbsim
+// simulate` reports as "objective" for best.yaml.
+Cost NominalCost(const sim::Simulation& sim);
+
+}  // namespace climbsim::optimise
+
+#endif  // CLIMBSIM_OPTIMISE_OPTIMISE_H_

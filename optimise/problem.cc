@@ -1,0 +1,101 @@
+#include <cmath>
+#include <random>
+
+#include "optimise/optimise.h"
+
+namespace climbsim::optimise {
+namespace {
+
+// Seeds for perturbed run k: a function of the scenario's seed and k only, so every
+// parameter vector meets the same perturbations (common random numbers).
+uint64_t RunSeed(int scenario_seed, int run) {
+  uint64_t z = static_cast<uint64_t>(scenario_seed) * 0x9E3779B97F4A7C15ull + run;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;  // splitmix64
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+}  // namespace
+
+Problem::Problem(const std::string& scenario_file)
+    : Problem(sim::LoadYamlFile(scenario_file), scenario_file) {}
+
+Problem::Problem(const YAML::Node& root, const std::string& file)
+    : root_(root), file_(file), scenario_(sim::ParseScenario(root_, file)) {
+  if (!scenario_.optimise) {
+    throw InputError(file, 0, 0, "optimise", "the scenario has no optimise block");
+  }
+  // Every parameter must name a number the file can hold, and its start and both bounds
+  // must give valid scenarios: checked here, before any rollout.
+  const auto& ps = scenario_.optimise->parameters;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const std::string where = "optimise.parameters[" + std::to_string(i) + "].key";
+    for (double v : {ps[i].start, ps[i].min, ps[i].max}) {
+      YAML::Node tree = YAML::Clone(root_);
+      try {
+        SetDottedKey(tree, ps[i].key, v);
+      } catch (const std::invalid_argument& e) {
+        throw sim::ScenarioError(scenario_, where, e.what());
+      }
+      try {
+        sim::ParseScenario(tree, file_);
+      } catch (const InputError& e) {
+        // The tree is a copy (YAML::Clone keeps no places): name the key, not a line.
+        throw sim::ScenarioError(scenario_, where,
+                                 ps[i].key + " = " + sim::ExactNumber(v) +
+                                     " does not give a valid scenario: " + e.key() + " " +
+                                     e.message());
+      }
+    }
+  }
+}
+
+std::vector<double> Problem::start() const {
+  std::vector<double> x;
+  for (const auto& p : params().parameters) x.push_back(p.start);
+  return x;
+}
+std::vector<double> Problem::lower() const {
+  std::vector<double> x;
+  for (const auto& p : params().parameters) x.push_back(p.min);
+  return x;
+}
+std::vector<double> Problem::upper() const {
+  std::vector<double> x;
+  for (const auto& p : params().parameters) x.push_back(p.max);
+  return x;
+}
+
+YAML::Node Problem::TreeFor(std::span<const double> x) const {
+  YAML::Node tree = YAML::Clone(root_);
+  const auto& ps = params().parameters;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    SetDottedKey(tree, ps[i].key, x[i]);
+    tree["optimise"]["parameters"][i]["start"] = sim::ExactNumber(x[i]);
+  }
+  return tree;
+}
+
+sim::Scenario Problem::ScenarioFor(std::span<const double> x, int run) const {
+  YAML::Node tree = TreeFor(x);
+  // A fall ends a rollout: the time after it says nothing about the gait.
+  tree["fall"]["stop"] = true;
+  sim::Scenario s = sim::ParseScenario(tree, file_);
+  if (run == 0) return s;
+  const sim::ObjectiveParams& o = params().objective;
+  std::mt19937_64 rng(RunSeed(s.seed, run));
+  std::normal_distribution<double> normal(0.0, 1.0);
+  s.initial.offset_m[0] += o.pose_noise_m * normal(rng);
+  s.initial.offset_m[1] += o.pose_noise_m * normal(rng);
+  s.initial.yaw_deg = std::clamp(s.initial.yaw_deg + o.yaw_noise_deg * normal(rng), -180.0, 180.0);
+  const double spread = normal(rng);
+  const double factor = std::max(0.1, 1.0 + o.sigma_t_spread * spread);
+  [&](auto& sc) {  // generic until the adhesion block lands in Scenario
+    if constexpr (requires { sc.adhesion; }) {
+      if (sc.adhesion) sc.adhesion->sigma_t_pa *= factor;
+    }
+  }(s);
+  return s;
+}
+
+}  // namespace climbsim::optimise

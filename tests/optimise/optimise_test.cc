@@ -1,0 +1,172 @@
+// The optimiser's pieces: dotted keys, validation of the optimise block, the cost formula,
+// failed rollouts, thread-count independence and bit-exact replay of best.yaml.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "optimise/optimise.h"
+#include "tests/sim/test_util.h"
+
+namespace climbsim::optimise {
+namespace {
+
+using climbsim::testing::ReadFile;
+using climbsim::testing::TempDir;
+using climbsim::testing::WriteFile;
+
+// A 1 s trot on the floor: rollouts take ~0.1 s, so a dozen evaluations fit in a test.
+const std::string kFloor =
+    "robot: gecko\nscene: floor\nduration_s: 1\n"
+    "cpg:\n  gait: trot\n  frequency_hz: 1.0\n  stride_rad: [0.35, 0.0, 0.0]\n"
+    "  lift_rad: [0.0, 0.4, 0.3]\n"
+    "outputs:\n  trajectory_rate_hz: 0\n";
+const std::string kBlock =
+    "optimise:\n  parameters:\n"
+    "    - {key: cpg.frequency_hz, start: 1.0, min: 0.5, max: 2.5}\n"
+    "    - {key: \"cpg.stride_rad[0]\", start: 0.35, min: 0.1, max: 0.45}\n";
+
+std::string ErrorOf(const std::string& name, const std::string& text) {
+  try {
+    Problem p(WriteFile(name, text));
+  } catch (const InputError& e) {
+    const std::string msg = e.what(), prefix = TempDir() + "/";
+    return msg.rfind(prefix, 0) == 0 ? msg.substr(prefix.size()) : msg;
+  }
+  return "";
+}
+
+TEST(OptimiseDottedKey, SetsAndGetsMapsListsAndMatrices) {
+  YAML::Node root = YAML::Load("a:\n  b: 1\n  list: [1, 2, 3]\n  m: [[0, 1], [2, 3]]\n");
+  SetDottedKey(root, "a.b", 0.1);
+  SetDottedKey(root, "a.list[2]", -4.5);
+  SetDottedKey(root, "a.m[1][0]", 7);
+  SetDottedKey(root, "a.new.deep", 2.5);  // missing maps are made
+  EXPECT_EQ(GetDottedKey(root, "a.b"), 0.1);  // exact: shortest round-trip text
+  EXPECT_EQ(GetDottedKey(root, "a.list[2]"), -4.5);
+  EXPECT_EQ(GetDottedKey(root, "a.m[1][0]"), 7.0);
+  EXPECT_EQ(GetDottedKey(root, "a.new.deep"), 2.5);
+  EXPECT_EQ(GetDottedKey(root, "a.list[0]"), 1.0);  // neighbours untouched
+}
+
+TEST(OptimiseDottedKey, RejectsWhatTheFileDoesNotHold) {
+  YAML::Node root = YAML::Load("a:\n  list: [1, 2]\n");
+  EXPECT_THROW(SetDottedKey(root, "a.list[5]", 1), std::invalid_argument);
+  EXPECT_THROW(SetDottedKey(root, "a.missing[0]", 1), std::invalid_argument);
+  EXPECT_THROW(SetDottedKey(root, "a.list", 1), std::invalid_argument);  // a list, not a number
+  EXPECT_THROW(SetDottedKey(root, "a..b", 1), std::invalid_argument);
+  EXPECT_THROW(SetDottedKey(root, "a.list[x]", 1), std::invalid_argument);
+}
+
+TEST(OptimiseProblem, BlockErrorsNameTheirPlace) {
+  EXPECT_EQ(ErrorOf("noblock.yaml", kFloor),
+            "noblock.yaml: optimise: the scenario has no optimise block");
+  EXPECT_EQ(ErrorOf("bounds.yaml", kFloor + "optimise:\n  parameters:\n"
+                                            "    - {key: cpg.frequency_hz, start: 1, min: 2, max: 1}\n"),
+            "bounds.yaml:13:54: optimise.parameters[0].max: must be greater than min");
+  EXPECT_EQ(ErrorOf("start.yaml", kFloor + "optimise:\n  parameters:\n"
+                                           "    - {key: cpg.frequency_hz, start: 9, min: 0.5, max: 2}\n"),
+            "start.yaml:13:38: optimise.parameters[0].start: must lie in [min, max]");
+  EXPECT_EQ(ErrorOf("nokey.yaml", kFloor + "optimise:\n  parameters:\n"
+                                           "    - {key: \"cpg.lift_rad[7]\", start: 0.1, min: 0, max: 1}\n"),
+            "nokey.yaml:13:13: optimise.parameters[0].key: cpg.lift_rad[7] is not in the file");
+  // A bound outside what the key accepts is caught before any rollout.
+  EXPECT_EQ(ErrorOf("range.yaml", kFloor + "optimise:\n  parameters:\n"
+                                           "    - {key: cpg.frequency_hz, start: 1, min: -1, max: 2}\n"),
+            "range.yaml:13:13: optimise.parameters[0].key: cpg.frequency_hz = -1 does not give a "
+            "valid scenario: cpg.frequency_hz must be in (0, 20], got -1");
+}
+
+TEST(OptimiseCost, FollowsTheDocumentedFormula) {
+  const std::string path = WriteFile("cost.yaml", kFloor + kBlock +
+                                                      "  objective:\n    energy_weight_mps: 0.01\n");
+  Problem p(path);
+  const sim::Scenario s = p.ScenarioFor(p.start(), 0);
+  EXPECT_TRUE(s.fall.stop);  // a fall ends a rollout
+  auto model = sim::CompileScenario(s);
+  sim::Simulation run(s, *model);
+  run.Run();
+  const Cost c = RolloutCost(run, p.params().objective);
+  const nlohmann::json summary = run.Summary();
+  // J = −v + 0 (no fall) + 0 (no adhesion) + 0.01·CoT, v = distance / duration.
+  const double v = run.result().distance_m / 1.0;
+  EXPECT_DOUBLE_EQ(c.speed_mps, v);
+  EXPECT_DOUBLE_EQ(c.energy_penalty, 0.01 * summary["cost_of_transport"].get<double>());
+  EXPECT_DOUBLE_EQ(c.total, -v + c.energy_penalty);
+  EXPECT_GT(v, 0.02);  // the trot moves forward
+}
+
+TEST(OptimiseProblem, PerturbedRunsDependOnlyOnSeedAndRun) {
+  Problem p(WriteFile("perturb.yaml", kFloor + kBlock + "  objective:\n    runs: 3\n"));
+  const auto x = p.start();
+  const sim::Scenario nominal = p.ScenarioFor(x, 0);
+  const sim::Scenario a = p.ScenarioFor(x, 1), b = p.ScenarioFor(x, 1), c = p.ScenarioFor(x, 2);
+  EXPECT_EQ(nominal.initial.offset_m[0], 0.0);
+  EXPECT_NE(a.initial.offset_m[0], 0.0);
+  EXPECT_EQ(a.initial.offset_m, b.initial.offset_m);  // same seed and run: same draw
+  EXPECT_NE(a.initial.offset_m, c.initial.offset_m);
+  std::vector<double> other = {2.0, 0.2};
+  EXPECT_EQ(p.ScenarioFor(other, 1).initial.offset_m, a.initial.offset_m);  // common numbers
+}
+
+TEST(Optimise, ThreadCountDoesNotChangeTheResultAndBestReplaysBitForBit) {
+  const std::string path =
+      WriteFile("threads.yaml", kFloor + kBlock + "  max_evaluations: 8\n  starts: 2\n");
+  Options one, two;
+  one.out_dir = TempDir() + "/threads1";
+  one.threads = 1;
+  two.out_dir = TempDir() + "/threads2";
+  two.threads = 2;
+  const Result r1 = Optimise(path, one), r2 = Optimise(path, two);
+  ASSERT_EQ(r1.history.size(), 8u);
+  ASSERT_EQ(r2.history.size(), 8u);
+  for (size_t i = 0; i < r1.history.size(); ++i) {
+    EXPECT_EQ(r1.history[i].x, r2.history[i].x) << i;
+    EXPECT_EQ(r1.history[i].objective, r2.history[i].objective) << i;
+  }
+  EXPECT_EQ(ReadFile(one.out_dir + "/best.yaml"), ReadFile(two.out_dir + "/best.yaml"));
+  EXPECT_LE(r1.best.objective, r1.start_objective);
+
+  // best.yaml, simulated as a plain scenario, gives the best evaluation's cost exactly.
+  const sim::Scenario best = sim::LoadScenario(one.out_dir + "/best.yaml");
+  auto model = sim::CompileScenario(best);
+  sim::Simulation replay(best, *model);
+  replay.Run();
+  EXPECT_EQ(NominalCost(replay).total, r1.best.nominal.total);
+  EXPECT_EQ(r1.best.objective, r1.best.nominal.total);  // one run per evaluation
+}
+
+// A rollout that goes numerically bad costs kFailedCost, is logged, and the optimisation
+// goes on (an exception through NLopt would end it).
+TEST(Optimise, FailedRolloutsScoreLargeAndAreLogged) {
+  WriteFile("models/fragile.xml", R"(<mujoco>
+  <compiler autolimits="true"/>
+  <worldbody>
+    <body name="base" pos="0 0 0.5"><freejoint name="root"/>
+      <geom type="box" size="0.05 0.05 0.01" mass="0.1"/>
+      <body pos="0.1 0 0"><joint name="spring" type="hinge" axis="0 1 0" stiffness="1e9"
+        springref="1"/><geom type="capsule" fromto="0 0 0 0.05 0 0" size="0.005" mass="0.001"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>)");
+  const std::string path = WriteFile(
+      "fragile.yaml",
+      "robot: models/fragile.xml\nscene: floor\nduration_s: 0.5\n"
+      "physics:\n  integrator: euler\n  timestep_s: 0.005\n"
+      "optimise:\n  parameters:\n    - {key: physics.timestep_s, start: 0.005, min: 0.004, max: 0.006}\n"
+      "  max_evaluations: 3\n  starts: 1\n");
+  Options o;
+  o.out_dir = TempDir() + "/fragile";
+  const Result r = Optimise(path, o);
+  ASSERT_EQ(r.history.size(), 3u);
+  for (const Evaluation& e : r.history) {
+    EXPECT_EQ(e.objective, kFailedCost);
+    EXPECT_EQ(e.failed_runs, 1);
+  }
+  const std::string log = ReadFile(o.out_dir + "/failures.log");
+  EXPECT_NE(log.find("start 0 evaluation 0 run 0: step "), std::string::npos) << log;
+  EXPECT_NE(log.find("mjWARN_BAD"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace climbsim::optimise

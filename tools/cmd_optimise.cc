@@ -1,0 +1,54 @@
+// climbsim optimise SCENARIO --out DIR [--threads N] [--resume]
+#include <cstdio>
+
+#include "optimise/optimise.h"
+#include "tools/commands.h"
+#include "tools/progress.h"
+
+namespace climbsim::tools {
+
+void AddOptimiseCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("optimise", "Tune CPG and reflex parameters offline with NLopt");
+  static std::string scenario_path, out_dir;
+  static int threads = 0, max_evaluations = 0;
+  static bool resume = false, quiet = false;
+  cmd->add_option("scenario", scenario_path, "scenario file with an optimise: block")->required();
+  cmd->add_option("--out", out_dir, "results folder")->required();
+  cmd->add_option("--threads", threads, "worker threads (default: all cores); the result does not depend on it")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--max-evaluations", max_evaluations,
+                  "override optimise.max_evaluations (evaluations in all)")
+      ->check(CLI::Range(0, 100000000));
+  cmd->add_flag("--resume", resume,
+                "continue from DIR/checkpoint.json after a kill (same end result as an "
+                "uninterrupted run)");
+  cmd->add_flag("--quiet", quiet, "no progress and no summary on the terminal");
+  cmd->footer(
+      "Example:\n  climbsim optimise examples/gecko_wall_optimise.yaml --out runs/gecko_opt "
+      "--max-evaluations 20");
+  cmd->callback([] {
+    optimise::Options o;
+    o.out_dir = out_dir;
+    o.threads = threads;
+    o.resume = resume;
+    o.max_evaluations = max_evaluations;
+    o.quiet = quiet;
+    Progress progress("optimise", !quiet);
+    char note[96];
+    const optimise::Result r = optimise::Optimise(scenario_path, o, [&](double f, double best) {
+      std::snprintf(note, sizeof(note), "best J %.5f m/s", best);
+      progress.Update(f, note);
+    });
+    if (quiet) return;
+    std::printf("climbsim optimise: %zu evaluations (%d computed) in %.1f s\n",
+                r.history.size(), r.evaluations_computed, r.wall_time_s);
+    std::printf("  start  J %.6f m/s, speed %.4f m/s\n", r.start_objective,
+                r.history.front().nominal.speed_mps);
+    std::printf("  best   J %.6f m/s, speed %.4f m/s (start %d, evaluation %d)\n",
+                r.best.objective, r.best.nominal.speed_mps, r.best.start, r.best.index);
+    std::printf("  outputs %s/{best.yaml,history.csv,convergence.png,summary.json}\n",
+                out_dir.c_str());
+  });
+}
+
+}  // namespace climbsim::tools
