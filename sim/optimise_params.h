@@ -53,7 +53,7 @@ struct ObjectiveParams {
     a->Visit({"fall_penalty_mps", "m/s", "added to J when the robot falls", Range::NonNegative()}, &fall_penalty_mps);
     a->Visit({"overload_penalty_mps", "m/s", "added to J per pad detached by overload", Range::NonNegative()}, &overload_penalty_mps);
     a->Visit({"energy_weight_mps", "m/s", "weight of the cost of transport in J", Range::NonNegative()}, &energy_weight_mps);
-    a->Visit({"runs", "", "rollouts per evaluation: 1 nominal + runs−1 perturbed", Range::Closed(1, 100)}, &runs);
+    a->Visit({"runs", "", "rollouts per evaluation: 1 nominal and runs - 1 perturbed", Range::Closed(1, 100)}, &runs);
     a->Choice({"aggregate", "", "how the runs' costs combine"}, &aggregate, {"mean", "worst"});
     a->Visit({"pose_noise_m", "m", "standard deviation of the initial x and y offset of perturbed runs", Range::NonNegative()}, &pose_noise_m);
     a->Visit({"yaw_noise_deg", "deg", "standard deviation of the initial heading of perturbed runs", Range::NonNegative()}, &yaw_noise_deg);
