@@ -1,0 +1,160 @@
+#include "adhesion/adhesion_system.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "adhesion/weld.h"
+
+namespace climbsim::adhesion {
+
+AdhesionMjcfText AdhesionMjcf(const std::vector<PadSpec>& pads,
+                              const std::array<double, 2>& weld_solref) {
+  AdhesionMjcfText text;
+  std::ostringstream eq, act;
+  eq.precision(17);
+  act.precision(17);
+  for (const PadSpec& p : pads) {
+    if (p.params.model == AdhesionModel::kBonds) {
+      eq << "    <weld name=\"" << WeldName(p.body) << "\" body1=\"" << p.body
+         << "\" active=\"false\" solref=\"" << weld_solref[0] << " " << weld_solref[1]
+         << "\"/>\n";
+    } else {
+      act << "    <adhesion name=\"" << AdhesionActuatorName(p.body) << "\" body=\"" << p.body
+          << "\" gain=\"" << p.params.actuator_gain_n << "\" ctrlrange=\"0 1\"/>\n";
+    }
+  }
+  text.equality = eq.str();
+  text.actuator = act.str();
+  return text;
+}
+
+AdhesionSystem::AdhesionSystem(const mjModel* m, const AdhesionSystemParams& params)
+    : params_(params) {
+  if (!(params_.start_gap_m > 0) || !std::isfinite(params_.start_gap_m)) {
+    throw std::invalid_argument("adhesion.start_gap_m must be > 0");
+  }
+  if (!(params_.reach_m >= 0) || !std::isfinite(params_.reach_m)) {
+    throw std::invalid_argument("adhesion.reach_m must be >= 0");
+  }
+  sticks_to_.assign(m->ngeom, 0);
+  std::vector<uint8_t> sticky(m->ngeom, 0);
+  pads_.reserve(params_.pads.size());
+  for (const PadSpec& spec : params_.pads) {
+    const int body = mj_name2id(m, mjOBJ_BODY, spec.body.c_str());
+    if (body < 0) throw AdhesionSetupError("pads", "no body named '" + spec.body + "'");
+    for (const std::string& other : names_) {
+      if (other == spec.body) throw AdhesionSetupError("pads", "pad '" + other + "' given twice");
+    }
+    PadGeometry geometry;
+    try {
+      geometry = ReadPadGeometry(m, body);
+    } catch (const std::invalid_argument& e) {
+      throw AdhesionSetupError("pads", e.what());
+    }
+    int weld = -1, actuator = -1;
+    if (spec.params.model == AdhesionModel::kBonds) {
+      weld = mj_name2id(m, mjOBJ_EQUALITY, WeldName(spec.body).c_str());
+      if (weld < 0 || m->eq_type[weld] != mjEQ_WELD) {
+        throw AdhesionSetupError("pads", "the model lacks the weld '" + WeldName(spec.body) +
+                                             "' (add AdhesionMjcf's lines)");
+      }
+    } else {
+      actuator = mj_name2id(m, mjOBJ_ACTUATOR, AdhesionActuatorName(spec.body).c_str());
+      if (actuator < 0) {
+        throw AdhesionSetupError("pads", "the model lacks the actuator '" +
+                                             AdhesionActuatorName(spec.body) +
+                                             "' (add AdhesionMjcf's lines)");
+      }
+    }
+    pads_.emplace_back(m, static_cast<int>(pads_.size()), geometry, spec.params, weld, actuator);
+    names_.push_back(spec.body);
+    sticky[geometry.geom] = 1;
+  }
+
+  if (params_.surfaces.empty()) {
+    for (int g = 0; g < m->ngeom; ++g) sticks_to_[g] = !sticky[g];
+  } else {
+    for (const std::string& name : params_.surfaces) {
+      const int body = mj_name2id(m, mjOBJ_BODY, name.c_str());
+      const int geom = mj_name2id(m, mjOBJ_GEOM, name.c_str());
+      if (body < 0 && geom < 0) {
+        throw AdhesionSetupError("surfaces", "no body or geom named '" + name + "'");
+      }
+      if (geom >= 0) sticks_to_[geom] = 1;
+      for (int g = 0; body >= 0 && g < m->ngeom; ++g) {
+        if (m->geom_bodyid[g] == body) sticks_to_[g] = 1;
+      }
+    }
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (sticky[g] && sticks_to_[g]) {
+        throw AdhesionSetupError("surfaces", std::string("a sticky pad cannot be a surface: '") +
+                                                 mj_id2name(m, mjOBJ_GEOM, g) + "'");
+      }
+    }
+  }
+}
+
+int AdhesionSystem::FindPad(int body) const {
+  for (int i = 0; i < size(); ++i) {
+    if (pads_[i].geometry().body == body) return i;
+  }
+  return -1;
+}
+
+void AdhesionSystem::Reset(mjModel* m, mjData* d, PadEventSink* sink) {
+  for (StickyPad& p : pads_) {
+    p.Reset(m, d);
+    if (p.params().model == AdhesionModel::kMujoco) {
+      m->geom_margin[p.geometry().geom] = params_.reach_m;
+      m->geom_gap[p.geometry().geom] = params_.reach_m;
+    }
+  }
+  if (params_.start_attached) StartAttached(m, d, sink);
+}
+
+void AdhesionSystem::StartAttached(mjModel* m, mjData* d, PadEventSink* sink) {
+  // Collision with the pads' margins widened to start_gap_m: a pad within that distance of a
+  // surface gets contacts (dist < margin, so exclude == 0).
+  std::vector<std::array<double, 2>> saved(pads_.size());
+  for (size_t i = 0; i < pads_.size(); ++i) {
+    const int g = pads_[i].geometry().geom;
+    saved[i] = {m->geom_margin[g], m->geom_gap[g]};
+    m->geom_margin[g] = std::max(m->geom_margin[g], params_.start_gap_m);
+    m->geom_gap[g] = 0.0;
+  }
+  mj_fwdPosition(m, d);
+  ContactSense sense;
+  std::vector<int> surface(pads_.size(), -1);
+  for (size_t i = 0; i < pads_.size(); ++i) {
+    SensePadContacts(m, d, pads_[i].geometry(), sticks_to_, &sense);
+    if (sense.contacts > 0) surface[i] = sense.surface_geom;
+    const int g = pads_[i].geometry().geom;
+    m->geom_margin[g] = saved[i][0];
+    m->geom_gap[g] = saved[i][1];
+  }
+  bool kinematics_current = true;  // mj_fwdPosition ran on the current qpos
+  for (size_t i = 0; i < pads_.size(); ++i) {
+    if (surface[i] < 0) continue;
+    pads_[i].ForceAttach(m, d, d->time, surface[i], 1.0, kCauseStartAttached,
+                         &kinematics_current, sink);
+  }
+  // Leave mjData consistent with the true margins and the welds (contacts, efc forces).
+  mj_forward(m, d);
+}
+
+void AdhesionSystem::BeforeStep(mjModel* m, mjData* d, PadEventSink* sink) {
+  for (StickyPad& p : pads_) p.Sense(m, d, sticks_to_);
+  bool kinematics_current = false;
+  for (StickyPad& p : pads_) p.Decide(m, d, d->time, &kinematics_current, sink);
+}
+
+void AdhesionSystem::AfterStep(mjModel* m, mjData* d, PadEventSink* sink) {
+  for (StickyPad& p : pads_) p.AfterStep(m, d, d->time, sink);
+}
+
+bool AdhesionSystem::Release(int pad, mjModel* m, mjData* d, PadEventSink* sink) {
+  if (pad < 0 || pad >= size()) return false;
+  return pads_[pad].Release(m, d, d->time, sink);
+}
+
+}  // namespace climbsim::adhesion

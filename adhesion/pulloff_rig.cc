@@ -1,0 +1,261 @@
+#include "adhesion/pulloff_rig.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+
+#include "adhesion/weld.h"
+
+namespace climbsim::adhesion {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr const char* kBlockName = "pulloff_block";
+constexpr const char* kSurfaceName = "pulloff_surface";
+constexpr double kPadThicknessM = 0.002;
+
+void Require(bool ok, const std::string& message) {
+  if (!ok) throw std::invalid_argument(message);
+}
+
+std::string BlockXml(AdhesionModel model, const PulloffRigParams& p, double gain_n) {
+  std::ostringstream x;
+  x.precision(17);
+  const double half_t = 0.5 * kPadThicknessM;
+  x << "<mujoco model=\"pulloff\">\n"
+    << "  <option timestep=\"" << p.timestep_s << "\" gravity=\"0 0 0\" cone=\"elliptic\""
+    << " impratio=\"10\" noslip_iterations=\""
+    << (model == AdhesionModel::kMujoco ? p.noslip_iterations : 0) << "\"/>\n"
+    << "  <worldbody>\n"
+    << "    <geom name=\"" << kSurfaceName << "\" type=\"plane\" size=\"1 1 0.1\"/>\n"
+    << "    <body name=\"" << kBlockName << "\" pos=\"0 0 " << half_t << "\">\n"
+    << "      <freejoint/>\n"
+    << "      <geom name=\"" << kBlockName << "\" type=\"box\" size=\"" << 0.5 * p.pad.width_m
+    << " " << 0.5 * p.pad.length_m << " " << half_t << "\" mass=\"" << p.block_mass_kg
+    << "\" priority=\"1\" friction=\"" << p.friction << " 0.005 0.0001\" solref=\""
+    << p.contact_solref[0] << " " << p.contact_solref[1] << "\"/>\n"
+    << "    </body>\n"
+    << "  </worldbody>\n";
+  PadSpec spec;
+  spec.body = kBlockName;
+  spec.params.model = model;
+  spec.params.actuator_gain_n = gain_n;
+  const AdhesionMjcfText add = AdhesionMjcf({spec}, p.weld_solref);
+  if (!add.equality.empty()) x << "  <equality>\n" << add.equality << "  </equality>\n";
+  if (!add.actuator.empty()) x << "  <actuator>\n" << add.actuator << "  </actuator>\n";
+  x << "</mujoco>\n";
+  return x.str();
+}
+
+// The pad-face corners of the block in the world.
+std::array<Eigen::Vector3d, 4> Corners(const mjData* d, const PadGeometry& g) {
+  const PadFrame f = FaceFrame(d, g);
+  std::array<Eigen::Vector3d, 4> c;
+  int k = 0;
+  for (double sx : {-0.5, 0.5}) {
+    for (double sy : {-0.5, 0.5}) {
+      c[k++] = f.pos + f.rot * Eigen::Vector3d(sx * g.width_m, sy * g.length_m, 0.0);
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+// Records the detach cause and the broken bonds.
+class PulloffRig::Sink final : public PadEventSink {
+ public:
+  void OnPadEvent(int, const PadEvent& e) override {
+    if (e.kind == PadEventKind::kDetach) cause = e.cause;
+  }
+  const char* cause = "";
+};
+
+mjModel* CompileMjcfString(const std::string& xml, std::string* error) {
+  // MuJoCo's XML loader keeps process-wide state: one load at a time in this module.
+  static std::mutex mutex;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* name = "climbsim_adhesion_model.xml";
+  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
+    *error = "cannot create the model in MuJoCo's VFS";
+    return nullptr;
+  }
+  std::memcpy(vfs->filedata[vfs->nfile - 1], xml.data(), xml.size());
+  char err[1024] = {0};
+  mjModel* m = mj_loadXML(name, vfs.get(), err, sizeof(err));
+  mj_deleteVFS(vfs.get());
+  if (m == nullptr) *error = err;
+  return m;
+}
+
+void ValidatePulloffRigParams(const PulloffRigParams& p) {
+  ValidatePadParams(p.pad);
+  auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  Require(std::isfinite(p.arm_m) && p.arm_m >= 0, "arm_m must be >= 0");
+  Require(std::isfinite(p.azimuth_rad), "azimuth must be finite");
+  Require(positive(p.ramp_time_s), "ramp_time_s must be > 0");
+  Require(positive(p.timestep_s) && p.timestep_s <= 0.01, "timestep_s must be in (0, 0.01]");
+  Require(positive(p.block_mass_kg), "block_mass_kg must be > 0");
+  Require(std::isfinite(p.max_force_factor) && p.max_force_factor > 1,
+          "max_force_factor must be > 1");
+  Require(std::isfinite(p.gain_n) && p.gain_n >= 0, "gain_n must be >= 0 (0: sigma_T*A)");
+  Require(positive(p.friction), "friction must be > 0");
+  Require(positive(p.slip_m), "slip_m must be > 0");
+  Require(std::isfinite(p.settle_time_s) && p.settle_time_s >= 0, "settle_time_s must be >= 0");
+  Require(std::isfinite(p.reach_m) && p.reach_m >= 0, "reach_m must be >= 0");
+  Require(positive(p.weld_solref[0]) && positive(p.weld_solref[1]), "weld_solref must be > 0");
+  Require(positive(p.contact_solref[0]) && positive(p.contact_solref[1]),
+          "contact_solref must be > 0");
+  Require(p.noslip_iterations >= 0, "noslip_iterations must be >= 0");
+}
+
+double PulloffRig::gain_n() const { return params_.gain_n > 0 ? params_.gain_n : capacity_n(); }
+
+PulloffRig::PulloffRig(AdhesionModel model, const PulloffRigParams& params)
+    : model_type_(model), params_(params) {
+  ValidatePulloffRigParams(params_);
+  xml_ = BlockXml(model, params_, gain_n());
+  std::string error;
+  model_ = CompileMjcfString(xml_, &error);
+  Require(model_ != nullptr, "pull-off model: " + error);
+  data_ = mj_makeData(model_);
+  block_ = mj_name2id(model_, mjOBJ_BODY, kBlockName);
+  surface_geom_ = mj_name2id(model_, mjOBJ_GEOM, kSurfaceName);
+
+  AdhesionSystemParams sys;
+  PadSpec spec;
+  spec.body = kBlockName;
+  spec.params.model = model;
+  spec.params.bonds = params_.pad;
+  spec.params.actuator_gain_n = gain_n();
+  spec.params.actuator_ctrl = 1.0;
+  sys.pads.push_back(spec);
+  sys.surfaces = {kSurfaceName};
+  sys.reach_m = params_.reach_m;
+  system_ = std::make_unique<AdhesionSystem>(model_, sys);
+}
+
+PulloffRig::~PulloffRig() {
+  if (data_ != nullptr) mj_deleteData(data_);
+  if (model_ != nullptr) mj_deleteModel(model_);
+}
+
+PulloffRun PulloffRig::Run(double angle_rad) {
+  Require(std::isfinite(angle_rad), "angle must be finite");
+  mjModel* m = model_;
+  mjData* d = data_;
+  mj_resetData(m, d);
+  Sink sink;
+  system_->Reset(m, d, &sink);
+  mj_forward(m, d);
+  StickyPad& pad = system_->pad(0);
+  bool kinematics_current = true;
+  pad.ForceAttach(m, d, d->time, surface_geom_, 1.0, kCauseForced, &kinematics_current, &sink);
+
+  const double dt = m->opt.timestep;
+  PulloffRun run;
+  // kMujoco: let the actuator pull the block into its resting penetration first.
+  const long settle_steps =
+      model_type_ == AdhesionModel::kMujoco ? std::lround(params_.settle_time_s / dt) : 0;
+  for (long k = 0; k < settle_steps; ++k) {
+    system_->BeforeStep(m, d, &sink);
+    mj_step(m, d);
+    system_->AfterStep(m, d, &sink);
+  }
+  mj_forward(m, d);
+  const std::array<Eigen::Vector3d, 4> corners0 = Corners(d, pad.geometry());
+
+  const Eigen::Vector3d u(std::sin(angle_rad) * std::cos(params_.azimuth_rad),
+                          std::sin(angle_rad) * std::sin(params_.azimuth_rad),
+                          std::cos(angle_rad));
+  const double rate = capacity_n() / params_.ramp_time_s;
+  const long max_steps =
+      std::lround(params_.max_force_factor * params_.ramp_time_s / dt) + 1;
+  int total_rounds = 0;
+  for (long k = 0; k < max_steps; ++k) {
+    const double force = rate * (k + 1) * dt;
+    // The pull at L above the face centroid, moved to the centre of mass.
+    const PadFrame face = FaceFrame(d, pad.geometry());
+    const Eigen::Vector3d point = face.pos + params_.arm_m * face.rot.col(2);
+    const Eigen::Vector3d com(d->xipos[3 * block_], d->xipos[3 * block_ + 1],
+                              d->xipos[3 * block_ + 2]);
+    const Eigen::Vector3d f = force * u;
+    const Eigen::Vector3d t = (point - com).cross(f);
+    for (int i = 0; i < 3; ++i) {
+      d->xfrc_applied[6 * block_ + i] = f[i];
+      d->xfrc_applied[6 * block_ + 3 + i] = t[i];
+    }
+    system_->BeforeStep(m, d, &sink);
+    mj_step(m, d);
+    system_->AfterStep(m, d, &sink);
+    ++run.steps;
+
+    if (model_type_ == AdhesionModel::kBonds) {
+      const auto broken = pad.grid().last_broken();
+      if (!broken.empty() && pad.bonds_lost_this_step()) {
+        ++run.steps_losing_bonds;
+        int rounds = 0;
+        for (const BrokenBond& b : broken) {
+          run.sequence.push_back(
+              {pad.grid().bond_x_m(b.index), pad.grid().bond_y_m(b.index), total_rounds + b.round});
+          run.sequence_force_n.push_back(force);
+          rounds = std::max(rounds, b.round);
+        }
+        total_rounds += rounds;
+      }
+      if (!pad.attached()) {
+        run.detached = true;
+        run.cause = sink.cause;
+      }
+    } else {
+      if (!pad.attached()) {
+        run.detached = true;
+        run.cause = kCauseContactLost;
+      } else {
+        mj_kinematics(m, d);
+        const std::array<Eigen::Vector3d, 4> c = Corners(d, pad.geometry());
+        double worst = 0.0, normal = 0.0, spread = 0.0;
+        for (int i = 0; i < 4; ++i) {
+          const Eigen::Vector3d move = c[i] - corners0[i];
+          worst = std::max(worst, move.norm());
+          normal += move.z() / 4.0;
+        }
+        for (int i = 0; i < 4; ++i) spread = std::max(spread, std::abs((c[i] - corners0[i]).z() - normal));
+        if (worst >= params_.slip_m) {
+          run.detached = true;
+          run.cause = spread > 0.25 * worst ? "tip" : normal > 0.5 * worst ? "lift" : "slide";
+        }
+      }
+    }
+    if (run.detached) {
+      run.force_n = force;
+      run.time_s = d->time;
+      break;
+    }
+  }
+  if (!run.detached) {
+    run.force_n = kInf;
+    run.time_s = d->time;
+  }
+  for (int i = 0; i < 6; ++i) d->xfrc_applied[6 * block_ + i] = 0.0;
+  return run;
+}
+
+double MujocoPulloffClosedForm(double gain_n, double friction, double width_m, double arm_m,
+                               double angle_rad) {
+  const double s = std::sin(angle_rad), c = std::cos(angle_rad);
+  double best = kInf;
+  const double tip = arm_m * s + 0.5 * width_m * c;
+  if (tip > 1e-12 * width_m) best = std::min(best, gain_n * 0.5 * width_m / tip);
+  const double slide = s + friction * c;
+  if (slide > 1e-12) best = std::min(best, friction * gain_n / slide);
+  return best;
+}
+
+}  // namespace climbsim::adhesion

@@ -1,0 +1,294 @@
+#include "adhesion/sticky_pad.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "adhesion/weld.h"
+
+namespace climbsim::adhesion {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+PadParams GridParams(const StickyPadParams& p, const PadGeometry& g) {
+  PadParams grid = p.bonds;
+  grid.width_m = g.width_m;
+  grid.length_m = g.length_m;
+  return grid;
+}
+
+void Check(bool ok, const char* key, const char* rule, double value) {
+  if (ok) return;
+  std::ostringstream s;
+  s << "adhesion." << key << " must be " << rule << ", got " << value;
+  throw std::invalid_argument(s.str());
+}
+
+}  // namespace
+
+void ValidateStickyPadParams(const StickyPadParams& p) {
+  const AttachParams& a = p.attach;
+  Check(a.min_contacts >= 1, "min_contacts", ">= 1", a.min_contacts);
+  Check(std::isfinite(a.max_approach_speed_mps) && a.max_approach_speed_mps >= 0,
+        "max_approach_speed_mps", ">= 0 and finite", a.max_approach_speed_mps);
+  Check(a.max_approach_angle_deg >= 0 && a.max_approach_angle_deg <= 180,
+        "max_approach_angle_deg", "in [0, 180]", a.max_approach_angle_deg);
+  Check(std::isfinite(a.min_preload_n) && a.min_preload_n >= 0, "min_preload_n",
+        ">= 0 and finite", a.min_preload_n);
+  Check(a.initial_fraction >= 0 && a.initial_fraction <= 1, "initial_fraction", "in [0, 1]",
+        a.initial_fraction);
+  Check(std::isfinite(a.buildup_time_s) && a.buildup_time_s >= 0, "buildup_time_s",
+        ">= 0 and finite", a.buildup_time_s);
+  Check(std::isfinite(a.attach_window_s) && a.attach_window_s >= 0, "attach_window_s",
+        ">= 0 and finite", a.attach_window_s);
+  if (p.model == AdhesionModel::kMujoco) {
+    Check(std::isfinite(p.actuator_gain_n) && p.actuator_gain_n > 0, "gain_n", "> 0 and finite",
+          p.actuator_gain_n);
+    Check(p.actuator_ctrl >= 0 && p.actuator_ctrl <= 1, "ctrl", "in [0, 1]", p.actuator_ctrl);
+  }
+}
+
+const char* PadEventName(PadEventKind kind) {
+  switch (kind) {
+    case PadEventKind::kTouchdown: return "touchdown";
+    case PadEventKind::kAttach: return "attach";
+    case PadEventKind::kAttachRejected: return "attach_rejected";
+    case PadEventKind::kBondsLost: return "bonds_lost";
+    case PadEventKind::kDetach: return "detach";
+  }
+  return "";
+}
+
+StickyPad::StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
+                     const StickyPadParams& params, int weld_eq, int actuator)
+    : index_(index),
+      geometry_(geometry),
+      params_(params),
+      weld_eq_(weld_eq),
+      actuator_(actuator),
+      contype_(m->geom_contype[geometry.geom]),
+      conaffinity_(m->geom_conaffinity[geometry.geom]),
+      grid_(GridParams(params, geometry)) {
+  ValidateStickyPadParams(params_);
+  params_.bonds = grid_.params();
+  if (params_.model == AdhesionModel::kBonds && (weld_eq < 0 || weld_eq >= m->neq)) {
+    throw std::invalid_argument("adhesion: pad has no weld equality");
+  }
+  if (params_.model == AdhesionModel::kMujoco && (actuator < 0 || actuator >= m->nu)) {
+    throw std::invalid_argument("adhesion: pad has no adhesion actuator");
+  }
+}
+
+void StickyPad::Reset(mjModel* m, mjData* d) {
+  if (weld_eq_ >= 0) SetWeldActive(m, d, weld_eq_, false);
+  m->geom_contype[geometry_.geom] = contype_;
+  m->geom_conaffinity[geometry_.geom] = conaffinity_;
+  if (actuator_ >= 0) {
+    m->actuator_gainprm[actuator_ * mjNGAIN] = params_.actuator_gain_n;
+    d->ctrl[actuator_] = 0.0;
+  }
+  const double tau = params_.attach.buildup_time_s;
+  grow_decay_ = tau > 0 ? std::exp(-m->opt.timestep / tau) : 0.0;
+  grid_.Release();
+  sense_ = ContactSense{};
+  load_ = PadLoad{};
+  attached_ = false;
+  bonds_lost_ = false;
+  surface_geom_ = -1;
+  episode_ = Episode::kNone;
+  blind_ = false;
+  buildup_ = 0.0;
+  lost_since_attach_ = 0;
+  counts_ = PadCounts{};
+}
+
+double StickyPad::bonded_fraction() const {
+  if (params_.model == AdhesionModel::kMujoco) return attached_ ? 1.0 : 0.0;
+  return grid_.bonded_fraction();
+}
+
+void StickyPad::Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to) {
+  bonds_lost_ = false;
+  if (attached_ && params_.model == AdhesionModel::kBonds) return;  // no contacts while welded
+  SensePadContacts(m, d, geometry_, sticks_to, &sense_);
+  if (!attached_) {
+    SetUnweldedLoad();
+  } else {
+    load_ = PadLoad{};
+    load_.fn_n = params_.actuator_gain_n * params_.actuator_ctrl - sense_.preload_n;
+  }
+}
+
+void StickyPad::SetUnweldedLoad() {
+  load_ = PadLoad{};
+  load_.fn_n = -sense_.preload_n;
+}
+
+void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_current,
+                       PadEventSink* sink) {
+  if (attached_) {
+    if (params_.model == AdhesionModel::kBonds) {
+      // Build-up while the pad is not pulled off.
+      if (load_.fn_n <= 0.0 && buildup_ < 1.0) {
+        buildup_ = 1.0 - (1.0 - buildup_) * grow_decay_;
+        grid_.Grow(buildup_);
+      }
+    } else if (sense_.contacts + sense_.contacts_in_gap == 0) {
+      Detach(m, d, time_s, kCauseContactLost, sink);
+    }
+    return;
+  }
+
+  if (blind_) {
+    // The contacts just sensed come from a step in which the pad did not collide (it was
+    // welded): they cannot tell whether it has left the surface.
+    blind_ = false;
+    return;
+  }
+  if (sense_.contacts == 0) {
+    episode_ = Episode::kNone;  // left the surface: the next touch is a new episode
+    return;
+  }
+  if (episode_ == Episode::kClosed) return;
+  if (episode_ == Episode::kNone) {
+    episode_ = Episode::kPending;
+    touchdown_time_s_ = time_s;
+    touchdown_speed_mps_ = sense_.approach_speed_mps;
+    touchdown_angle_deg_ = sense_.angle_rad * kRadToDeg;
+    ++counts_.touchdown;
+    Emit(sink, time_s, PadEventKind::kTouchdown, "", 0.0, false);
+  }
+
+  // The conditions in their fixed order; the first that fails is the cause.
+  const AttachParams& a = params_.attach;
+  const char* cause = nullptr;
+  double value = 0.0;
+  int which = -1;
+  bool final = false;  // a failure of the approach cannot improve in this episode
+  if (touchdown_speed_mps_ > a.max_approach_speed_mps) {
+    cause = kCauseApproachSpeed, value = touchdown_speed_mps_, which = 0, final = true;
+  } else if (touchdown_angle_deg_ > a.max_approach_angle_deg) {
+    cause = kCauseApproachAngle, value = touchdown_angle_deg_, which = 1, final = true;
+  } else if (sense_.contacts < a.min_contacts) {
+    cause = kCauseContacts, value = sense_.contacts, which = 2;
+  } else if (sense_.preload_n < a.min_preload_n) {
+    cause = kCausePreload, value = sense_.preload_n, which = 3;
+  }
+  if (cause == nullptr) {
+    Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, "", kinematics_current, sink);
+    return;
+  }
+  if (final || time_s - touchdown_time_s_ >= a.attach_window_s) {
+    episode_ = Episode::kClosed;
+    ++counts_.attach_rejected;
+    ++counts_.rejected_by[which];
+    Emit(sink, time_s, PadEventKind::kAttachRejected, cause, value, true);
+  }
+}
+
+bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom,
+                            double fraction, const char* cause, bool* kinematics_current,
+                            PadEventSink* sink) {
+  if (attached_) return false;
+  ++counts_.touchdown;
+  Emit(sink, time_s, PadEventKind::kTouchdown, "", 0.0, false);
+  Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink);
+  return true;
+}
+
+void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
+                       const char* cause, bool* kinematics_current, PadEventSink* sink) {
+  attached_ = true;
+  surface_geom_ = surface_geom;
+  lost_since_attach_ = 0;
+  episode_ = Episode::kClosed;
+  if (params_.model == AdhesionModel::kBonds) {
+    // The poses after the last mj_step are those before its integration: bring them up to
+    // date so that the weld is written where the pad is now.
+    if (!*kinematics_current) {
+      mj_kinematics(m, d);
+      *kinematics_current = true;
+    }
+    SetWeldFromCurrentPoses(m, d, weld_eq_, m->geom_bodyid[surface_geom],
+                            geometry_.face_pos_body);
+    SetWeldActive(m, d, weld_eq_, true);
+    m->geom_contype[geometry_.geom] = 0;
+    m->geom_conaffinity[geometry_.geom] = 0;
+    buildup_ = fraction;
+    grid_.BondFraction(fraction);
+    load_ = PadLoad{};
+  } else {
+    d->ctrl[actuator_] = params_.actuator_ctrl;
+  }
+  ++counts_.attach;
+  Emit(sink, time_s, PadEventKind::kAttach, cause, 0.0, false);
+}
+
+void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {
+  if (!attached_ || params_.model != AdhesionModel::kBonds) return;
+  // The weld's wrench of this step, at the face centroid, into the pad frame.
+  WeldWrench w;
+  ReadWeldWrench(m, d, weld_eq_, &w);
+  const PadFrame frame = FaceFrame(d, geometry_);
+  load_ = PadLoadFromSurfaceWrench(frame.rot.transpose() * w.force_n,
+                                   frame.rot.transpose() * w.torque_nm);
+  const BondGrid::UpdateResult r = grid_.Update(load_);
+  if (r.broken > 0) {
+    bonds_lost_ = true;
+    ++counts_.bonds_lost;
+    Emit(sink, time_s, PadEventKind::kBondsLost, kCauseFractionLost,
+         static_cast<double>(r.broken) / grid_.size(), true);
+  }
+  if (r.detached) {
+    Detach(m, d, time_s, lost_since_attach_ > 0 ? kCausePeel : kCauseOverload, sink);
+  }
+  lost_since_attach_ += r.broken;
+}
+
+bool StickyPad::Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {
+  if (!attached_) return false;
+  Detach(m, d, time_s, kCauseReleased, sink);
+  return true;
+}
+
+void StickyPad::Detach(mjModel* m, mjData* d, double time_s, const char* cause,
+                       PadEventSink* sink) {
+  if (cause == kCausePeel) ++counts_.detach_peel;
+  if (cause == kCauseOverload) ++counts_.detach_overload;
+  if (cause == kCauseReleased) ++counts_.detach_released;
+  if (cause == kCauseContactLost) ++counts_.detach_contact_lost;
+  // The event carries the load and the bonds that ended the pad, before they are cleared.
+  Emit(sink, time_s, PadEventKind::kDetach, cause, 0.0, false);
+  if (params_.model == AdhesionModel::kBonds) {
+    SetWeldActive(m, d, weld_eq_, false);
+    m->geom_contype[geometry_.geom] = contype_;
+    m->geom_conaffinity[geometry_.geom] = conaffinity_;
+    grid_.Release();
+    blind_ = true;
+  } else {
+    d->ctrl[actuator_] = 0.0;
+  }
+  attached_ = false;
+  episode_ = Episode::kClosed;  // no re-attach before the pad has left the surface
+  // Nothing is sensed until the next Sense: the pad carries nothing meanwhile.
+  sense_ = ContactSense{};
+  SetUnweldedLoad();
+}
+
+void StickyPad::Emit(PadEventSink* sink, double time_s, PadEventKind kind, const char* cause,
+                     double value, bool has_value) const {
+  if (sink == nullptr) return;
+  PadEvent e;
+  e.time_s = time_s;
+  e.kind = kind;
+  e.cause = cause;
+  e.cause_value = value;
+  e.has_cause_value = has_value;
+  e.surface_geom = attached_ ? surface_geom_ : sense_.surface_geom;
+  e.bonded_fraction = bonded_fraction();
+  e.load = load_;
+  sink->OnPadEvent(index_, e);
+}
+
+}  // namespace climbsim::adhesion

@@ -1,0 +1,235 @@
+// One sticky pad in MuJoCo: attachment decision, weld switching, bond build-up, load →
+// bonds → detachment, and the events (DESIGN.md section 3). Two models share the sensing and
+// the attachment conditions:
+//
+//   kBonds   this project's model: a weld per pad carries the load; the bond grid
+//            (bond_grid.h) decides, each step, which bonds break and when the pad lets go.
+//   kMujoco  MuJoCo's built-in adhesion actuator (the baseline): while attached its ctrl is
+//            on and it pulls the pad onto the surface with gain·ctrl, split over the pad's
+//            contacts; there are no bonds and no weld.
+//
+// THE STEP (the caller runs Sense and Decide for every pad before mj_step, AfterStep after):
+//
+//   Sense      reads the pad's contacts of the last mj_step (pad_contact.h).
+//   Decide     an unattached pad: touchdown, then the attach decision; an attached pad: bond
+//              build-up (kBonds) or loss of contact (kMujoco).
+//   mj_step
+//   AfterStep  kBonds, attached: the weld's wrench of this step → PadLoad (pad frame, about
+//              the face centroid) → BondGrid::Update (break, cascade) → bonds_lost, detach.
+//
+// ATTACHMENT. A touch episode starts at touchdown (the first step with a contact with a
+// surface). The approach is judged at touchdown, the contact as it develops:
+//
+//   1. approach_speed_mps  at touchdown ≤ max_approach_speed_mps   (else rejected at once)
+//   2. approach_angle_deg  at touchdown ≤ max_approach_angle_deg   (else rejected at once)
+//   3. contacts            now ≥ min_contacts                       (may still come)
+//   4. preload_n           now ≥ min_preload_n                      (may still come)
+//
+// The pad attaches at the first step of the episode where all four hold. If 1 or 2 fails, or
+// 3 or 4 still fails attach_window_s after touchdown, the episode is rejected: an
+// attach_rejected event names the FIRST failing condition in this order with its measured
+// value (cause "approach_speed_mps=0.42"), and the pad cannot attach again before it has lost
+// every contact with the surfaces (a new touchdown). Rejected touches are ordinary contacts,
+// slightly spongy through the pad geom's own solref. The same holds after a detachment: a
+// pad must leave the surface before it can attach again (the step right after a weld lets go
+// is not evidence of that: the pad did not collide in it).
+//
+// ON ATTACH (kBonds) the weld is written from the current poses (weld.h: no jump), pointed at
+// the touched geom's body and switched on; the pad geom's contype and conaffinity are set to
+// 0 while the weld holds, so the weld carries the surface's whole wrench (compression
+// included, which the bond grid's μ term needs; the ankle sensors then agree with it; and a
+// welded pad that also collides costs about a third more per step). The bond grid starts at
+// initial_fraction, centre-out. Each step in which the pad is not pulled (F_n ≤ 0 in the last
+// step) the target fraction f grows as
+//
+//   f ← 1 − (1 − f)·exp(−Δt / buildup_time_s)          (df/dt = (1 − f)/τ)
+//
+// and the grid grows to round(f·N) bonds (BondGrid::Grow: centre-out, broken bonds stay
+// broken). A pulled pad does not grow.
+//
+// DETACHMENT CAUSES (event detach, cause column):
+//   overload      the pad had lost no bond since it attached, and this step's cascade took
+//                 it from holding to fewer than min_bonds: all at once.
+//   peel          the step's cascade ended the pad after bonds had already broken in earlier
+//                 steps of this attachment (a bonds_lost event came first): progressive.
+//   released      Release() was called (a controller lifting the leg); no cascade.
+//   contact_lost  kMujoco only: the pad lost every contact with the surfaces while on.
+// On detach the weld is switched off, the grid released and the pad geom collides again.
+//
+// EVENTS go to a PadEventSink with the pad's index; kind and cause are string literals, so
+// nothing allocates. The load columns are the PadLoad of the last step while welded; for an
+// unwelded pad F_n = −preload (compression is negative), the rest 0; for kMujoco while on,
+// F_n = gain·ctrl − preload (what the rest of the robot pulls with).
+//
+// Nothing here allocates after construction; there are no name lookups in the step.
+#ifndef CLIMBSIM_ADHESION_STICKY_PAD_H_
+#define CLIMBSIM_ADHESION_STICKY_PAD_H_
+
+#include <mujoco/mujoco.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "adhesion/bond_grid.h"
+#include "adhesion/pad_contact.h"
+
+namespace climbsim::adhesion {
+
+enum class AdhesionModel { kBonds, kMujoco };
+
+// The attachment conditions and the build-up (DESIGN.md section 3). Defaults: see
+// adhesion/README.md for where each comes from.
+struct AttachParams {
+  int min_contacts = 3;                  // box on plane gives 4; 3 after the seed
+  double max_approach_speed_mps = 0.25;  // ≥ 0
+  double max_approach_angle_deg = 20.0;  // 0 .. 180
+  double min_preload_n = 0.02;           // ≥ 0
+  double initial_fraction = 0.3;         // 0 .. 1, bonded at attach
+  double buildup_time_s = 0.1;           // τ ≥ 0 (0: full at once)
+  double attach_window_s = 0.1;          // ≥ 0, time after touchdown for conditions 3 and 4
+};
+
+struct StickyPadParams {
+  AdhesionModel model = AdhesionModel::kBonds;
+  PadParams bonds;      // width_m and length_m are taken from the pad's box geom
+  AttachParams attach;
+  double actuator_gain_n = 0.0;  // kMujoco: force at ctrl 1 (N, > 0)
+  double actuator_ctrl = 1.0;    // kMujoco: ctrl while attached, 0 .. 1
+};
+
+// Throws std::invalid_argument naming the key and the value (ValidatePadParams for the grid).
+void ValidateStickyPadParams(const StickyPadParams& params);
+
+enum class PadEventKind : uint8_t { kTouchdown, kAttach, kAttachRejected, kBondsLost, kDetach };
+const char* PadEventName(PadEventKind kind);  // "touchdown", "attach", ...
+
+// Causes (string literals; the measured quantity for a rejection).
+inline constexpr const char* kCauseApproachSpeed = "approach_speed_mps";
+inline constexpr const char* kCauseApproachAngle = "approach_angle_deg";
+inline constexpr const char* kCauseContacts = "contacts";
+inline constexpr const char* kCausePreload = "preload_n";
+inline constexpr const char* kCauseFractionLost = "fraction_lost";  // bonds_lost
+inline constexpr const char* kCauseStartAttached = "start_attached";  // attach at t = 0
+inline constexpr const char* kCauseForced = "forced";                 // ForceAttach otherwise
+inline constexpr const char* kCausePeel = "peel";
+inline constexpr const char* kCauseOverload = "overload";
+inline constexpr const char* kCauseReleased = "released";
+inline constexpr const char* kCauseContactLost = "contact_lost";
+
+struct PadEvent {
+  double time_s = 0.0;
+  PadEventKind kind = PadEventKind::kTouchdown;
+  const char* cause = "";
+  double cause_value = 0.0;
+  bool has_cause_value = false;
+  int surface_geom = -1;
+  double bonded_fraction = 0.0;
+  PadLoad load;
+};
+
+class PadEventSink {
+ public:
+  virtual void OnPadEvent(int pad, const PadEvent& event) = 0;
+
+ protected:
+  ~PadEventSink() = default;
+};
+
+// Counts since the last Reset.
+struct PadCounts {
+  long touchdown = 0;
+  long attach = 0;
+  long attach_rejected = 0;
+  std::array<long, 4> rejected_by{};  // approach speed, approach angle, contacts, preload
+  long bonds_lost = 0;                // steps that lost bonds
+  long detach_peel = 0;
+  long detach_overload = 0;
+  long detach_released = 0;
+  long detach_contact_lost = 0;
+};
+
+class StickyPad {
+ public:
+  // `index` is the pad's number in events. `weld_eq` (kBonds) or `actuator` (kMujoco) must
+  // exist in `m`; the other may be −1. Validates params (std::invalid_argument); sizes the
+  // bond grid from the pad's box.
+  StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
+            const StickyPadParams& params, int weld_eq, int actuator);
+
+  // Detached, weld off, collision bits and ctrl restored, counts zeroed. Call after
+  // mj_resetData (which does not reset model-level switches).
+  void Reset(mjModel* m, mjData* d);
+
+  // --- The step (see the file comment) ---
+  void Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to);
+  // `kinematics_current`: whether xpos/xquat already describe the current qpos (an attach
+  // runs mj_kinematics once and sets it).
+  void Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_current,
+              PadEventSink* sink);
+  void AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
+
+  // Attaches to `surface_geom` now, skipping the conditions, with `fraction` of the bonds
+  // (start_attached, the pull-off rig). False if already attached.
+  bool ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
+                   const char* cause, bool* kinematics_current, PadEventSink* sink);
+  // Detaches with cause "released". False (and nothing happens) when not attached.
+  bool Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
+
+  // --- State ---
+  int index() const { return index_; }
+  const PadGeometry& geometry() const { return geometry_; }
+  const StickyPadParams& params() const { return params_; }
+  bool attached() const { return attached_; }
+  bool touching() const { return attached_ || sense_.contacts > 0; }
+  // kBonds: the grid's bonded fraction; kMujoco: 1 while on, else 0.
+  double bonded_fraction() const;
+  const PadLoad& load() const { return load_; }  // pad frame, + F_n pulls off
+  const ContactSense& sense() const { return sense_; }
+  bool bonds_lost_this_step() const { return bonds_lost_; }
+  int surface_geom() const { return surface_geom_; }
+  const BondGrid& grid() const { return grid_; }
+  const PadCounts& counts() const { return counts_; }
+  double buildup_target() const { return buildup_; }
+  // The approach of the current (or last) touch episode, measured at its touchdown.
+  double touchdown_time_s() const { return touchdown_time_s_; }
+  double touchdown_speed_mps() const { return touchdown_speed_mps_; }
+  double touchdown_angle_deg() const { return touchdown_angle_deg_; }
+
+ private:
+  enum class Episode : uint8_t { kNone, kPending, kClosed };
+
+  void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
+              const char* cause, bool* kinematics_current, PadEventSink* sink);
+  void Detach(mjModel* m, mjData* d, double time_s, const char* cause, PadEventSink* sink);
+  void Emit(PadEventSink* sink, double time_s, PadEventKind kind, const char* cause,
+            double value, bool has_value) const;
+  void SetUnweldedLoad();
+
+  int index_;
+  PadGeometry geometry_;
+  StickyPadParams params_;
+  int weld_eq_;
+  int actuator_;
+  int contype_, conaffinity_;  // of the pad geom, as compiled
+  double grow_decay_ = 0.0;    // exp(−Δt/τ), set by Reset
+
+  BondGrid grid_;
+  ContactSense sense_;
+  PadLoad load_;
+  bool attached_ = false;
+  bool bonds_lost_ = false;
+  int surface_geom_ = -1;
+  Episode episode_ = Episode::kNone;
+  bool blind_ = false;  // the next Sense reads a step without the pad's contacts
+  double touchdown_time_s_ = 0.0;
+  double touchdown_speed_mps_ = 0.0;
+  double touchdown_angle_deg_ = 0.0;
+  double buildup_ = 0.0;
+  long lost_since_attach_ = 0;
+  PadCounts counts_;
+};
+
+}  // namespace climbsim::adhesion
+
+#endif  // CLIMBSIM_ADHESION_STICKY_PAD_H_
