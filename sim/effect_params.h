@@ -62,6 +62,81 @@ struct CpgParams {
   }
 };
 
+// Dry adhesion (adhesion/README.md has the model; DESIGN.md section 3). Material and attach
+// keys apply to every pad; pad_overrides changes a few of them for one pad.
+struct AdhesionPadOverride {
+  std::string pad;
+  std::optional<double> sigma_t_pa;
+  std::optional<double> mu;
+  std::optional<double> gain_n;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"pad", "", "the pad body this entry changes (one of adhesion.pads)", {}, true}, &pad);
+    a->Visit({"sigma_t_pa", "Pa", "this pad's rupture threshold", Range::Positive()}, &sigma_t_pa);
+    a->Visit({"mu", "", "this pad's compression gain", Range::NonNegative()}, &mu);
+    a->Visit({"gain_n", "N", "this pad's adhesion-actuator gain (model mujoco)", Range::Positive()}, &gain_n);
+  }
+};
+
+struct AdhesionParams {
+  std::string model = "bonds";
+  std::vector<std::string> pads;
+  std::vector<std::string> surfaces;
+  bool start_attached = false;
+  double start_gap_m = 0.001;
+  double sigma_t_pa = 10e3;
+  double mu = 0.0;
+  int grid_x = 16;
+  int grid_y = 16;
+  int min_bonds = 1;
+  int min_contacts = 3;
+  double max_approach_speed_mps = 0.25;
+  double max_approach_angle_deg = 20.0;
+  double min_preload_n = 0.02;
+  double initial_fraction = 0.3;
+  double buildup_time_s = 0.1;
+  double attach_window_s = 0.1;
+  std::vector<double> weld_solref{0.002, 1.0};
+  std::optional<double> gain_n;
+  double ctrl = 1.0;
+  double reach_m = 0.001;
+  std::vector<AdhesionPadOverride> pad_overrides;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Choice({"model", "", "bonds: this project's weld-and-bond-grid model; mujoco: MuJoCo's built-in adhesion actuator (the baseline)"}, &model, {"bonds", "mujoco"});
+    a->Visit({"pads", "", "sticky pad bodies (each holds one box geom); default: every leg's pad body (LF_pad, RF_pad, ...)"}, &pads);
+    a->Visit({"surfaces", "", "bodies or geoms the pads may stick to; default: any geom that is not a sticky pad"}, &surfaces);
+    a->Visit({"start_attached", "", "pads within start_gap_m of a surface at t = 0 attach fully, without the attach conditions (a robot that starts on a wall or a ceiling)"}, &start_attached);
+    a->Visit({"start_gap_m", "m", "how far a pad face may be from a surface at t = 0 and still start attached (the robots start 0.5 mm above it)", Range::OpenClosed(0, 0.1)}, &start_gap_m);
+    a->Visit({"sigma_t_pa", "Pa", "sigma_T, bond rupture threshold (10 kPa: the seed authors' estimate for their dry adhesive)", Range::Positive()}, &sigma_t_pa);
+    a->Visit({"mu", "", "gain of compression on the shear threshold: a compressed bond breaks when sqrt(3) times its shear reaches sigma_T + mu times its compression", Range::NonNegative()}, &mu);
+    a->Visit({"grid_x", "", "bonds across the pad width (accuracy against time)", Range::Closed(1, 1024)}, &grid_x);
+    a->Visit({"grid_y", "", "bonds along the pad length", Range::Closed(1, 1024)}, &grid_y);
+    a->Visit({"min_bonds", "", "the pad detaches when fewer bonds than this remain", Range::Closed(1, 1048576)}, &min_bonds);
+    a->Visit({"min_contacts", "", "attach condition: contact points with the surface (box on plane gives 4)", Range::Closed(1, 1000)}, &min_contacts);
+    a->Visit({"max_approach_speed_mps", "m/s", "attach condition: normal speed towards the surface at touchdown", Range::NonNegative()}, &max_approach_speed_mps);
+    a->Visit({"max_approach_angle_deg", "deg", "attach condition: angle between pad normal and surface normal at touchdown", Range::Closed(0, 180)}, &max_approach_angle_deg);
+    a->Visit({"min_preload_n", "N", "attach condition: compressive contact force on the pad", Range::NonNegative()}, &min_preload_n);
+    a->Visit({"initial_fraction", "", "bonded fraction at attach (centre-out)", Range::Closed(0, 1)}, &initial_fraction);
+    a->Visit({"buildup_time_s", "s", "time constant of the growth of the bonded fraction towards 1 while the pad is not pulled; 0: full at once", Range::NonNegative()}, &buildup_time_s);
+    a->Visit({"attach_window_s", "s", "after touchdown, how long contacts and preload may take to meet their conditions before the attach is rejected", Range::NonNegative()}, &attach_window_s);
+    a->Visit({"weld_solref", "s, -", "solref (time constant, damping ratio) of the welds that hold attached pads; MuJoCo raises the time constant to 2 time steps", Range::Positive()}, &weld_solref, 2);
+    a->Visit({"gain_n", "N", "model mujoco: adhesion-actuator force at ctrl 1; default sigma_T times the pad area", Range::Positive()}, &gain_n);
+    a->Visit({"ctrl", "", "model mujoco: actuator ctrl while attached", Range::Closed(0, 1)}, &ctrl);
+    a->Visit({"reach_m", "m", "model mujoco: pad geom margin = gap, so the actuator pulls a pad this close to a surface", Range::Closed(0, 0.1)}, &reach_m);
+    a->Visit({"pad_overrides", "", "per-pad changes: a list of maps with pad and any of sigma_t_pa, mu, gain_n"}, &pad_overrides);
+  }
+
+  void Validate(const Checker& c) const {
+    if (static_cast<long>(min_bonds) > static_cast<long>(grid_x) * grid_y) {
+      c.Fail("min_bonds", "must be <= grid_x * grid_y = " + std::to_string(grid_x * grid_y) +
+                              ", got " + std::to_string(min_bonds));
+    }
+  }
+};
+
 }  // namespace climbsim::sim
 
 #endif  // CLIMBSIM_SIM_EFFECT_PARAMS_H_

@@ -88,6 +88,7 @@ struct Scenario {
   int seed = 0;
   PhysicsParams physics;
   InitialParams initial;
+  std::optional<AdhesionParams> adhesion;
   std::optional<CpgParams> cpg;
   OutputParams outputs;
   FallParams fall;
@@ -105,6 +106,7 @@ struct Scenario {
     a->Visit({"seed", "", "seed of every random draw in the run", Range::Closed(0, 2147483647)}, &seed);
     a->Visit({"physics", "", "MuJoCo options"}, &physics);
     a->Visit({"initial", "", "initial pose"}, &initial);
+    a->Visit({"adhesion", "", "effect: dry-adhesive pads (welds and bond grids, or MuJoCo's adhesion actuator); absent: pads are ordinary contacts"}, &adhesion);
     a->Visit({"cpg", "", "effect: the central pattern generator driving the leg servos; absent: servos hold the neutral pose"}, &cpg);
     a->Visit({"outputs", "", "what is recorded"}, &outputs);
     a->Visit({"fall", "", "fall detection"}, &fall);

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
 #include "sim/trajectory.h"
 
@@ -46,7 +47,11 @@ Eigen::Vector3d BasePos(const mjData* d, const RobotInfo& r) {
 
 }  // namespace
 
-MjcfAdditions EffectAdditions(const Scenario& /*scenario*/) { return {}; }
+MjcfAdditions EffectAdditions(const Scenario& scenario) {
+  MjcfAdditions additions;
+  if (scenario.adhesion) AddAdhesionMjcf(scenario, *scenario.adhesion, &additions);
+  return additions;
+}
 
 std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario) {
   return CompiledModel::Build(scenario, EffectAdditions(scenario));
@@ -58,6 +63,9 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
   legs_.resize(robot.legs.size());
 
   // Effects in pipeline order; only those the scenario names.
+  if (scenario_.adhesion) {
+    effects_.push_back(std::make_unique<AdhesionEffect>(scenario_, *scenario_.adhesion, world_));
+  }
   if (scenario_.cpg) {
     effects_.push_back(std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_));
   }
@@ -74,9 +82,14 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
     if (e->has_after_step()) after_.push_back(e.get());
   }
 
+  // Events name the sticky pads when there are any, else every leg's pad.
   std::vector<std::string> pad_names;
-  for (const LegInfo& l : robot.legs) {
-    pad_names.push_back(mj_id2name(world_.model(), mjOBJ_BODY, l.pad_body));
+  if (const AdhesionEffect* adhesion = FindAdhesion(effects_)) {
+    for (int i = 0; i < adhesion->pad_count(); ++i) pad_names.push_back(adhesion->pad_name(i));
+  } else {
+    for (const LegInfo& l : robot.legs) {
+      pad_names.push_back(mj_id2name(world_.model(), mjOBJ_BODY, l.pad_body));
+    }
   }
   // Room for a few events per pad per stride at up to 10 strides a second.
   const size_t capacity =

@@ -1,0 +1,228 @@
+#include "sim/adhesion_effect.h"
+
+#include <algorithm>
+
+namespace climbsim::sim {
+namespace {
+
+adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
+  adhesion::StickyPadParams s;
+  s.model = p.model == "mujoco" ? adhesion::AdhesionModel::kMujoco : adhesion::AdhesionModel::kBonds;
+  s.bonds.grid_x = p.grid_x;
+  s.bonds.grid_y = p.grid_y;
+  s.bonds.sigma_t_pa = p.sigma_t_pa;
+  s.bonds.mu = p.mu;
+  s.bonds.min_bonds = p.min_bonds;
+  s.attach.min_contacts = p.min_contacts;
+  s.attach.max_approach_speed_mps = p.max_approach_speed_mps;
+  s.attach.max_approach_angle_deg = p.max_approach_angle_deg;
+  s.attach.min_preload_n = p.min_preload_n;
+  s.attach.initial_fraction = p.initial_fraction;
+  s.attach.buildup_time_s = p.buildup_time_s;
+  s.attach.attach_window_s = p.attach_window_s;
+  s.actuator_ctrl = p.ctrl;
+  return s;
+}
+
+std::array<double, 2> WeldSolref(const AdhesionParams& p) {
+  return {p.weld_solref[0], p.weld_solref[1]};
+}
+
+}  // namespace
+
+std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
+                                                const AdhesionParams& params,
+                                                const mjModel* m, const RobotInfo& robot) {
+  std::vector<std::string> names = params.pads;
+  if (names.empty()) {
+    for (const LegInfo& leg : robot.legs) names.push_back(mj_id2name(m, mjOBJ_BODY, leg.pad_body));
+    if (names.empty()) {
+      throw ScenarioError(scenario, "adhesion.pads",
+                          "the robot declares no legs (custom text climbsim_legs): name the pads");
+    }
+  }
+  std::vector<adhesion::PadSpec> specs;
+  for (const std::string& name : names) {
+    const int body = mj_name2id(m, mjOBJ_BODY, name.c_str());
+    if (body < 0) throw ScenarioError(scenario, "adhesion.pads", "no body named '" + name + "'");
+    adhesion::PadGeometry geometry;
+    try {
+      geometry = adhesion::ReadPadGeometry(m, body);
+    } catch (const std::invalid_argument& e) {
+      throw ScenarioError(scenario, "adhesion.pads", e.what());
+    }
+    for (const auto& s : specs) {
+      if (s.body == name) throw ScenarioError(scenario, "adhesion.pads", "'" + name + "' given twice");
+    }
+    adhesion::PadSpec spec{name, PadParamsFrom(params)};
+    double sigma = params.sigma_t_pa;
+    std::optional<double> gain = params.gain_n;
+    for (const AdhesionPadOverride& o : params.pad_overrides) {
+      if (o.pad != name) continue;
+      if (o.sigma_t_pa) sigma = spec.params.bonds.sigma_t_pa = *o.sigma_t_pa;
+      if (o.mu) spec.params.bonds.mu = *o.mu;
+      if (o.gain_n) gain = o.gain_n;
+    }
+    spec.params.actuator_gain_n = gain.value_or(sigma * geometry.width_m * geometry.length_m);
+    try {
+      adhesion::ValidateStickyPadParams(spec.params);
+    } catch (const std::invalid_argument& e) {
+      throw ScenarioError(scenario, "adhesion", e.what());
+    }
+    specs.push_back(std::move(spec));
+  }
+  for (const AdhesionPadOverride& o : params.pad_overrides) {
+    if (std::none_of(specs.begin(), specs.end(), [&](const auto& s) { return s.body == o.pad; })) {
+      throw ScenarioError(scenario, "adhesion.pad_overrides",
+                          "'" + o.pad + "' is not one of the sticky pads");
+    }
+  }
+  return specs;
+}
+
+void AddAdhesionMjcf(const Scenario& scenario, const AdhesionParams& params,
+                     MjcfAdditions* additions) {
+  // The pads are the robot's legs unless named: compile robot and scene once to read them.
+  const std::unique_ptr<CompiledModel> base = CompiledModel::Build(scenario, MjcfAdditions{});
+  const auto specs = AdhesionPadSpecs(scenario, params, base->model(), base->robot());
+  const adhesion::AdhesionMjcfText text = adhesion::AdhesionMjcf(specs, WeldSolref(params));
+  additions->equality += text.equality;
+  additions->actuator += text.actuator;
+}
+
+AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& params,
+                               World& world)
+    : params_(params), world_(&world) {
+  mjModel* m = world.model();
+  adhesion::AdhesionSystemParams sys;
+  sys.pads = AdhesionPadSpecs(scenario, params, m, world.robot());
+  sys.surfaces = params.surfaces;
+  sys.start_attached = params.start_attached;
+  sys.start_gap_m = params.start_gap_m;
+  sys.reach_m = params.reach_m;
+  try {
+    system_ = std::make_unique<adhesion::AdhesionSystem>(m, sys);
+  } catch (const adhesion::AdhesionSetupError& e) {
+    throw ScenarioError(scenario, "adhesion." + e.key(), e.what());
+  } catch (const std::invalid_argument& e) {
+    throw ScenarioError(scenario, "adhesion", e.what());
+  }
+  // Weld softness on this run's model copy (the compiled model may come from another value).
+  for (const adhesion::PadSpec& spec : sys.pads) {
+    const int eq = mj_name2id(m, mjOBJ_EQUALITY, adhesion::WeldName(spec.body).c_str());
+    if (eq < 0) continue;
+    m->eq_solref[eq * mjNREF] = params.weld_solref[0];
+    m->eq_solref[eq * mjNREF + 1] = params.weld_solref[1];
+  }
+  const auto& legs = world.robot().legs;
+  pad_of_leg_.assign(legs.size(), -1);
+  leg_of_pad_.assign(system_->size(), -1);
+  for (size_t leg = 0; leg < legs.size(); ++leg) {
+    const int pad = system_->FindPad(legs[leg].pad_body);
+    pad_of_leg_[leg] = pad;
+    if (pad >= 0) leg_of_pad_[pad] = static_cast<int>(leg);
+  }
+}
+
+void AdhesionEffect::Reset(World& world, RunContext& ctx) {
+  legs_ = ctx.legs;
+  events_ = ctx.events;
+  system_->Reset(world.model(), world.data(), this);
+  FillSignals();
+}
+
+void AdhesionEffect::BeforeStep(World& world, RunContext&) {
+  system_->BeforeStep(world.model(), world.data(), this);
+  FillSignals();
+}
+
+void AdhesionEffect::AfterStep(World& world, RunContext&) {
+  system_->AfterStep(world.model(), world.data(), this);
+  FillSignals();
+}
+
+bool AdhesionEffect::RequestRelease(int pad) {
+  const bool released = system_->Release(pad, world_->model(), world_->data(), this);
+  if (released) FillSignals();
+  return released;
+}
+
+bool AdhesionEffect::RequestReleaseLeg(int leg) {
+  const int pad = pad_of_leg(leg);
+  return pad >= 0 && RequestRelease(pad);
+}
+
+void AdhesionEffect::FillSignals() {
+  if (legs_ == nullptr) return;
+  for (int i = 0; i < system_->size(); ++i) {
+    const int leg = leg_of_pad_[i];
+    if (leg < 0 || leg >= static_cast<int>(legs_->size())) continue;
+    const adhesion::StickyPad& p = system_->pad(i);
+    LegSignals& s = (*legs_)[leg];
+    s.touching = p.touching();
+    s.attached = p.attached();
+    s.bonded_fraction = p.bonded_fraction();
+    s.normal_load_n = p.load().fn_n;
+    // A welded pad does not collide: its compression is in the weld.
+    const bool welded = p.attached() && p.params().model == adhesion::AdhesionModel::kBonds;
+    s.preload_n = welded ? std::max(0.0, -p.load().fn_n) : p.sense().preload_n;
+    s.bonds_lost = p.bonds_lost_this_step();
+  }
+}
+
+void AdhesionEffect::OnPadEvent(int pad, const adhesion::PadEvent& e) {
+  if (events_ == nullptr) return;
+  Event row;
+  row.time_s = e.time_s;
+  row.pad = pad;
+  row.kind = adhesion::PadEventName(e.kind);
+  row.cause = e.cause;
+  row.cause_value = e.cause_value;
+  row.has_cause_value = e.has_cause_value;
+  row.surface_geom = e.surface_geom;
+  row.bonded_fraction = e.bonded_fraction;
+  row.load = {e.load.fn_n, e.load.fx_n, e.load.fy_n, e.load.mx_nm, e.load.my_nm};
+  events_->Add(row);
+}
+
+void AdhesionEffect::TrajectoryColumns(std::vector<std::string>* names) const {
+  for (int i = 0; i < system_->size(); ++i) names->push_back(system_->pad_name(i) + "_bonded_fraction");
+}
+
+void AdhesionEffect::TrajectoryValues(const World&, double* out) const {
+  for (int i = 0; i < system_->size(); ++i) out[i] = system_->pad(i).bonded_fraction();
+}
+
+void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {
+  nlohmann::json pads = nlohmann::json::object();
+  for (int i = 0; i < system_->size(); ++i) {
+    const adhesion::StickyPad& p = system_->pad(i);
+    const adhesion::PadCounts& c = p.counts();
+    nlohmann::json j;
+    j["touchdown"] = c.touchdown;
+    j["attach"] = c.attach;
+    j["attach_rejected"] = c.attach_rejected;
+    j["attach_rejected_by"] = {{adhesion::kCauseApproachSpeed, c.rejected_by[0]},
+                               {adhesion::kCauseApproachAngle, c.rejected_by[1]},
+                               {adhesion::kCauseContacts, c.rejected_by[2]},
+                               {adhesion::kCausePreload, c.rejected_by[3]}};
+    j["bonds_lost_steps"] = c.bonds_lost;
+    j["detach_peel"] = c.detach_peel;
+    j["detach_overload"] = c.detach_overload;
+    j["detach_released"] = c.detach_released;
+    j["detach_contact_lost"] = c.detach_contact_lost;
+    j["attached_at_end"] = p.attached();
+    j["bonded_fraction_at_end"] = p.bonded_fraction();
+    pads[system_->pad_name(i)] = j;
+  }
+  (*summary)["adhesion"] = {{"model", params_.model}, {"pads", pads}};
+}
+
+AdhesionEffect* FindAdhesion(const std::vector<std::unique_ptr<Effect>>& effects) {
+  for (const auto& e : effects) {
+    if (auto* a = dynamic_cast<AdhesionEffect*>(e.get())) return a;
+  }
+  return nullptr;
+}
+
+}  // namespace climbsim::sim

@@ -1,0 +1,95 @@
+// The adhesion effect: the scenario's `adhesion:` block on top of adhesion::AdhesionSystem
+// (adhesion/adhesion_system.h). First in the pipeline:
+//
+//   BeforeStep  contacts of the last step → touchdown, attach decisions (weld on / actuator
+//               on), bond build-up; LegSignals of each leg's pad
+//   AfterStep   the weld's wrench of this step → bond stresses → broken bonds → detach;
+//               LegSignals again
+//
+// It writes events.csv rows (touchdown, attach, attach_rejected, bonds_lost, detach), one
+// trajectory column per pad (<pad>_bonded_fraction) and summary.json's "adhesion" block (per
+// pad counts). The controller side reads each leg's pad through LegSignals (touching,
+// attached, bonded_fraction, normal_load_n, preload_n, bonds_lost) and lets a pad go with
+// RequestRelease.
+//
+// Values that change nothing in the MJCF's structure (weld solref, actuator gains) are set
+// on the run's own model copy, so one compiled model serves scenarios that differ only in
+// them.
+#ifndef CLIMBSIM_SIM_ADHESION_EFFECT_H_
+#define CLIMBSIM_SIM_ADHESION_EFFECT_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "adhesion/adhesion.h"
+#include "sim/effect.h"
+#include "sim/effect_params.h"
+#include "sim/world.h"
+
+namespace climbsim::sim {
+
+// The pads of the scenario with their parameters, resolved against a compiled model that holds
+// the robot (default pads: every leg's pad body; overrides applied; default actuator gain
+// σ_T·A of each pad). Throws InputError at the adhesion key at fault.
+std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
+                                                const AdhesionParams& params,
+                                                const mjModel* model, const RobotInfo& robot);
+
+// The MJCF the adhesion block adds (welds or actuators, one per pad). Compiles the robot and
+// scene once to find the pads; throws InputError like AdhesionPadSpecs.
+void AddAdhesionMjcf(const Scenario& scenario, const AdhesionParams& params,
+                     MjcfAdditions* additions);
+
+class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
+ public:
+  // Throws InputError at the adhesion key at fault (a pad or surface that does not exist).
+  AdhesionEffect(const Scenario& scenario, const AdhesionParams& params, World& world);
+
+  const char* name() const override { return "adhesion"; }
+  bool has_before_step() const override { return true; }
+  bool has_after_step() const override { return true; }
+  void Reset(World& world, RunContext& ctx) override;
+  void BeforeStep(World& world, RunContext& ctx) override;
+  void AfterStep(World& world, RunContext& ctx) override;
+  void TrajectoryColumns(std::vector<std::string>* names) const override;
+  void TrajectoryValues(const World& world, double* out) const override;
+  void Summarise(const World& world, nlohmann::json* summary) const override;
+
+  // --- For controllers and tests ---
+  // Lets pad `pad` go now (weld off, or actuator off), event detach with cause "released";
+  // the pad attaches again only after it has left the surface. False when it was not
+  // attached. Allocates nothing; call it from an effect's BeforeStep (the release then acts
+  // in this step's mj_step) or between steps.
+  bool RequestRelease(int pad);
+  // The same for the pad of leg `leg` (robot leg order); false when that leg has no sticky
+  // pad or it was not attached.
+  bool RequestReleaseLeg(int leg);
+
+  int pad_count() const { return system_->size(); }
+  const std::string& pad_name(int pad) const { return system_->pad_name(pad); }
+  // The pad of a leg, or −1; the leg of a pad, or −1.
+  int pad_of_leg(int leg) const { return leg < 0 || leg >= static_cast<int>(pad_of_leg_.size()) ? -1 : pad_of_leg_[leg]; }
+  int leg_of_pad(int pad) const { return leg_of_pad_[pad]; }
+  const adhesion::StickyPad& pad(int pad) const { return system_->pad(pad); }
+  const adhesion::AdhesionSystem& system() const { return *system_; }
+
+ private:
+  void OnPadEvent(int pad, const adhesion::PadEvent& e) override;
+  void FillSignals();
+
+  AdhesionParams params_;
+  World* world_;
+  std::unique_ptr<adhesion::AdhesionSystem> system_;
+  std::vector<int> pad_of_leg_;
+  std::vector<int> leg_of_pad_;
+  std::vector<LegSignals>* legs_ = nullptr;
+  EventLog* events_ = nullptr;
+};
+
+// The adhesion effect of a simulation's pipeline, or nullptr when the scenario has none.
+AdhesionEffect* FindAdhesion(const std::vector<std::unique_ptr<Effect>>& effects);
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_SIM_ADHESION_EFFECT_H_
