@@ -1,0 +1,319 @@
+// climbsim pulloff --out DIR [options]: the seed's figure-6 experiment in MuJoCo
+// (adhesion/pulloff_rig.h) for this project's bond model and MuJoCo's adhesion actuator, with
+// the quasi-static results of adhesion/pulloff.h, written to DIR/pulloff.csv and plotted to
+// DIR/pulloff.png (the gnuplot script is kept as DIR/pulloff.gp).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include "adhesion/adhesion.h"
+#include "sim/gnuplot.h"
+#include "sim/sim.h"
+#include "tools/commands.h"
+
+namespace climbsim::tools {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct PulloffOptions {
+  std::string out_dir;
+  std::string model = "both";
+  double width_m = 0.025;
+  double length_m = 0.0;  // 0: = width
+  int grid = 0;           // > 0 sets both sides
+  int grid_x = 16, grid_y = 16;
+  double sigma_t_pa = 10e3;
+  double mu = 0.0;
+  int min_bonds = 1;
+  double arm_m = 0.0;
+  double azimuth_deg = 0.0;
+  double from_deg = 0.0, to_deg = 180.0, step_deg = 5.0;
+  double ramp_time_s = 2.0;
+  double timestep_s = 0.001;
+  double gain_n = 0.0;
+  double friction = 1.0;
+  double max_force_factor = 8.0;
+  bool quiet = false;
+};
+
+struct Row {
+  double angle_deg = 0.0;
+  adhesion::PulloffRun bonds, mujoco;
+  double quasi_static_n = 0.0;
+  double closed_form_n = std::numeric_limits<double>::quiet_NaN();
+  double mujoco_closed_n = 0.0;
+};
+
+// "inf" for a pad that never let go, "" for a column that does not apply.
+std::string Num(double v) {
+  if (std::isnan(v)) return "";
+  if (std::isinf(v)) return "inf";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.6g", v);
+  return buf;
+}
+
+// Pull-off / (σ_T·A) of a central pull on a fine grid (pulloff.h's closed forms).
+double ClosedFormRatio(double theta, double mu) {
+  const double c = std::cos(theta), s = std::sin(theta);
+  if (c >= 0) return 1.0 / std::sqrt(c * c + 6.75 * s * s);
+  const double den = 1.5 * std::sqrt(3.0) * s - mu * std::abs(c);
+  return den > 0 ? 1.0 / den : std::numeric_limits<double>::infinity();
+}
+
+std::string Csv(const std::vector<Row>& rows, bool bonds, bool mujoco, double capacity_n) {
+  std::string out =
+      "angle_deg,force_n,cause,bond_loss_steps,mujoco_force_n,mujoco_cause,quasi_static_n,"
+      "closed_form_n,mujoco_closed_form_n,capacity_n\n";
+  for (const Row& r : rows) {
+    std::ostringstream line;
+    line << Num(r.angle_deg) << ',' << (bonds ? Num(r.bonds.force_n) : "") << ','
+         << (bonds ? r.bonds.cause : "") << ','
+         << (bonds ? std::to_string(r.bonds.steps_losing_bonds) : "") << ','
+         << (mujoco ? Num(r.mujoco.force_n) : "") << ',' << (mujoco ? r.mujoco.cause : "")
+         << ',' << Num(r.quasi_static_n) << ',' << Num(r.closed_form_n) << ','
+         << Num(r.mujoco_closed_n) << ',' << Num(capacity_n) << '\n';
+    out += line.str();
+  }
+  return out;
+}
+
+// The gnuplot script; `data` and `output` are gnuplot string literals.
+std::string Script(const PulloffOptions& o, const std::string& data, const std::string& output,
+                   bool bonds, bool mujoco, double capacity_n, double y_max) {
+  char title[256];
+  std::snprintf(title, sizeof(title),
+                "Pull-off of a weightless block: %g x %g mm pad, %d x %d bonds, sigma_T %g kPa, "
+                "mu %g, lever %g mm",
+                o.width_m * 1e3, o.length_m * 1e3, o.grid_x, o.grid_y, o.sigma_t_pa * 1e-3, o.mu,
+                o.arm_m * 1e3);
+  std::ostringstream s;
+  s << "set terminal pngcairo size 900,600 font \",11\"\n"
+    << "set output " << output << "\n"
+    << "set datafile separator \",\"\n"
+    << "set title " << sim::GnuplotQuote(title) << "\n"
+    << "set xlabel \"pull angle from the surface normal (deg): 0 pulls off, 90 shears, "
+       "180 pushes\"\n"
+    << "set ylabel \"pull-off force / (sigma_T A)\"\n"
+    << "set xrange [" << o.from_deg << ":" << o.to_deg << "]\n"
+    << "set yrange [0:" << y_max << "]\n"
+    << "set xtics 15\nset grid\nset key top left\n"
+    << "cap = " << capacity_n << "\n"
+    << "plot ";
+  std::vector<std::string> curves;
+  if (bonds) {
+    curves.push_back(data + " using 1:($2/cap) skip 1 with linespoints lw 2 pt 7 ps 0.6 "
+                            "lc rgb \"#c0392b\" title \"bond model in MuJoCo (weld + bond grid)\"");
+  }
+  curves.push_back(data + " using 1:($7/cap) skip 1 with lines dt 2 lw 2 lc rgb \"#e67e22\" "
+                          "title \"bond model, quasi-static (pulloff.h)\"");
+  if (o.arm_m == 0.0) {
+    curves.push_back(data + " using 1:($8/cap) skip 1 with lines dt 3 lw 1.5 lc rgb \"#555555\" "
+                            "title \"closed form (fine grid)\"");
+  }
+  if (mujoco) {
+    curves.push_back(data + " using 1:($5/cap) skip 1 with linespoints lw 2 pt 5 ps 0.6 "
+                            "lc rgb \"#2471a3\" title \"MuJoCo adhesion actuator\"");
+    curves.push_back(data + " using 1:($9/cap) skip 1 with lines dt 3 lw 1.5 lc rgb \"#5dade2\" "
+                            "title \"actuator: lift/tip/slide closed form\"");
+  }
+  for (size_t i = 0; i < curves.size(); ++i) s << (i ? ", \\\n     " : "") << curves[i];
+  s << "\n";
+  return s.str();
+}
+
+void Check(bool ok, const std::string& option, const std::string& message) {
+  if (!ok) throw CLI::ValidationError(option, message);
+}
+
+void Run(PulloffOptions o) {
+  if (o.length_m == 0.0) o.length_m = o.width_m;
+  if (o.grid > 0) o.grid_x = o.grid_y = o.grid;
+  Check(o.from_deg <= o.to_deg, "--from-deg", "must be <= --to-deg");
+  Check(o.min_bonds <= o.grid_x * o.grid_y, "--min-bonds", "must be <= grid_x * grid_y");
+  const bool bonds = o.model != "mujoco", mujoco = o.model != "bonds";
+
+  adhesion::PulloffRigParams p;
+  p.pad = {.width_m = o.width_m, .length_m = o.length_m, .grid_x = o.grid_x,
+           .grid_y = o.grid_y, .sigma_t_pa = o.sigma_t_pa, .mu = o.mu,
+           .min_bonds = o.min_bonds};
+  p.arm_m = o.arm_m;
+  p.azimuth_rad = o.azimuth_deg * kDeg;
+  p.ramp_time_s = o.ramp_time_s;
+  p.timestep_s = o.timestep_s;
+  p.gain_n = o.gain_n;
+  p.friction = o.friction;
+  p.max_force_factor = o.max_force_factor;
+  try {
+    adhesion::ValidatePulloffRigParams(p);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("pulloff", e.what());
+  }
+
+  // The angles: from, from + step, ... up to to (within step/1000).
+  std::vector<Row> rows;
+  for (int k = 0;; ++k) {
+    const double a = o.from_deg + k * o.step_deg;
+    if (a > o.to_deg + 1e-3 * o.step_deg) break;
+    rows.push_back({});
+    rows.back().angle_deg = std::min(a, o.to_deg);
+  }
+
+  // Both rigs are compiled here (MuJoCo's loader is not thread-safe), then each model sweeps
+  // on its own thread.
+  std::unique_ptr<adhesion::PulloffRig> bond_rig, mujoco_rig;
+  if (bonds) bond_rig = std::make_unique<adhesion::PulloffRig>(adhesion::AdhesionModel::kBonds, p);
+  if (mujoco) {
+    mujoco_rig = std::make_unique<adhesion::PulloffRig>(adhesion::AdhesionModel::kMujoco, p);
+  }
+  const double capacity = o.sigma_t_pa * o.width_m * o.length_m;
+  const double gain = o.gain_n > 0 ? o.gain_n : capacity;
+  const auto started = std::chrono::steady_clock::now();
+  std::thread mujoco_thread([&] {
+    if (!mujoco_rig) return;
+    for (Row& r : rows) r.mujoco = mujoco_rig->Run(r.angle_deg * kDeg);
+  });
+  for (Row& r : rows) {
+    const double theta = r.angle_deg * kDeg;
+    if (bond_rig) r.bonds = bond_rig->Run(theta);
+    adhesion::PullSetup setup{.angle_rad = theta, .azimuth_rad = p.azimuth_rad, .arm_m = o.arm_m};
+    adhesion::PulloffOptions qs;
+    qs.max_force_factor = o.max_force_factor;
+    const adhesion::PulloffResult q = adhesion::PullOff(p.pad, setup, qs);
+    r.quasi_static_n = q.force_n;
+    if (o.arm_m == 0.0) r.closed_form_n = capacity * ClosedFormRatio(theta, o.mu);
+    r.mujoco_closed_n =
+        adhesion::MujocoPulloffClosedForm(gain, o.friction, o.width_m, o.arm_m, theta);
+  }
+  mujoco_thread.join();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  // Files: the CSV and the script first, then the plot.
+  std::filesystem::create_directories(o.out_dir);
+  const std::string csv_path = o.out_dir + "/pulloff.csv";
+  const std::string png_path = o.out_dir + "/pulloff.png";
+  sim::WriteFileAtomic(csv_path, Csv(rows, bonds, mujoco, capacity));
+  double y_max = 0.0;
+  for (const Row& r : rows) {
+    for (double f : {bonds ? r.bonds.force_n : 0.0, mujoco ? r.mujoco.force_n : 0.0,
+                     r.quasi_static_n}) {
+      if (std::isfinite(f)) y_max = std::max(y_max, f / capacity);
+    }
+  }
+  y_max = std::min(3.0, std::ceil(1.1 * y_max * 4.0) / 4.0);
+  sim::WriteFileAtomic(o.out_dir + "/pulloff.gp",
+                       "# cd into this folder and run: gnuplot pulloff.gp\n" +
+                           Script(o, "\"pulloff.csv\"", "\"pulloff.png\"", bonds, mujoco,
+                                  capacity, y_max));
+  const std::string error = sim::RunGnuplot(
+      Script(o, sim::GnuplotQuote(csv_path), "OUTPUT(0)", bonds, mujoco, capacity, y_max),
+      {png_path});
+
+  if (!o.quiet) {
+    std::printf("climbsim pulloff: %zu angles in %.2f s; sigma_T*A = %.4g N\n", rows.size(),
+                wall_s, capacity);
+    std::printf("%9s %11s %11s %8s %11s %11s %9s\n", "angle_deg", "bonds_n", "quasi_st_n",
+                "diff_%", "mujoco_n", "mj_closed_n", "diff_%");
+    for (const Row& r : rows) {
+      const double d1 = 100.0 * (r.bonds.force_n / r.quasi_static_n - 1.0);
+      const double d2 = 100.0 * (r.mujoco.force_n / r.mujoco_closed_n - 1.0);
+      std::printf("%9g %11s %11s %8s %11s %11s %9s\n", r.angle_deg,
+                  bonds ? Num(r.bonds.force_n).c_str() : "-", Num(r.quasi_static_n).c_str(),
+                  bonds && std::isfinite(d1) ? Num(d1).c_str() : "-",
+                  mujoco ? Num(r.mujoco.force_n).c_str() : "-", Num(r.mujoco_closed_n).c_str(),
+                  mujoco && std::isfinite(d2) ? Num(d2).c_str() : "-");
+    }
+    std::printf("  outputs %s/{pulloff.csv,pulloff.gp%s}\n", o.out_dir.c_str(),
+                error.empty() ? ",pulloff.png" : "");
+  }
+  if (!error.empty()) {
+    std::fprintf(stderr, "climbsim pulloff: no plot: %s\n", error.c_str());
+    ExitCode() = 1;
+  }
+}
+
+}  // namespace
+
+void AddPulloffCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "pulloff",
+      "The seed's figure-6 experiment in MuJoCo: the force that pulls a weightless sticky block "
+      "off a plane, against the pull angle, for the bond model and MuJoCo's adhesion actuator");
+  static PulloffOptions o;
+  cmd->add_option("--out", o.out_dir, "folder for pulloff.csv, pulloff.gp and pulloff.png")
+      ->required();
+  cmd->add_option("--model", o.model, "which model to run: both, bonds or mujoco")
+      ->check(CLI::IsMember({"both", "bonds", "mujoco"}))
+      ->capture_default_str();
+  cmd->add_option("--width-m", o.width_m, "pad width b (m), along x")
+      ->check(CLI::Range(1e-4, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--length-m", o.length_m, "pad length h (m), along y; default: the width")
+      ->check(CLI::Range(1e-4, 1.0));
+  cmd->add_option("--grid", o.grid, "bonds per side (sets --grid-x and --grid-y)")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_option("--grid-x", o.grid_x, "bonds across the width")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  cmd->add_option("--grid-y", o.grid_y, "bonds along the length")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  cmd->add_option("--sigma-t-pa", o.sigma_t_pa, "rupture threshold sigma_T (Pa)")
+      ->check(CLI::Range(1e-3, 1e12))
+      ->capture_default_str();
+  cmd->add_option("--mu", o.mu, "gain of compression on the shear threshold (>= 0)")
+      ->check(CLI::Range(0.0, 1e3))
+      ->capture_default_str();
+  cmd->add_option("--min-bonds", o.min_bonds, "the pad detaches below this many bonds")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  cmd->add_option("--arm-m", o.arm_m, "lever: height of the pull point above the pad face (m)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--azimuth-deg", o.azimuth_deg,
+                  "direction of the pull's in-plane part, from +x towards +y (deg)")
+      ->check(CLI::Range(-360.0, 360.0))
+      ->capture_default_str();
+  cmd->add_option("--from-deg", o.from_deg, "first pull angle (deg from the surface normal)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  cmd->add_option("--to-deg", o.to_deg, "last pull angle (deg)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  cmd->add_option("--step-deg", o.step_deg, "angle step (deg)")
+      ->check(CLI::Range(0.01, 180.0))
+      ->capture_default_str();
+  cmd->add_option("--ramp-time-s", o.ramp_time_s,
+                  "time for the pull to rise to sigma_T*A (s): slower is more quasi-static")
+      ->check(CLI::Range(1e-3, 1e3))
+      ->capture_default_str();
+  cmd->add_option("--timestep-s", o.timestep_s, "MuJoCo time step (s)")
+      ->check(CLI::Range(1e-5, 0.01))
+      ->capture_default_str();
+  cmd->add_option("--gain-n", o.gain_n,
+                  "MuJoCo adhesion-actuator gain (N); default sigma_T times the pad area")
+      ->check(CLI::Range(0.0, 1e9));
+  cmd->add_option("--friction", o.friction, "pad friction for the actuator model")
+      ->check(CLI::Range(1e-3, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--max-force-factor", o.max_force_factor,
+                  "stop pulling at this many sigma_T*A: the block never lets go (written inf)")
+      ->check(CLI::Range(1.01, 1e3))
+      ->capture_default_str();
+  cmd->add_flag("--quiet", o.quiet, "no table on the terminal");
+  cmd->footer(
+      "pulloff.csv: angle_deg, force_n (bond model in MuJoCo), cause (peel or overload),\n"
+      "  bond_loss_steps, mujoco_force_n, mujoco_cause (lift, tip or slide), quasi_static_n\n"
+      "  (adhesion/pulloff.h on the same grid), closed_form_n (central pull, fine grid),\n"
+      "  mujoco_closed_form_n, capacity_n (sigma_T*A); inf: the block never let go.\n"
+      "Example:\n  climbsim pulloff --out runs/pulloff --grid 16 --arm-m 0.005");
+  cmd->callback([] { Run(o); });
+}
+
+}  // namespace climbsim::tools
