@@ -16,8 +16,7 @@ AdhesionMjcfText AdhesionMjcf(const std::vector<PadSpec>& pads,
   for (const PadSpec& p : pads) {
     if (p.params.model == AdhesionModel::kBonds) {
       eq << "    <weld name=\"" << WeldName(p.body) << "\" body1=\"" << p.body
-         << "\" active=\"false\" solref=\"" << weld_solref[0] << " " << weld_solref[1]
-         << "\"/>\n";
+         << "\" active=\"false\" solref=\"" << weld_solref[0] << " " << weld_solref[1] << "\"/>\n";
     } else {
       act << "    <adhesion name=\"" << AdhesionActuatorName(p.body) << "\" body=\"" << p.body
           << "\" gain=\"" << p.params.actuator_gain_n << "\" ctrlrange=\"0 1\"/>\n";
@@ -135,8 +134,8 @@ void AdhesionSystem::StartAttached(mjModel* m, mjData* d, PadEventSink* sink) {
   bool kinematics_current = true;  // mj_fwdPosition ran on the current qpos
   for (size_t i = 0; i < pads_.size(); ++i) {
     if (surface[i] < 0) continue;
-    pads_[i].ForceAttach(m, d, d->time, surface[i], 1.0, kCauseStartAttached,
-                         &kinematics_current, sink);
+    pads_[i].ForceAttach(m, d, d->time, surface[i], 1.0, kCauseStartAttached, &kinematics_current,
+                         sink);
   }
   // Leave mjData consistent with the true margins and the welds (contacts, efc forces).
   mj_forward(m, d);

@@ -48,8 +48,8 @@ struct AdhesionSystemParams {
   std::vector<PadSpec> pads;
   std::vector<std::string> surfaces;  // body or geom names; empty: any non-sticky geom
   bool start_attached = false;
-  double start_gap_m = 0.001;   // > 0
-  double reach_m = 0.001;       // kMujoco: pad geom margin = gap, ≥ 0
+  double start_gap_m = 0.001;  // > 0
+  double reach_m = 0.001;      // kMujoco: pad geom margin = gap, ≥ 0
 };
 
 // The MJCF lines the pads need (without the enclosing <equality>/<actuator> tags). Welds are

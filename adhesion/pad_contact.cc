@@ -34,8 +34,8 @@ PadGeometry ReadPadGeometry(const mjModel* m, int body) {
     pad.geom = g;
   }
   if (boxes != 1) {
-    throw std::invalid_argument("pad body '" + body_name + "' must hold exactly one box geom, has " +
-                                std::to_string(boxes));
+    throw std::invalid_argument("pad body '" + body_name +
+                                "' must hold exactly one box geom, has " + std::to_string(boxes));
   }
   const mjtNum* size = m->geom_size + 3 * pad.geom;
   pad.width_m = 2.0 * size[0];
@@ -102,8 +102,8 @@ void SensePadContacts(const mjModel* m, const mjData* d, const PadGeometry& pad,
   if (!pad_is_geom2) n = -n;
   out->surface_normal = n;
   const Eigen::Vector3d p(c.pos[0], c.pos[1], c.pos[2]);
-  const Eigen::Vector3d v_rel = PointVelocity(m, d, pad.body, p) -
-                                PointVelocity(m, d, m->geom_bodyid[surface], p);
+  const Eigen::Vector3d v_rel =
+      PointVelocity(m, d, pad.body, p) - PointVelocity(m, d, m->geom_bodyid[surface], p);
   out->approach_speed_mps = -v_rel.dot(n);
   const PadFrame frame = FaceFrame(d, pad);
   out->angle_rad = std::acos(std::clamp(frame.rot.col(2).dot(n), -1.0, 1.0));

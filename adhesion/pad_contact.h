@@ -37,9 +37,9 @@ namespace climbsim::adhesion {
 struct PadGeometry {
   int body = -1;
   int geom = -1;
-  double width_m = 0.0;   // b = 2·size[0]
-  double length_m = 0.0;  // h = 2·size[1]
-  Eigen::Vector3d face_pos_body = Eigen::Vector3d::Zero();  // face centroid, body frame
+  double width_m = 0.0;                                         // b = 2·size[0]
+  double length_m = 0.0;                                        // h = 2·size[1]
+  Eigen::Vector3d face_pos_body = Eigen::Vector3d::Zero();      // face centroid, body frame
   Eigen::Matrix3d face_rot_body = Eigen::Matrix3d::Identity();  // face axes, body frame
 };
 
@@ -58,7 +58,7 @@ struct ContactSense {
   int contacts = 0;         // with a surface geom, exclude == 0
   int contacts_in_gap = 0;  // with a surface geom, exclude == 1 (no force; adhesion actuator)
   double preload_n = 0.0;
-  int surface_geom = -1;    // geom of the strongest contact (or the first in the gap)
+  int surface_geom = -1;  // geom of the strongest contact (or the first in the gap)
   Eigen::Vector3d surface_normal = Eigen::Vector3d::UnitZ();
   double approach_speed_mps = 0.0;
   double angle_rad = 0.0;

@@ -69,10 +69,15 @@ std::array<Eigen::Vector3d, 4> Corners(const mjData* d, const PadGeometry& g) {
 // Records the detach cause and the broken bonds.
 class PulloffRig::Sink final : public PadEventSink {
  public:
-  void OnPadEvent(int, const PadEvent& e) override {
+  explicit Sink(PadEventSink* observer = nullptr) : observer_(observer) {}
+  void OnPadEvent(int pad, const PadEvent& e) override {
     if (e.kind == PadEventKind::kDetach) cause = e.cause;
+    if (observer_ != nullptr) observer_->OnPadEvent(pad, e);
   }
   const char* cause = "";
+
+ private:
+  PadEventSink* observer_;
 };
 
 mjModel* CompileMjcfString(const std::string& xml, std::string* error) {
@@ -146,54 +151,76 @@ PulloffRig::~PulloffRig() {
   if (model_ != nullptr) mj_deleteModel(model_);
 }
 
-PulloffRun PulloffRig::Run(double angle_rad) {
-  Require(std::isfinite(angle_rad), "angle must be finite");
+void PulloffRig::Start(PadEventSink* sink) {
   mjModel* m = model_;
   mjData* d = data_;
   mj_resetData(m, d);
-  Sink sink;
-  system_->Reset(m, d, &sink);
+  system_->Reset(m, d, sink);
   mj_forward(m, d);
-  StickyPad& pad = system_->pad(0);
   bool kinematics_current = true;
-  pad.ForceAttach(m, d, d->time, surface_geom_, 1.0, kCauseForced, &kinematics_current, &sink);
-
-  const double dt = m->opt.timestep;
-  PulloffRun run;
+  system_->pad(0).ForceAttach(m, d, d->time, surface_geom_, 1.0, kCauseForced, &kinematics_current,
+                              sink);
   // kMujoco: let the actuator pull the block into its resting penetration first.
-  const long settle_steps =
-      model_type_ == AdhesionModel::kMujoco ? std::lround(params_.settle_time_s / dt) : 0;
-  for (long k = 0; k < settle_steps; ++k) {
-    system_->BeforeStep(m, d, &sink);
-    mj_step(m, d);
-    system_->AfterStep(m, d, &sink);
+  if (model_type_ == AdhesionModel::kMujoco) {
+    const long settle_steps = std::lround(params_.settle_time_s / m->opt.timestep);
+    for (long k = 0; k < settle_steps; ++k) Step(Eigen::Vector3d::UnitZ(), 0.0, sink);
   }
   mj_forward(m, d);
+}
+
+void PulloffRig::Step(const Eigen::Vector3d& u, double force_n, PadEventSink* sink) {
+  mjModel* m = model_;
+  mjData* d = data_;
+  // The pull at L above the face centroid, as a force and its moment about the centre of mass.
+  const PadFrame face = FaceFrame(d, system_->pad(0).geometry());
+  const Eigen::Vector3d point = face.pos + params_.arm_m * face.rot.col(2);
+  const Eigen::Vector3d com(d->xipos[3 * block_], d->xipos[3 * block_ + 1],
+                            d->xipos[3 * block_ + 2]);
+  const Eigen::Vector3d f = force_n * u;
+  const Eigen::Vector3d t = (point - com).cross(f);
+  for (int i = 0; i < 3; ++i) {
+    d->xfrc_applied[6 * block_ + i] = f[i];
+    d->xfrc_applied[6 * block_ + 3 + i] = t[i];
+  }
+  system_->BeforeStep(m, d, sink);
+  mj_step(m, d);
+  system_->AfterStep(m, d, sink);
+}
+
+Eigen::Vector3d PulloffRig::Direction(double angle_rad) const {
+  return {std::sin(angle_rad) * std::cos(params_.azimuth_rad),
+          std::sin(angle_rad) * std::sin(params_.azimuth_rad), std::cos(angle_rad)};
+}
+
+const StickyPad& PulloffRig::Hold(double angle_rad, double force_n, double duration_s) {
+  Require(std::isfinite(angle_rad) && std::isfinite(force_n) && std::isfinite(duration_s),
+          "Hold: angle, force and duration must be finite");
+  Sink sink;
+  Start(&sink);
+  const Eigen::Vector3d u = Direction(angle_rad);
+  const long steps = std::lround(duration_s / model_->opt.timestep);
+  for (long k = 0; k < steps; ++k) Step(u, force_n, &sink);
+  return system_->pad(0);
+}
+
+PulloffRun PulloffRig::Run(double angle_rad, PadEventSink* observer) {
+  Require(std::isfinite(angle_rad), "angle must be finite");
+  mjModel* m = model_;
+  mjData* d = data_;
+  Sink sink(observer);
+  Start(&sink);
+  StickyPad& pad = system_->pad(0);
+  PulloffRun run;
   const std::array<Eigen::Vector3d, 4> corners0 = Corners(d, pad.geometry());
 
-  const Eigen::Vector3d u(std::sin(angle_rad) * std::cos(params_.azimuth_rad),
-                          std::sin(angle_rad) * std::sin(params_.azimuth_rad),
-                          std::cos(angle_rad));
+  const Eigen::Vector3d u = Direction(angle_rad);
+  const double dt = m->opt.timestep;
   const double rate = capacity_n() / params_.ramp_time_s;
-  const long max_steps =
-      std::lround(params_.max_force_factor * params_.ramp_time_s / dt) + 1;
+  const long max_steps = std::lround(params_.max_force_factor * params_.ramp_time_s / dt) + 1;
   int total_rounds = 0;
   for (long k = 0; k < max_steps; ++k) {
     const double force = rate * (k + 1) * dt;
-    // The pull at L above the face centroid, moved to the centre of mass.
-    const PadFrame face = FaceFrame(d, pad.geometry());
-    const Eigen::Vector3d point = face.pos + params_.arm_m * face.rot.col(2);
-    const Eigen::Vector3d com(d->xipos[3 * block_], d->xipos[3 * block_ + 1],
-                              d->xipos[3 * block_ + 2]);
-    const Eigen::Vector3d f = force * u;
-    const Eigen::Vector3d t = (point - com).cross(f);
-    for (int i = 0; i < 3; ++i) {
-      d->xfrc_applied[6 * block_ + i] = f[i];
-      d->xfrc_applied[6 * block_ + 3 + i] = t[i];
-    }
-    system_->BeforeStep(m, d, &sink);
-    mj_step(m, d);
-    system_->AfterStep(m, d, &sink);
+    Step(u, force, &sink);
     ++run.steps;
 
     if (model_type_ == AdhesionModel::kBonds) {
@@ -226,7 +253,8 @@ PulloffRun PulloffRig::Run(double angle_rad) {
           worst = std::max(worst, move.norm());
           normal += move.z() / 4.0;
         }
-        for (int i = 0; i < 4; ++i) spread = std::max(spread, std::abs((c[i] - corners0[i]).z() - normal));
+        for (int i = 0; i < 4; ++i)
+          spread = std::max(spread, std::abs((c[i] - corners0[i]).z() - normal));
         if (worst >= params_.slip_m) {
           run.detached = true;
           run.cause = spread > 0.25 * worst ? "tip" : normal > 0.5 * worst ? "lift" : "slide";

@@ -34,6 +34,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <Eigen/Core>
 #include <array>
 #include <memory>
 #include <string>
@@ -46,19 +47,19 @@ namespace climbsim::adhesion {
 
 struct PulloffRigParams {
   PadParams pad{.width_m = 0.025, .length_m = 0.025};  // the block's pad and its bond grid
-  double arm_m = 0.0;          // L ≥ 0
-  double azimuth_rad = 0.0;    // φ
-  double ramp_time_s = 2.0;    // time for the pull to reach σ_T·A (> 0)
+  double arm_m = 0.0;                                  // L ≥ 0
+  double azimuth_rad = 0.0;                            // φ
+  double ramp_time_s = 2.0;                            // time for the pull to reach σ_T·A (> 0)
   double timestep_s = 0.001;
   double block_mass_kg = 0.05;
   double max_force_factor = 8.0;  // holds up to this many σ_T·A: reported as never (> 1)
   std::array<double, 2> weld_solref{0.002, 1.0};
   // kMujoco only.
-  double gain_n = 0.0;          // 0: σ_T·A
-  double friction = 1.0;        // pad sliding friction (the gecko's pads: 1.0)
-  double slip_m = 0.5e-3;       // a face corner this far from where it settled: let go
+  double gain_n = 0.0;     // 0: σ_T·A
+  double friction = 1.0;   // pad sliding friction (the gecko's pads: 1.0)
+  double slip_m = 0.5e-3;  // a face corner this far from where it settled: let go
   double settle_time_s = 0.2;
-  double reach_m = 0.001;       // pad margin = gap
+  double reach_m = 0.001;                            // pad margin = gap
   std::array<double, 2> contact_solref{0.004, 1.0};  // stiff: the block is light
   int noslip_iterations = 10;
 };
@@ -68,13 +69,13 @@ void ValidatePulloffRigParams(const PulloffRigParams& params);
 
 struct PulloffRun {
   bool detached = false;
-  double force_n = 0.0;      // pull of the step that let go; +inf if it never did
-  double time_s = 0.0;       // of that step's end
+  double force_n = 0.0;  // pull of the step that let go; +inf if it never did
+  double time_s = 0.0;   // of that step's end
   long steps = 0;
-  const char* cause = "";    // kBonds: peel/overload; kMujoco: lift, tip, slide, contact_lost
-  int steps_losing_bonds = 0;          // kBonds: steps that broke bonds (the last included)
-  std::vector<BrokenBondAt> sequence;  // kBonds: every broken bond in order; round counts
-                                       // the cascade rounds over the whole run
+  const char* cause = "";      // kBonds: peel/overload; kMujoco: lift, tip, slide, contact_lost
+  int steps_losing_bonds = 0;  // kBonds: steps that broke bonds (the last included)
+  std::vector<BrokenBondAt> sequence;    // kBonds: every broken bond in order; round counts
+                                         // the cascade rounds over the whole run
   std::vector<double> sequence_force_n;  // the pull when each of those bonds broke
 };
 
@@ -87,17 +88,27 @@ class PulloffRig {
   PulloffRig(const PulloffRig&) = delete;
   PulloffRig& operator=(const PulloffRig&) = delete;
 
-  // One pull at θ = angle_rad from a fresh start.
-  PulloffRun Run(double angle_rad);
+  // One pull at θ = angle_rad from a fresh start. `observer` (may be null) sees every pad
+  // event of the run in order.
+  PulloffRun Run(double angle_rad, PadEventSink* observer = nullptr);
+  // A constant pull `force_n` at θ for `duration_s` from a fresh start (kMujoco: after the
+  // settling); returns the pad as it is then (its load, its grid, attached or not).
+  const StickyPad& Hold(double angle_rad, double force_n, double duration_s);
 
   const std::string& xml() const { return xml_; }
   const mjModel* model() const { return model_; }
-  double capacity_n() const { return params_.pad.sigma_t_pa * params_.pad.width_m *
-                                     params_.pad.length_m; }
+  double capacity_n() const {
+    return params_.pad.sigma_t_pa * params_.pad.width_m * params_.pad.length_m;
+  }
   double gain_n() const;
 
  private:
   class Sink;
+  // mj_resetData, fresh attachment, kMujoco settling.
+  void Start(PadEventSink* sink);
+  // One step under the pull `force_n` along u at L above the face centroid.
+  void Step(const Eigen::Vector3d& u, double force_n, PadEventSink* sink);
+  Eigen::Vector3d Direction(double angle_rad) const;  // u of the file comment
   AdhesionModel model_type_;
   PulloffRigParams params_;
   std::string xml_;

@@ -32,10 +32,10 @@ void ValidateStickyPadParams(const StickyPadParams& p) {
   Check(a.min_contacts >= 1, "min_contacts", ">= 1", a.min_contacts);
   Check(std::isfinite(a.max_approach_speed_mps) && a.max_approach_speed_mps >= 0,
         "max_approach_speed_mps", ">= 0 and finite", a.max_approach_speed_mps);
-  Check(a.max_approach_angle_deg >= 0 && a.max_approach_angle_deg <= 180,
-        "max_approach_angle_deg", "in [0, 180]", a.max_approach_angle_deg);
-  Check(std::isfinite(a.min_preload_n) && a.min_preload_n >= 0, "min_preload_n",
-        ">= 0 and finite", a.min_preload_n);
+  Check(a.max_approach_angle_deg >= 0 && a.max_approach_angle_deg <= 180, "max_approach_angle_deg",
+        "in [0, 180]", a.max_approach_angle_deg);
+  Check(std::isfinite(a.min_preload_n) && a.min_preload_n >= 0, "min_preload_n", ">= 0 and finite",
+        a.min_preload_n);
   Check(a.initial_fraction >= 0 && a.initial_fraction <= 1, "initial_fraction", "in [0, 1]",
         a.initial_fraction);
   Check(std::isfinite(a.buildup_time_s) && a.buildup_time_s >= 0, "buildup_time_s",
@@ -51,11 +51,16 @@ void ValidateStickyPadParams(const StickyPadParams& p) {
 
 const char* PadEventName(PadEventKind kind) {
   switch (kind) {
-    case PadEventKind::kTouchdown: return "touchdown";
-    case PadEventKind::kAttach: return "attach";
-    case PadEventKind::kAttachRejected: return "attach_rejected";
-    case PadEventKind::kBondsLost: return "bonds_lost";
-    case PadEventKind::kDetach: return "detach";
+    case PadEventKind::kTouchdown:
+      return "touchdown";
+    case PadEventKind::kAttach:
+      return "attach";
+    case PadEventKind::kAttachRejected:
+      return "attach_rejected";
+    case PadEventKind::kBondsLost:
+      return "bonds_lost";
+    case PadEventKind::kDetach:
+      return "detach";
   }
   return "";
 }
@@ -129,8 +134,8 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
                        PadEventSink* sink) {
   if (attached_) {
     if (params_.model == AdhesionModel::kBonds) {
-      // Build-up while the pad is not pulled off.
-      if (load_.fn_n <= 0.0 && buildup_ < 1.0) {
+      // Build-up while the pad is not pulled off (known from the weld's first step on).
+      if (load_known_ && load_.fn_n <= 0.0 && buildup_ < 1.0) {
         buildup_ = 1.0 - (1.0 - buildup_) * grow_decay_;
         grid_.Grow(buildup_);
       }
@@ -187,10 +192,10 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
 }
 
-bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom,
-                            double fraction, const char* cause, bool* kinematics_current,
-                            PadEventSink* sink) {
+bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
+                            const char* cause, bool* kinematics_current, PadEventSink* sink) {
   if (attached_) return false;
+  sense_.surface_geom = surface_geom;
   ++counts_.touchdown;
   Emit(sink, time_s, PadEventKind::kTouchdown, "", 0.0, false);
   Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink);
@@ -210,14 +215,14 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
       mj_kinematics(m, d);
       *kinematics_current = true;
     }
-    SetWeldFromCurrentPoses(m, d, weld_eq_, m->geom_bodyid[surface_geom],
-                            geometry_.face_pos_body);
+    SetWeldFromCurrentPoses(m, d, weld_eq_, m->geom_bodyid[surface_geom], geometry_.face_pos_body);
     SetWeldActive(m, d, weld_eq_, true);
     m->geom_contype[geometry_.geom] = 0;
     m->geom_conaffinity[geometry_.geom] = 0;
     buildup_ = fraction;
     grid_.BondFraction(fraction);
     load_ = PadLoad{};
+    load_known_ = false;
   } else {
     d->ctrl[actuator_] = params_.actuator_ctrl;
   }
@@ -233,6 +238,7 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
   const PadFrame frame = FaceFrame(d, geometry_);
   load_ = PadLoadFromSurfaceWrench(frame.rot.transpose() * w.force_n,
                                    frame.rot.transpose() * w.torque_nm);
+  load_known_ = true;
   const BondGrid::UpdateResult r = grid_.Update(load_);
   if (r.broken > 0) {
     bonds_lost_ = true;

@@ -40,7 +40,8 @@
 // included, which the bond grid's μ term needs; the ankle sensors then agree with it; and a
 // welded pad that also collides costs about a third more per step). The bond grid starts at
 // initial_fraction, centre-out. Each step in which the pad is not pulled (F_n ≤ 0 in the last
-// step) the target fraction f grows as
+// step; from the second step after the attach, when the weld's load is known) the target
+// fraction f grows as
 //
 //   f ← 1 − (1 − f)·exp(−Δt / buildup_time_s)          (df/dt = (1 − f)/τ)
 //
@@ -92,7 +93,7 @@ struct AttachParams {
 
 struct StickyPadParams {
   AdhesionModel model = AdhesionModel::kBonds;
-  PadParams bonds;      // width_m and length_m are taken from the pad's box geom
+  PadParams bonds;  // width_m and length_m are taken from the pad's box geom
   AttachParams attach;
   double actuator_gain_n = 0.0;  // kMujoco: force at ctrl 1 (N, > 0)
   double actuator_ctrl = 1.0;    // kMujoco: ctrl while attached, 0 .. 1
@@ -109,7 +110,7 @@ inline constexpr const char* kCauseApproachSpeed = "approach_speed_mps";
 inline constexpr const char* kCauseApproachAngle = "approach_angle_deg";
 inline constexpr const char* kCauseContacts = "contacts";
 inline constexpr const char* kCausePreload = "preload_n";
-inline constexpr const char* kCauseFractionLost = "fraction_lost";  // bonds_lost
+inline constexpr const char* kCauseFractionLost = "fraction_lost";    // bonds_lost
 inline constexpr const char* kCauseStartAttached = "start_attached";  // attach at t = 0
 inline constexpr const char* kCauseForced = "forced";                 // ForceAttach otherwise
 inline constexpr const char* kCausePeel = "peel";
@@ -154,8 +155,8 @@ class StickyPad {
   // `index` is the pad's number in events. `weld_eq` (kBonds) or `actuator` (kMujoco) must
   // exist in `m`; the other may be −1. Validates params (std::invalid_argument); sizes the
   // bond grid from the pad's box.
-  StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
-            const StickyPadParams& params, int weld_eq, int actuator);
+  StickyPad(const mjModel* m, int index, const PadGeometry& geometry, const StickyPadParams& params,
+            int weld_eq, int actuator);
 
   // Detached, weld off, collision bits and ctrl restored, counts zeroed. Call after
   // mj_resetData (which does not reset model-level switches).
@@ -165,8 +166,7 @@ class StickyPad {
   void Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to);
   // `kinematics_current`: whether xpos/xquat already describe the current qpos (an attach
   // runs mj_kinematics once and sets it).
-  void Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_current,
-              PadEventSink* sink);
+  void Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_current, PadEventSink* sink);
   void AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
 
   // Attaches to `surface_geom` now, skipping the conditions, with `fraction` of the bonds
@@ -202,8 +202,8 @@ class StickyPad {
   void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
               const char* cause, bool* kinematics_current, PadEventSink* sink);
   void Detach(mjModel* m, mjData* d, double time_s, const char* cause, PadEventSink* sink);
-  void Emit(PadEventSink* sink, double time_s, PadEventKind kind, const char* cause,
-            double value, bool has_value) const;
+  void Emit(PadEventSink* sink, double time_s, PadEventKind kind, const char* cause, double value,
+            bool has_value) const;
   void SetUnweldedLoad();
 
   int index_;
@@ -217,6 +217,7 @@ class StickyPad {
   BondGrid grid_;
   ContactSense sense_;
   PadLoad load_;
+  bool load_known_ = false;  // the weld has carried at least one step since the attach
   bool attached_ = false;
   bool bonds_lost_ = false;
   int surface_geom_ = -1;

@@ -7,7 +7,8 @@ namespace {
 
 adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   adhesion::StickyPadParams s;
-  s.model = p.model == "mujoco" ? adhesion::AdhesionModel::kMujoco : adhesion::AdhesionModel::kBonds;
+  s.model =
+      p.model == "mujoco" ? adhesion::AdhesionModel::kMujoco : adhesion::AdhesionModel::kBonds;
   s.bonds.grid_x = p.grid_x;
   s.bonds.grid_y = p.grid_y;
   s.bonds.sigma_t_pa = p.sigma_t_pa;
@@ -31,8 +32,8 @@ std::array<double, 2> WeldSolref(const AdhesionParams& p) {
 }  // namespace
 
 std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
-                                                const AdhesionParams& params,
-                                                const mjModel* m, const RobotInfo& robot) {
+                                                const AdhesionParams& params, const mjModel* m,
+                                                const RobotInfo& robot) {
   std::vector<std::string> names = params.pads;
   if (names.empty()) {
     for (const LegInfo& leg : robot.legs) names.push_back(mj_id2name(m, mjOBJ_BODY, leg.pad_body));
@@ -52,7 +53,8 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
       throw ScenarioError(scenario, "adhesion.pads", e.what());
     }
     for (const auto& s : specs) {
-      if (s.body == name) throw ScenarioError(scenario, "adhesion.pads", "'" + name + "' given twice");
+      if (s.body == name)
+        throw ScenarioError(scenario, "adhesion.pads", "'" + name + "' given twice");
     }
     adhesion::PadSpec spec{name, PadParamsFrom(params)};
     double sigma = params.sigma_t_pa;
@@ -90,8 +92,7 @@ void AddAdhesionMjcf(const Scenario& scenario, const AdhesionParams& params,
   additions->actuator += text.actuator;
 }
 
-AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& params,
-                               World& world)
+AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& params, World& world)
     : params_(params), world_(&world) {
   mjModel* m = world.model();
   adhesion::AdhesionSystemParams sys;
@@ -186,7 +187,8 @@ void AdhesionEffect::OnPadEvent(int pad, const adhesion::PadEvent& e) {
 }
 
 void AdhesionEffect::TrajectoryColumns(std::vector<std::string>* names) const {
-  for (int i = 0; i < system_->size(); ++i) names->push_back(system_->pad_name(i) + "_bonded_fraction");
+  for (int i = 0; i < system_->size(); ++i)
+    names->push_back(system_->pad_name(i) + "_bonded_fraction");
 }
 
 void AdhesionEffect::TrajectoryValues(const World&, double* out) const {

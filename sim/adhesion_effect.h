@@ -33,8 +33,8 @@ namespace climbsim::sim {
 // the robot (default pads: every leg's pad body; overrides applied; default actuator gain
 // σ_T·A of each pad). Throws InputError at the adhesion key at fault.
 std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
-                                                const AdhesionParams& params,
-                                                const mjModel* model, const RobotInfo& robot);
+                                                const AdhesionParams& params, const mjModel* model,
+                                                const RobotInfo& robot);
 
 // The MJCF the adhesion block adds (welds or actuators, one per pad). Compiles the robot and
 // scene once to find the pads; throws InputError like AdhesionPadSpecs.
@@ -69,7 +69,9 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
   int pad_count() const { return system_->size(); }
   const std::string& pad_name(int pad) const { return system_->pad_name(pad); }
   // The pad of a leg, or −1; the leg of a pad, or −1.
-  int pad_of_leg(int leg) const { return leg < 0 || leg >= static_cast<int>(pad_of_leg_.size()) ? -1 : pad_of_leg_[leg]; }
+  int pad_of_leg(int leg) const {
+    return leg < 0 || leg >= static_cast<int>(pad_of_leg_.size()) ? -1 : pad_of_leg_[leg];
+  }
   int leg_of_pad(int pad) const { return leg_of_pad_[pad]; }
   const adhesion::StickyPad& pad(int pad) const { return system_->pad(pad); }
   const adhesion::AdhesionSystem& system() const { return *system_; }

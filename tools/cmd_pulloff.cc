@@ -75,9 +75,9 @@ std::string Csv(const std::vector<Row>& rows, bool bonds, bool mujoco, double ca
     line << Num(r.angle_deg) << ',' << (bonds ? Num(r.bonds.force_n) : "") << ','
          << (bonds ? r.bonds.cause : "") << ','
          << (bonds ? std::to_string(r.bonds.steps_losing_bonds) : "") << ','
-         << (mujoco ? Num(r.mujoco.force_n) : "") << ',' << (mujoco ? r.mujoco.cause : "")
-         << ',' << Num(r.quasi_static_n) << ',' << Num(r.closed_form_n) << ','
-         << Num(r.mujoco_closed_n) << ',' << Num(capacity_n) << '\n';
+         << (mujoco ? Num(r.mujoco.force_n) : "") << ',' << (mujoco ? r.mujoco.cause : "") << ','
+         << Num(r.quasi_static_n) << ',' << Num(r.closed_form_n) << ',' << Num(r.mujoco_closed_n)
+         << ',' << Num(capacity_n) << '\n';
     out += line.str();
   }
   return out;
@@ -107,20 +107,25 @@ std::string Script(const PulloffOptions& o, const std::string& data, const std::
     << "plot ";
   std::vector<std::string> curves;
   if (bonds) {
-    curves.push_back(data + " using 1:($2/cap) skip 1 with linespoints lw 2 pt 7 ps 0.6 "
-                            "lc rgb \"#c0392b\" title \"bond model in MuJoCo (weld + bond grid)\"");
+    curves.push_back(data +
+                     " using 1:($2/cap) skip 1 with linespoints lw 2 pt 7 ps 0.6 "
+                     "lc rgb \"#c0392b\" title \"bond model in MuJoCo (weld + bond grid)\"");
   }
-  curves.push_back(data + " using 1:($7/cap) skip 1 with lines dt 2 lw 2 lc rgb \"#e67e22\" "
-                          "title \"bond model, quasi-static (pulloff.h)\"");
+  curves.push_back(data +
+                   " using 1:($7/cap) skip 1 with lines dt 2 lw 2 lc rgb \"#e67e22\" "
+                   "title \"bond model, quasi-static (pulloff.h)\"");
   if (o.arm_m == 0.0) {
-    curves.push_back(data + " using 1:($8/cap) skip 1 with lines dt 3 lw 1.5 lc rgb \"#555555\" "
-                            "title \"closed form (fine grid)\"");
+    curves.push_back(data +
+                     " using 1:($8/cap) skip 1 with lines dt 3 lw 1.5 lc rgb \"#555555\" "
+                     "title \"closed form (fine grid)\"");
   }
   if (mujoco) {
-    curves.push_back(data + " using 1:($5/cap) skip 1 with linespoints lw 2 pt 5 ps 0.6 "
-                            "lc rgb \"#2471a3\" title \"MuJoCo adhesion actuator\"");
-    curves.push_back(data + " using 1:($9/cap) skip 1 with lines dt 3 lw 1.5 lc rgb \"#5dade2\" "
-                            "title \"actuator: lift/tip/slide closed form\"");
+    curves.push_back(data +
+                     " using 1:($5/cap) skip 1 with linespoints lw 2 pt 5 ps 0.6 "
+                     "lc rgb \"#2471a3\" title \"MuJoCo adhesion actuator\"");
+    curves.push_back(data +
+                     " using 1:($9/cap) skip 1 with lines dt 3 lw 1.5 lc rgb \"#5dade2\" "
+                     "title \"actuator: lift/tip/slide closed form\"");
   }
   for (size_t i = 0; i < curves.size(); ++i) s << (i ? ", \\\n     " : "") << curves[i];
   s << "\n";
@@ -139,8 +144,12 @@ void Run(PulloffOptions o) {
   const bool bonds = o.model != "mujoco", mujoco = o.model != "bonds";
 
   adhesion::PulloffRigParams p;
-  p.pad = {.width_m = o.width_m, .length_m = o.length_m, .grid_x = o.grid_x,
-           .grid_y = o.grid_y, .sigma_t_pa = o.sigma_t_pa, .mu = o.mu,
+  p.pad = {.width_m = o.width_m,
+           .length_m = o.length_m,
+           .grid_x = o.grid_x,
+           .grid_y = o.grid_y,
+           .sigma_t_pa = o.sigma_t_pa,
+           .mu = o.mu,
            .min_bonds = o.min_bonds};
   p.arm_m = o.arm_m;
   p.azimuth_rad = o.azimuth_deg * kDeg;
@@ -201,25 +210,25 @@ void Run(PulloffOptions o) {
   sim::WriteFileAtomic(csv_path, Csv(rows, bonds, mujoco, capacity));
   double y_max = 0.0;
   for (const Row& r : rows) {
-    for (double f : {bonds ? r.bonds.force_n : 0.0, mujoco ? r.mujoco.force_n : 0.0,
-                     r.quasi_static_n}) {
+    for (double f :
+         {bonds ? r.bonds.force_n : 0.0, mujoco ? r.mujoco.force_n : 0.0, r.quasi_static_n}) {
       if (std::isfinite(f)) y_max = std::max(y_max, f / capacity);
     }
   }
   y_max = std::min(3.0, std::ceil(1.1 * y_max * 4.0) / 4.0);
-  sim::WriteFileAtomic(o.out_dir + "/pulloff.gp",
-                       "# cd into this folder and run: gnuplot pulloff.gp\n" +
-                           Script(o, "\"pulloff.csv\"", "\"pulloff.png\"", bonds, mujoco,
-                                  capacity, y_max));
+  sim::WriteFileAtomic(
+      o.out_dir + "/pulloff.gp",
+      "# cd into this folder and run: gnuplot pulloff.gp\n" +
+          Script(o, "\"pulloff.csv\"", "\"pulloff.png\"", bonds, mujoco, capacity, y_max));
   const std::string error = sim::RunGnuplot(
       Script(o, sim::GnuplotQuote(csv_path), "OUTPUT(0)", bonds, mujoco, capacity, y_max),
       {png_path});
 
   if (!o.quiet) {
-    std::printf("climbsim pulloff: %zu angles in %.2f s; sigma_T*A = %.4g N\n", rows.size(),
-                wall_s, capacity);
-    std::printf("%9s %11s %11s %8s %11s %11s %9s\n", "angle_deg", "bonds_n", "quasi_st_n",
-                "diff_%", "mujoco_n", "mj_closed_n", "diff_%");
+    std::printf("climbsim pulloff: %zu angles in %.2f s; sigma_T*A = %.4g N\n", rows.size(), wall_s,
+                capacity);
+    std::printf("%9s %11s %11s %8s %11s %11s %9s\n", "angle_deg", "bonds_n", "quasi_st_n", "diff_%",
+                "mujoco_n", "mj_closed_n", "diff_%");
     for (const Row& r : rows) {
       const double d1 = 100.0 * (r.bonds.force_n / r.quasi_static_n - 1.0);
       const double d2 = 100.0 * (r.mujoco.force_n / r.mujoco_closed_n - 1.0);
