@@ -139,8 +139,9 @@ TEST_P(MjcfContract, ActuatedJointsAreLimitedPositionServos) {
   EXPECT_EQ(m_->nu, actuated) << "no other actuators in a robot file";
 }
 
-// Passive ankle: two hinges with stiffness, damping and springref 0, not actuated, in the
-// pad body; site L_ankle at the joint centre.
+// Passive ankle: three hinges (pitch, roll, yaw: a compliant ball joint, as the seed's
+// spheres) with stiffness, damping and springref 0, not actuated, in the pad body; site
+// L_ankle at the joint centre.
 TEST_P(MjcfContract, AnklesArePassiveSprings) {
   for (const auto& leg : GetParam().legs) {
     const int pad_body = Id(mjOBJ_BODY, leg + "_pad");
@@ -148,7 +149,7 @@ TEST_P(MjcfContract, AnklesArePassiveSprings) {
     const int site = Id(mjOBJ_SITE, leg + "_ankle");
     ASSERT_GE(site, 0) << leg;
     EXPECT_EQ(m_->site_bodyid[site], pad_body) << leg;
-    for (const std::string suffix : {"_ankle_pitch", "_ankle_roll"}) {
+    for (const std::string suffix : {"_ankle_pitch", "_ankle_roll", "_ankle_yaw"}) {
       const int j = Id(mjOBJ_JOINT, leg + suffix);
       ASSERT_GE(j, 0) << leg + suffix;
       EXPECT_EQ(m_->jnt_type[j], mjJNT_HINGE);
@@ -175,7 +176,13 @@ TEST_P(MjcfContract, PadsAreFlatBoxesWithSoftFrictionalContact) {
     const int g = Id(mjOBJ_GEOM, leg + "_pad");
     ASSERT_GE(g, 0) << leg;
     EXPECT_EQ(m_->geom_bodyid[g], body);
-    EXPECT_EQ(m_->body_geomnum[body], 1) << "the pad body holds only the pad geom";
+    // The pad is the body's only colliding geom (the foot post is visual).
+    int colliding = 0;
+    for (int k = 0; k < m_->body_geomnum[body]; ++k) {
+      const int gk = m_->body_geomadr[body] + k;
+      colliding += m_->geom_contype[gk] != 0 || m_->geom_conaffinity[gk] != 0;
+    }
+    EXPECT_EQ(colliding, 1) << "the pad geom is the pad body's only colliding geom";
     EXPECT_EQ(m_->geom_type[g], mjGEOM_BOX);
     EXPECT_NEAR(2 * m_->geom_size[3 * g], spec.pad_side_m, 1e-9);
     EXPECT_NEAR(2 * m_->geom_size[3 * g + 1], spec.pad_side_m, 1e-9);

@@ -165,7 +165,9 @@ class MjcfHold : public testing::TestWithParam<HoldCase> {};
 // Servo strength: with only the stance legs of the gait attached (gecko trot pair LF+RH,
 // spider tripod L1+R2+L3; welds stand in for the adhesion) and the swing legs lifted by
 // 0.4 rad of hip pitch, the robot hangs on the wall, the ceiling and the 30 deg incline.
-// After 2 s no servo exceeds half its stall torque (README, "torque margin": >= 2), the
+// After 2 s no servo exceeds the share of its stall torque the README states ("torque
+// margin": 2 for the gecko, 1.7 for the spider on the wall, whose free ankle yaw leaves the
+// in-plane load to the hip-yaw servos), the
 // body has moved less than 15 mm (servo sag and the pitch-back about the stance pads'
 // passive ankles, README) and MuJoCo reports nothing.
 TEST_P(MjcfHold, StanceLegsHoldTheRobotWithinTorqueMargin) {
@@ -215,7 +217,7 @@ INSTANTIATE_TEST_SUITE_P(StanceSets, MjcfHold,
                          testing::Values(HoldCase{"gecko", "wall", kGeckoTrot, 0.5},
                                          HoldCase{"gecko", "ceiling", kGeckoTrot, 0.5},
                                          HoldCase{"gecko", "incline", kGeckoTrot, 0.5},
-                                         HoldCase{"spider", "wall", kSpiderTripod, 0.5},
+                                         HoldCase{"spider", "wall", kSpiderTripod, 0.6},
                                          HoldCase{"spider", "ceiling", kSpiderTripod, 0.5},
                                          HoldCase{"spider", "incline", kSpiderTripod, 0.5}),
                          [](const testing::TestParamInfo<HoldCase>& info) {
