@@ -3,6 +3,30 @@
 #include <cmath>
 
 namespace climbsim::sim {
+namespace {
+
+// Leg j supports leg i when j is in stance throughout i's swing (phase fractions; leg j
+// lags leg i by offset_j − offset_i): for a trot, the other diagonal pair.
+std::vector<std::vector<int>> SupportLegs(const std::vector<double>& offsets, double duty) {
+  const int n = static_cast<int>(offsets.size());
+  std::vector<std::vector<int>> support(n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (j == i) continue;
+      bool always = true;
+      for (int k = 0; k <= 40 && always; ++k) {
+        const double u_i = (1.0 - duty) * k / 40.0;  // i's swing: [0, 1 − D]
+        double u_j = u_i - (offsets[j] - offsets[i]);
+        u_j -= std::floor(u_j);
+        always = u_j >= 1.0 - duty - 1e-9 || u_j < 1e-9;
+      }
+      if (always) support[i].push_back(j);
+    }
+  }
+  return support;
+}
+
+}  // namespace
 
 CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& world)
     : params_(p) {
@@ -11,87 +35,149 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     throw ScenarioError(scenario, "cpg",
                         "the robot declares no legs (custom text climbsim_legs)");
   }
-  Eigen::MatrixXd bias;
-  double duty = 0.5;
   if (!p.phase_bias_rad.empty()) {
     if (static_cast<int>(p.phase_bias_rad.size()) != n) {
       throw ScenarioError(scenario, "cpg.phase_bias_rad",
                           "must be " + std::to_string(n) + " x " + std::to_string(n) +
                               " for this robot's legs");
     }
-    bias.resize(n, n);
+    bias_.resize(n, n);
     for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) bias(i, j) = p.phase_bias_rad[i][j];
+      for (int j = 0; j < n; ++j) bias_(i, j) = p.phase_bias_rad[i][j];
     }
     // Offsets consistent with the bias relative to leg 0 (φ_i0 = 2π(o_i − o_0)).
-    for (int i = 0; i < n; ++i) offsets_cycles_.push_back(bias(i, 0) / (2 * M_PI));
-    gait_name_ = "explicit";
+    for (int i = 0; i < n; ++i) offsets_cycles_.push_back(bias_(i, 0) / (2 * M_PI));
   } else if (!p.offsets_cycles.empty()) {
     if (static_cast<int>(p.offsets_cycles.size()) != n) {
       throw ScenarioError(scenario, "cpg.offsets_cycles",
                           "needs one offset per leg (" + std::to_string(n) + ")");
     }
     offsets_cycles_ = p.offsets_cycles;
-    bias = cpg::PhaseBiasFromOffsets(offsets_cycles_);
-    gait_name_ = "explicit";
+    bias_ = cpg::PhaseBiasFromOffsets(offsets_cycles_);
   } else {
-    gait_name_ = p.gait.empty() ? (n == 6 ? "tripod" : "trot") : p.gait;
+    params_.gait = p.gait.empty() ? (n == 6 ? "tripod" : "trot") : p.gait;
     try {
-      const cpg::Gait g = cpg::GaitPreset(gait_name_, n);
+      const cpg::Gait g = cpg::GaitPreset(params_.gait, n);
       offsets_cycles_ = g.offsets_cycles;
-      duty = g.duty_factor;
+      gait_duty_ = g.duty_factor;
     } catch (const std::invalid_argument& e) {
       throw ScenarioError(scenario, p.gait.empty() ? "cpg" : "cpg.gait", e.what());
     }
-    bias = cpg::PhaseBiasFromOffsets(offsets_cycles_);
+    bias_ = cpg::PhaseBiasFromOffsets(offsets_cycles_);
   }
-  shape_.duty_factor = p.duty_factor.value_or(duty);
-  for (int k = 0; k < 3; ++k) {
-    shape_.stride_rad[k] = p.stride_rad[k];
-    shape_.lift_rad[k] = p.lift_rad[k];
+  params_.duty_factor = p.duty_factor.value_or(gait_duty_);
+  const double duty = *params_.duty_factor;
+  support_ = SupportLegs(offsets_cycles_, duty);
+
+  // Shape: Hopf phases run at a uniform rate within stance and within swing, so they are
+  // shaped with duty ½ in phase space (their time duty comes from the two frequencies).
+  shape_.duty_factor = p.oscillator == "hopf" ? 0.5 : duty;
+  if (p.stride_m) {
+    shape_.stride_rad = {0, 0, 0};
+    shape_.lift_rad = {0, 0, 0};
+    // The table covers the stride, the swing and a margin into the surface for the press.
+    const double reach_x = 0.5 * *p.stride_m * std::max(1.0, p.amplitude) + 0.005;
+    ik_.emplace(world.model(), world.robot(), reach_x, p.press_m + 0.01, p.lift_m + 0.01);
+  } else {
+    if (params_.stride_rad.empty()) params_.stride_rad = {0.35, 0.0, 0.0};
+    if (params_.lift_rad.empty()) params_.lift_rad = {0.0, 0.5, 0.5};
+    for (int k = 0; k < 3; ++k) {
+      shape_.stride_rad[k] = params_.stride_rad[k];
+      shape_.lift_rad[k] = params_.lift_rad[k];
+    }
+  }
+
+  if (p.tegotae_sigma_rad_per_n_s > 0 && !scenario.adhesion) {
+    throw ScenarioError(scenario, "cpg.tegotae_sigma_rad_per_n_s",
+                        "needs the adhesion block: the pad loads come from it");
+  }
+  if (p.wait_for_support && !scenario.adhesion) {
+    throw ScenarioError(scenario, "cpg.wait_for_support",
+                        "needs the adhesion block: attachment comes from it");
   }
 
   const double dt = world.model()->opt.timestep;
   period_steps_ =
       p.control_period_s ? static_cast<int>(std::lround(*p.control_period_s / dt)) : 1;
   period_s_ = period_steps_ * dt;
-
-  phase_params_.frequency_hz = p.frequency_hz;
-  phase_params_.coupling_per_s = Eigen::MatrixXd::Constant(n, n, p.coupling_per_s);
-  phase_params_.coupling_per_s.diagonal().setZero();
-  phase_params_.phase_bias_rad = bias;
-  phase_params_.target_amplitude = Eigen::VectorXd::Constant(n, p.amplitude);
-  phase_params_.amplitude_rate_per_s = p.amplitude_rate_per_s;
-  phase_params_.stepper.type = p.stepper == "euler"   ? cpg::Stepper::kEuler
-                               : p.stepper == "dopri5" ? cpg::Stepper::kDopri5
-                                                       : cpg::Stepper::kRk4;
-  phase_params_.stepper.abs_tol = p.abs_tol;
-  phase_params_.stepper.rel_tol = p.rel_tol;
   try {
-    network_ = std::make_unique<cpg::PhaseNetwork>(phase_params_);
+    network_ = MakeNetwork();
   } catch (const std::invalid_argument& e) {
     throw ScenarioError(scenario, "cpg", e.what());
   }
   feedback_.assign(n, 0.0);
 }
 
-void CpgEffect::Reset(World& world, RunContext& ctx) {
-  const int n = network_->size();
-  // Start on the locked gait: θ_i = −2π·offset_i, so no transient of the phases.
-  Eigen::VectorXd theta(n), r(n);
-  for (int i = 0; i < n; ++i) {
-    theta[i] = std::fmod(-2 * M_PI * offsets_cycles_[i] + 4 * M_PI, 2 * M_PI);
-    r[i] = params_.start_amplitude;
+std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
+  const int n = static_cast<int>(offsets_cycles_.size());
+  cpg::StepperParams stepper;
+  stepper.type = params_.stepper == "euler"    ? cpg::Stepper::kEuler
+                 : params_.stepper == "dopri5" ? cpg::Stepper::kDopri5
+                                               : cpg::Stepper::kRk4;
+  stepper.abs_tol = params_.abs_tol;
+  stepper.rel_tol = params_.rel_tol;
+  Eigen::VectorXd theta(n);
+  // Start on the locked gait: θ_i = −2π·offset_i, so the phases have no transient.
+  for (int i = 0; i < n; ++i) theta[i] = std::fmod(-2 * M_PI * offsets_cycles_[i] + 4 * M_PI, 2 * M_PI);
+  if (params_.oscillator == "hopf") {
+    cpg::HopfNetworkParams h;
+    const cpg::HopfFrequencies f =
+        cpg::HopfFrequenciesForGait(params_.frequency_hz, *params_.duty_factor);
+    h.stance_frequency_hz = f.stance_frequency_hz;
+    h.swing_frequency_hz = f.swing_frequency_hz;
+    h.mu = params_.hopf.mu;
+    h.alpha_per_s = params_.hopf.alpha_per_s;
+    h.beta_per_s = params_.hopf.beta_per_s;
+    h.b = params_.hopf.switch_sharpness;
+    h.coupling_per_s = cpg::AllToAllCoupling(n, params_.coupling_per_s);
+    h.phase_bias_rad = bias_;
+    h.stepper = stepper;
+    auto net = std::make_unique<cpg::HopfNetwork>(h);
+    net->Reset(theta, Eigen::VectorXd::Constant(n, std::sqrt(params_.hopf.mu)));
+    return net;
   }
-  network_ = std::make_unique<cpg::PhaseNetwork>(phase_params_);
-  static_cast<cpg::PhaseNetwork*>(network_.get())->Reset(theta, r);
+  cpg::PhaseNetworkParams pp;
+  pp.frequency_hz = params_.frequency_hz;
+  pp.coupling_per_s = cpg::AllToAllCoupling(n, params_.coupling_per_s);
+  pp.phase_bias_rad = bias_;
+  pp.target_amplitude = Eigen::VectorXd::Constant(n, params_.amplitude);
+  pp.amplitude_rate_per_s = params_.amplitude_rate_per_s;
+  pp.stepper = stepper;
+  auto net = std::make_unique<cpg::PhaseNetwork>(pp);
+  net->Reset(theta, Eigen::VectorXd::Constant(n, params_.start_amplitude));
+  return net;
+}
+
+void CpgEffect::Reset(World& world, RunContext& ctx) {
+  network_ = MakeNetwork();  // fresh stepper state too (Dopri5's step size)
   WriteTargets(world, ctx);
 }
 
 void CpgEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
   WriteTargets(world, ctx);
+  Feedback(ctx);
   network_->Step(period_s_, feedback_);
+}
+
+void CpgEffect::Feedback(RunContext& ctx) {
+  const auto phase = network_->phase_rad();
+  const std::vector<LegSignals>& legs = *ctx.legs;
+  const double hold_rate = -2.0 * M_PI * params_.frequency_hz;
+  for (size_t i = 0; i < legs.size(); ++i) {
+    double f = 0.0;
+    if (params_.tegotae_sigma_rad_per_n_s > 0.0) {
+      // N_i: the load the pad carries along its normal (either sign when attached, the
+      // contact's compression when it only touches).
+      const double load = legs[i].attached ? std::abs(legs[i].normal_load_n) : legs[i].preload_n;
+      f += cpg::TegotaeFeedback(params_.tegotae_sigma_rad_per_n_s, load, phase[i]);
+    }
+    bool hold = legs[i].stance && (legs[i].hold_stance || ctx.hold_all_stance);
+    if (params_.wait_for_support && legs[i].stance && legs[i].progress > 0.9) {
+      for (int j : support_[i]) hold |= !legs[j].attached;
+    }
+    feedback_[i] = hold ? hold_rate : f;
+  }
 }
 
 void CpgEffect::WriteTargets(World& world, RunContext& ctx) {
@@ -105,16 +191,24 @@ void CpgEffect::WriteTargets(World& world, RunContext& ctx) {
     s.phase_rad = phase[i];
     s.stance = c.stance;
     s.progress = c.progress;
+    std::array<double, 3> q = c.joint_rad;
+    if (ik_) {
+      // Foot space: the stride moves the foot along the body axis, the lift along its normal.
+      const double dx = amp[i] * c.stride * 0.5 * *params_.stride_m;
+      const double dz = c.lift * params_.lift_m - params_.press_m;
+      q = ik_->Solve(static_cast<int>(i), dx, dz);
+    }
     for (int k = 0; k < 3; ++k) {
-      s.cpg_target_rad[k] = c.joint_rad[k];
-      ctrl[legs[i].actuator[k]] = c.joint_rad[k] + s.offset_rad[k];
+      s.cpg_target_rad[k] = q[k];
+      ctrl[legs[i].actuator[k]] = q[k] + s.offset_rad[k];
     }
   }
 }
 
 void CpgEffect::Summarise(const World&, nlohmann::json* summary) const {
-  (*summary)["cpg"] = {{"gait", gait_name_},
-                       {"duty_factor", shape_.duty_factor},
+  (*summary)["cpg"] = {{"oscillator", params_.oscillator},
+                       {"gait", params_.gait.empty() ? "explicit" : params_.gait},
+                       {"duty_factor", *params_.duty_factor},
                        {"frequency_hz", params_.frequency_hz}};
 }
 

@@ -67,7 +67,9 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
     effects_.push_back(std::make_unique<AdhesionEffect>(scenario_, *scenario_.adhesion, world_));
   }
   if (scenario_.cpg) {
-    effects_.push_back(std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_));
+    auto cpg = std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_);
+    scenario_.cpg = cpg->resolved();  // scenario.yaml shows the gait and defaults used
+    effects_.push_back(std::move(cpg));
   }
   std::vector<const Effect*> column_sources;
   for (const auto& e : effects_) column_sources.push_back(e.get());

@@ -52,8 +52,9 @@ TEST(Scenario, UnknownNestedKey) {
                     "robot: gecko\nscene: floor\nduration_s: 1\ncpg:\n  frequncy_hz: 2\n"),
             "nested.yaml:5:3: cpg.frequncy_hz: unknown key (known here: abs_tol, amplitude, "
             "amplitude_rate_per_s, control_period_s, coupling_per_s, duty_factor, "
-            "frequency_hz, gait, lift_rad, offsets_cycles, oscillator, phase_bias_rad, "
-            "rel_tol, start_amplitude, stepper, stride_rad)");
+            "frequency_hz, gait, hopf, lift_m, lift_rad, offsets_cycles, oscillator, "
+            "phase_bias_rad, press_m, rel_tol, start_amplitude, stepper, stride_m, stride_rad, "
+            "tegotae_sigma_rad_per_n_s, wait_for_support)");
 }
 
 TEST(Scenario, WrongType) {
