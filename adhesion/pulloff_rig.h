@@ -125,7 +125,9 @@ double MujocoPulloffClosedForm(double gain_n, double friction, double width_m, d
                                double angle_rad);
 
 // Compiles MJCF text through an in-memory file (no includes). Returns nullptr and fills
-// `error` on failure.
+// `error` on failure. MuJoCo's XML loader keeps process-wide state: calls are serialised
+// among themselves, but not against other loaders (sim::CompileMjcf has its own lock), so do
+// not compile from two modules on two threads at once.
 mjModel* CompileMjcfString(const std::string& xml, std::string* error);
 
 }  // namespace climbsim::adhesion

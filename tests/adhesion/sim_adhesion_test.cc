@@ -264,7 +264,7 @@ TEST(AdhesionSim, AddsOneInactiveWeldPerPad) {
   const mjModel* m = sim.world().model();
   for (int i = 0; i < 6; ++i) {
     EXPECT_EQ(m->eq_type[i], mjEQ_WELD);
-    EXPECT_EQ(m->eq_active[i], 0);
+    EXPECT_FALSE(adhesion::WeldActive(m, sim.world().data(), i));
     EXPECT_EQ(m->eq_solref[2 * i], 0.004);
     EXPECT_EQ(m->eq_solref[2 * i + 1], 0.9);
   }
