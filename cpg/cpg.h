@@ -127,7 +127,15 @@ class OscillatorNetwork {
   // (e.g. TegotaeFeedback). Never allocates, not even on the first call. Throws
   // std::invalid_argument only for a caller's mistake: dt_s negative or NaN, or a feedback
   // span of the wrong size. Numerical trouble goes to status().
-  virtual void Step(double dt_s, std::span<const double> feedback_rad_per_s) = 0;
+  virtual void Step(double dt_s, std::span<const double> feedback_rad_per_s,
+                    std::span<const uint8_t> held) = 0;
+  // held: empty, or one flag per oscillator; a held oscillator's state does not change over
+  // the step (its derivative is zero: phase, amplitude, coupling and all), while the others
+  // go on and still feel it through the coupling. A climber holds its welded stance legs
+  // this way while a leg waits. Same contract otherwise.
+  void Step(double dt_s, std::span<const double> feedback_rad_per_s) {
+    Step(dt_s, feedback_rad_per_s, {});
+  }
 
   // θ_i in [0, 2π), in the convention at the top of this file.
   virtual std::span<const double> phase_rad() const = 0;
@@ -190,7 +198,9 @@ class PhaseNetwork final : public OscillatorNetwork {
   void Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd& amplitude);
 
   int size() const override { return n_; }
-  void Step(double dt_s, std::span<const double> feedback_rad_per_s) override;
+  using OscillatorNetwork::Step;
+  void Step(double dt_s, std::span<const double> feedback_rad_per_s,
+            std::span<const uint8_t> held) override;
   std::span<const double> phase_rad() const override;
   std::span<const double> phase_unwrapped_rad() const override { return unwrapped_rad_; }
   std::span<const double> amplitude() const override;
@@ -218,6 +228,7 @@ class PhaseNetwork final : public OscillatorNetwork {
   std::vector<double> sin_theta_;
   std::vector<double> cos_theta_;
   std::vector<double> feedback_rad_per_s_;
+  std::vector<uint8_t> held_;
   std::vector<double> theta_before_rad_;
   std::vector<double> unwrapped_rad_;
   internal::OdeintDriver driver_;
@@ -346,7 +357,9 @@ class HopfNetwork final : public OscillatorNetwork {
   void Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd& amplitude);
 
   int size() const override { return n_; }
-  void Step(double dt_s, std::span<const double> feedback_rad_per_s) override;
+  using OscillatorNetwork::Step;
+  void Step(double dt_s, std::span<const double> feedback_rad_per_s,
+            std::span<const uint8_t> held) override;
   std::span<const double> phase_rad() const override { return phase_rad_; }
   std::span<const double> phase_unwrapped_rad() const override { return unwrapped_rad_; }
   // r_i/sqrt(μ): 1 on the limit cycle.
@@ -396,6 +409,7 @@ class HopfNetwork final : public OscillatorNetwork {
   std::vector<double> scaled_cos_;
   std::vector<double> scaled_sin_;
   std::vector<double> feedback_rad_per_s_;
+  std::vector<uint8_t> held_;
   std::vector<double> phase_rad_;
   std::vector<double> amplitude_;
   std::vector<double> unwrapped_rad_;
@@ -428,10 +442,13 @@ double TegotaeFeedback(double sigma_rad_per_n_s, double normal_load_n, double th
 // stride_rad   per joint (hip yaw, hip pitch, knee), rad at stride = ±1 and amplitude 1.
 // lift_rad     per joint, rad at the top of the swing (lift = 1).
 // Zero joint angles = the neutral standing pose.
+// lift_share  a in [0, 0.5): 0 gives the smooth swing below; a > 0 a lift–move–place swing
+//             (climbers: a peeled foot must clear the surface before it moves).
 struct LegShape {
   double duty_factor = 0.5;
   std::array<double, 3> stride_rad{};
   std::array<double, 3> lift_rad{};
+  double lift_share = 0.0;
 };
 
 // stance:   θ in the stance part.
@@ -451,7 +468,11 @@ struct LegCommand {
 void ValidateLegShape(const LegShape& shape);
 
 // With s = 2π(1−D) the end of swing and θ wrapped into [0, 2π):
-//   swing,  p = θ/s:            stride = −cos(π·p)      lift = sin²(π·p)
+//   swing,  p = θ/s:            stride = −cos(π·p)      lift = sin²(π·p)      (lift_share 0)
+//   swing, lift–move–place (a = lift_share, r(u) = 3u² − 2u³ clamped to [0, 1]):
+//           lift = r(p/a)·r((1 − p)/a)       stride = 2·r((p − a)/(1 − 2a)) − 1
+//           the foot rises over p ∈ [0, a], moves over [a, 1 − a] at full lift, lands over
+//           [1 − a, 1]; stride and lift are continuous, with zero rate at every joint.
 //   stance, q = (θ − s)/(2πD):  stride = 1 − 2q         lift = 0
 // Stance is linear so that the foot moves at constant speed against the ground: every leg in
 // stance then pushes the body at the same speed, and attached pads do not fight each other

@@ -73,6 +73,7 @@ HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
       scaled_cos_(2 * n_),
       scaled_sin_(2 * n_),
       feedback_rad_per_s_(n_, 0.0),
+      held_(n_, 0),
       phase_rad_(n_),
       amplitude_(n_),
       unwrapped_rad_(n_),
@@ -132,6 +133,7 @@ void HopfNetwork::Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd&
     z[i] = radius * std::cos(theta_rad[i] - kPi);
     z[n_ + i] = radius * std::sin(theta_rad[i] - kPi);
     feedback_rad_per_s_[i] = 0.0;
+    held_[i] = 0;
   }
   UpdateOutputs(/*accumulate=*/false);
   for (int i = 0; i < n_; ++i) unwrapped_rad_[i] = phase_rad_[i];
@@ -207,8 +209,8 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
       dx += k * (target_x - x[i]);
       dy += k * (target_y - y[i]);
     }
-    dzdt[i] = dx;
-    dzdt[n_ + i] = dy;
+    dzdt[i] = held_[i] ? 0.0 : dx;
+    dzdt[n_ + i] = held_[i] ? 0.0 : dy;
   }
 }
 
@@ -224,12 +226,17 @@ void HopfNetwork::UpdateOutputs(bool accumulate) {
   }
 }
 
-void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s) {
+void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
+                     std::span<const uint8_t> held) {
   if (!(dt_s >= 0.0)) internal::Fail("HopfNetwork::Step: dt_s", ">= 0", dt_s);
   if (!feedback_rad_per_s.empty() && static_cast<int>(feedback_rad_per_s.size()) != n_) {
     internal::Fail("HopfNetwork::Step: feedback_rad_per_s must be empty or have " +
                    std::to_string(n_) + " entries, got " +
                    std::to_string(feedback_rad_per_s.size()));
+  }
+  if (!held.empty() && static_cast<int>(held.size()) != n_) {
+    internal::Fail("HopfNetwork::Step: held must be empty or have " + std::to_string(n_) +
+                   " entries, got " + std::to_string(held.size()));
   }
   if (dt_s == 0.0) return;
   bool feedback_changed = false;
@@ -238,6 +245,13 @@ void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s) 
     if (f != feedback_rad_per_s_[i]) {
       feedback_changed = true;
       feedback_rad_per_s_[i] = f;
+    }
+  }
+  for (int i = 0; i < n_; ++i) {
+    const uint8_t h = held.empty() ? 0 : held[i] != 0;
+    if (h != held_[i]) {
+      feedback_changed = true;
+      held_[i] = h;
     }
   }
   if (feedback_changed) driver_.InvalidateDerivative();

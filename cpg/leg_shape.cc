@@ -16,10 +16,23 @@ void CheckDutyFactor(double duty_factor) {
   }
 }
 
+void CheckLiftShare(double lift_share) {
+  if (!(lift_share >= 0.0 && lift_share < 0.5)) {
+    internal::Fail("LegShape.lift_share", "in [0, 0.5)", lift_share);
+  }
+}
+
+// 3u² − 2u³ on [0, 1], 0 below, 1 above.
+double SmoothStep(double u) {
+  u = std::fmin(1.0, std::fmax(0.0, u));
+  return u * u * (3.0 - 2.0 * u);
+}
+
 }  // namespace
 
 void ValidateLegShape(const LegShape& shape) {
   CheckDutyFactor(shape.duty_factor);
+  CheckLiftShare(shape.lift_share);
   for (int k = 0; k < 3; ++k) {
     internal::CheckFinite("LegShape.stride_rad[" + std::to_string(k) + "]", shape.stride_rad[k]);
     internal::CheckFinite("LegShape.lift_rad[" + std::to_string(k) + "]", shape.lift_rad[k]);
@@ -28,6 +41,7 @@ void ValidateLegShape(const LegShape& shape) {
 
 LegCommand ShapeLeg(const LegShape& shape, double theta_rad, double amplitude) {
   CheckDutyFactor(shape.duty_factor);
+  CheckLiftShare(shape.lift_share);
   internal::CheckFinite("ShapeLeg: theta_rad", theta_rad);
   const double theta = internal::WrapTwoPi(theta_rad);
   const double swing_end_rad = kTwoPi * (1.0 - shape.duty_factor);
@@ -37,8 +51,14 @@ LegCommand ShapeLeg(const LegShape& shape, double theta_rad, double amplitude) {
     const double s = std::sin(kPi * p);
     command.stance = false;
     command.progress = p;
-    command.stride = -std::cos(kPi * p);
-    command.lift = s * s;
+    if (shape.lift_share > 0.0) {
+      const double a = shape.lift_share;
+      command.stride = 2.0 * SmoothStep((p - a) / (1.0 - 2.0 * a)) - 1.0;
+      command.lift = SmoothStep(p / a) * SmoothStep((1.0 - p) / a);
+    } else {
+      command.stride = -std::cos(kPi * p);
+      command.lift = s * s;
+    }
   } else {
     // min: θ just below 2π can round q up to 1; progress stays in [0, 1).
     const double q =

@@ -122,6 +122,39 @@ TEST(CpgLegShape, JointTargetsEqualTheFormula) {
   }
 }
 
+// Lift–move–place: with a = 0.2 of the swing to rise and to land, the foot stays at the back
+// of its stride while it rises (p ≤ a), is fully lifted while it moves (a ≤ p ≤ 1 − a), and
+// is at the front while it lands; both curves are continuous through the swing.
+TEST(CpgLegShape, LiftMovePlaceSwingRisesBeforeItMoves) {
+  LegShape shape;
+  shape.duty_factor = 0.75;
+  shape.lift_share = 0.2;
+  const double swing_end = 2 * M_PI * 0.25;
+  double last_stride = -1.0, last_lift = 0.0;
+  for (int i = 0; i <= 1000; ++i) {
+    const double p = i / 1000.0;
+    const LegCommand c = ShapeLeg(shape, std::fmin(p, 0.999999) * swing_end, 1.0);
+    if (p <= 0.2) {
+      EXPECT_EQ(c.stride, -1.0) << p;
+    }
+    if (p >= 0.2 && p <= 0.8) {
+      EXPECT_EQ(c.lift, 1.0) << p;
+    }
+    if (p >= 0.8) {
+      EXPECT_NEAR(c.stride, 1.0, 1e-12) << p;
+    }
+    // Continuous: steps of 1/1000 of the swing move by at most 1.5/(1000·0.2) (r' ≤ 1.5).
+    EXPECT_LE(std::abs(c.stride - last_stride), 2 * 1.5 / (1000 * 0.6) + 1e-12) << p;
+    EXPECT_LE(std::abs(c.lift - last_lift), 1.5 / (1000 * 0.2) + 1e-12) << p;
+    last_stride = c.stride;
+    last_lift = c.lift;
+  }
+  EXPECT_NEAR(ShapeLeg(shape, 0.0, 1.0).lift, 0.0, 1e-15);
+  EXPECT_NEAR(ShapeLeg(shape, 0.1 * swing_end, 1.0).lift, 0.5, 1e-15);  // r(1/2) = 1/2
+  shape.lift_share = 0.5;
+  EXPECT_THROW(ShapeLeg(shape, 0.0, 1.0), std::invalid_argument);
+}
+
 TEST(CpgLegShape, BadShapeThrows) {
   EXPECT_THROW(ShapeLeg(Shape(0.0), 1.0, 1.0), std::invalid_argument);
   EXPECT_THROW(ShapeLeg(Shape(1.0), 1.0, 1.0), std::invalid_argument);

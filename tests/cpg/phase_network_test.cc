@@ -253,3 +253,39 @@ TEST(CpgPhaseNetwork, NonFiniteFeedbackIsReportedNotThrown) {
 
 }  // namespace
 }  // namespace climbsim::cpg
+
+namespace climbsim::cpg {
+namespace {
+
+// A held oscillator keeps its state exactly, phase and amplitude, while the others advance;
+// released, it goes on from where it was.
+TEST(CpgHold, HeldOscillatorsKeepTheirStateExactly) {
+  for (bool hopf : {false, true}) {
+    const Gait gait = GaitPreset("trot", 4);
+    std::unique_ptr<OscillatorNetwork> net;
+    if (hopf) {
+      net = std::make_unique<HopfNetwork>(HopfNetworkParamsForGait(gait, 1.0, 2.0));
+    } else {
+      net = std::make_unique<PhaseNetwork>(PhaseNetworkParamsForGait(gait, 1.0, 2.0));
+    }
+    for (int k = 0; k < 100; ++k) net->Step(1e-3, {});  // RK4 at 1 ms: Hopf's α = 50/s is stiff
+    const std::vector<double> before(net->phase_rad().begin(), net->phase_rad().end());
+    const std::vector<double> amp(net->amplitude().begin(), net->amplitude().end());
+    const std::vector<uint8_t> held = {1, 0, 1, 0};
+    for (int k = 0; k < 200; ++k) net->Step(1e-3, {}, held);
+    EXPECT_EQ(net->phase_rad()[0], before[0]) << hopf;
+    EXPECT_EQ(net->phase_rad()[2], before[2]) << hopf;
+    EXPECT_EQ(net->amplitude()[0], amp[0]) << hopf;
+    // The free ones went on: 0.2 s at about 2π rad/s.
+    const double moved = std::remainder(net->phase_rad()[1] - before[1], 2 * M_PI);
+    EXPECT_GT(moved, 0.5) << hopf;
+    net->Step(1e-3, {});
+    EXPECT_NE(net->phase_rad()[0], before[0]) << hopf;
+  }
+  PhaseNetwork p(PhaseNetworkParamsForGait(GaitPreset("trot", 4), 1.0, 2.0));
+  const std::vector<uint8_t> wrong = {1, 0};
+  EXPECT_THROW(p.Step(1e-3, {}, wrong), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace climbsim::cpg
