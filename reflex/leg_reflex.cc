@@ -10,18 +10,12 @@
 namespace climbsim::reflex {
 namespace {
 
+using internal::CheckFinite;
 using internal::CheckNonNegative;
 using internal::CheckPositive;
 using internal::CheckRange;
 using internal::DurationToSamples;
 using internal::FieldPath;
-
-// b(u) = sin²(π·u) on [0, 1], 0 outside: zero value and zero slope at both ends.
-double Bump(double u) {
-  if (u <= 0.0 || u >= 1.0) return 0.0;
-  const double s = std::sin(std::numbers::pi * u);
-  return s * s;
-}
 
 double Sanitize(double x, int64_t* count) {
   if (std::isfinite(x)) return x;
@@ -73,12 +67,12 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
 
   // Peel.
   const std::string peel = FieldPath(name, "peel");
-  CheckNonNegative(FieldPath(peel, "knee_lift_rad"), params.peel.knee_lift_rad);
+  CheckFinite(FieldPath(peel, "hip_yaw_rad"), params.peel.hip_yaw_rad);
   CheckNonNegative(FieldPath(peel, "hip_pitch_lift_rad"), params.peel.hip_pitch_lift_rad);
-  CheckRange(FieldPath(peel, "swing_fraction"), params.peel.swing_fraction, 0.0, 1.0, true);
-  CheckRange(FieldPath(peel, "knee_end_fraction"), params.peel.knee_end_fraction, 0.0, 1.0, true);
-  CheckRange(FieldPath(peel, "hip_pitch_start_fraction"), params.peel.hip_pitch_start_fraction, 0.0,
-             1.0, false, true);
+  CheckNonNegative(FieldPath(peel, "knee_lift_rad"), params.peel.knee_lift_rad);
+  CheckPositive(FieldPath(peel, "ramp_s"), params.peel.ramp_s);
+  DurationToSamples(FieldPath(peel, "max_duration_s"), params.peel.max_duration_s, dt_s, true);
+  DurationToSamples(FieldPath(peel, "release_s"), params.peel.release_s, dt_s, false);
 
   // Re-grip.
   DurationToSamples(FieldPath(FieldPath(name, "regrip"), "hold_others_s"),
@@ -111,6 +105,8 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
       search_attempt_samples_(DurationToSamples("", params.search.attempt_duration_s, dt_s, true)),
       search_release_samples_(DurationToSamples("", params.search.release_s, dt_s, false)),
       regrip_samples_(DurationToSamples("", params.regrip.hold_others_s, dt_s, false)),
+      peel_max_samples_(DurationToSamples("", params.peel.max_duration_s, dt_s, true)),
+      peel_release_samples_(DurationToSamples("", params.peel.release_s, dt_s, false)),
       hold_gto_(params.gto.hold, dt_s),
       press_gto_(params.gto.press, dt_s),
       spindles_{SpindleReflex(params.spindle.joints[0], dt_s),
@@ -132,7 +128,7 @@ LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
   // Sensing, with non-finite values replaced by 0 and counted.
   int64_t* bad = &st.nonfinite_inputs;
   const bool stance = sensing.stance;
-  const double progress = std::clamp(Sanitize(sensing.phase_progress, bad), 0.0, 1.0);
+  Sanitize(sensing.phase_progress, bad);  // counted like every input; the peel runs on time
   const double bonded = std::clamp(Sanitize(sensing.bonded_fraction, bad), 0.0, 1.0);
   const double normal_load_n = Sanitize(sensing.normal_load_n, bad);
   const double preload_n = Sanitize(sensing.preload_n, bad);
@@ -178,10 +174,11 @@ LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
     }
     if (p.peel.enabled && sensing.attached) {
       st.peeling = true;
+      st.peel_samples = 0;
+      st.peel_release_left = 0;
       Emit(&out, LegEventType::kPeel);
     }
   }
-  if (stance) st.peeling = false;
 
   // Preload limits, from the period after the start on.
   if (st.preloading) {
@@ -277,17 +274,36 @@ LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
     }
   }
 
-  // Peel: knee bump first, hip pitch bump second, over the first part of the swing.
+  // Peel: pull back and lift with a smooth step while the pad holds, the phase held; then
+  // fade out. A stance (the CPG went on regardless) ends it too.
   if (st.peeling) {
-    const double s = progress / p.peel.swing_fraction;
-    if (s >= 1.0) {
-      st.peeling = false;
-    } else {
-      const double hip_start = p.peel.hip_pitch_start_fraction;
-      offset[kKnee] += p.peel.knee_lift_rad * Bump(s / p.peel.knee_end_fraction);
-      offset[kHipPitch] += p.peel.hip_pitch_lift_rad * Bump((s - hip_start) / (1.0 - hip_start));
-      Fire(&out, Reflex::kPeel);
+    const double u = std::min(1.0, st.peel_samples * dt_s_ / p.peel.ramp_s);
+    const double r = u * u * (3.0 - 2.0 * u);
+    const Eigen::Vector3d peel(p.peel.hip_yaw_rad * r, p.peel.hip_pitch_lift_rad * r,
+                               p.peel.knee_lift_rad * r);
+    LegEventReason reason = LegEventReason::kNone;
+    if (!sensing.attached || stance) {
+      reason = LegEventReason::kDetached;
+    } else if (st.peel_samples >= peel_max_samples_) {
+      reason = LegEventReason::kTimeLimit;
     }
+    if (reason == LegEventReason::kNone) {
+      offset += peel;
+      out.hold_phase = true;
+      ++st.peel_samples;
+    } else {
+      st.peeling = false;
+      st.peel_offset_rad = peel;
+      st.peel_release_left = peel_release_samples_;
+      Emit(&out, LegEventType::kPeelEnd, reason);
+    }
+    Fire(&out, Reflex::kPeel);
+  }
+  if (!st.peeling && st.peel_release_left > 0) {
+    offset += st.peel_offset_rad * (static_cast<double>(st.peel_release_left) /
+                                    (peel_release_samples_ + 1));
+    --st.peel_release_left;
+    Fire(&out, Reflex::kPeel);
   }
 
   // GTO: a loaded leg (or one whose partner has no grip) holds stance and presses; a pad
@@ -355,6 +371,8 @@ std::string_view EventName(LegEventType type) {
       return "search_end";
     case LegEventType::kPeel:
       return "peel";
+    case LegEventType::kPeelEnd:
+      return "peel_end";
     case LegEventType::kRegrip:
       return "regrip";
     case LegEventType::kGtoHold:
@@ -389,6 +407,8 @@ std::string_view ReasonName(LegEventReason reason) {
       return "load";
     case LegEventReason::kPartnerDetached:
       return "partner_detached";
+    case LegEventReason::kDetached:
+      return "detached";
   }
   return "unknown";
 }

@@ -217,25 +217,27 @@ struct SearchParams {
   double release_s = 0.1;            // fade of the held offset, >= 0 (0: at once)
 };
 
-// Peel at swing onset while still attached. With s = swing progress / swing_fraction ∈ [0, 1],
-// h = hip_pitch_start_fraction and the bump b(u) = sin²(π·u) for u ∈ [0, 1], 0 outside:
-//   knee      = +knee_lift_rad·b(s / knee_end_fraction)
-//   hip_pitch = +hip_pitch_lift_rad·b((s − h) / (1 − h))
-// The knee leads: flexing it first tilts the pad, lifting its heel (trailing, proximal edge)
-// while the toe edge still holds, so the pad carries a peeling moment M. Over a bonded b×h pad
-// the edge stress is F/(b·h) + 6·M/(b·h²) (DESIGN.md §3), so the edge row breaks and a crack
-// runs across the pad at a load far below the normal pull-off σ_T·b·h (Kendall 1975); the
-// gecko does the same by hyperextending its toes (Tian et al. 2006). Hip pitch then lifts the
-// leg once most bonds are gone. Each bump starts and ends at zero offset and zero rate, so the
-// hand-over to the CPG's swing is smooth. Which pad edge a knee flexion lifts first depends on
-// the robot's geometry (mjcf/): the sim checks it, this module only schedules.
+// Peel at swing onset while still attached. The leg's phase is held at the start of its
+// swing (hold_phase) while the pad holds, and the offsets rise with the smooth step
+// r(t) = 3u² − 2u³, u = min(1, t / ramp_s), t the time since swing onset:
+//   hip_yaw = hip_yaw_rad·r    hip_pitch = +hip_pitch_lift_rad·r    knee = +knee_lift_rad·r
+// A negative hip yaw draws the foot back, so the pad is pulled nearly along the surface from
+// the top of its ankle post: the pull puts a moment on the pad that lifts its front (toe)
+// edge first, the way a gecko peels its toes from the tips (Tian et al. 2006; Autumn et al.
+// 2006 find the release at a critical angle). Over a bonded b×h pad the edge stress is
+// F/(b·h) + 6·M/(b·h²) (DESIGN.md §3), so the edge row breaks and the crack runs across the
+// pad at a pull far below the normal pull-off σ_T·b·h (Kendall 1975; `climbsim pulloff`
+// with --arm-m shows it). The peel ends when the pad lets go (peel_end, detached) or after
+// max_duration_s (peel_end, time_limit); the offsets then fade to zero over release_s while
+// the swing goes on. Which edge a pull lifts depends on the robot (mjcf/README.md, "Feet").
 struct PeelParams {
   bool enabled = true;
-  double knee_lift_rad = 0.25;            // peak knee flexion, >= 0
-  double hip_pitch_lift_rad = 0.15;       // peak hip pitch lift, >= 0
-  double swing_fraction = 0.3;            // share of the swing the schedule spans, in (0, 1]
-  double knee_end_fraction = 0.6;         // knee bump over s ∈ [0, this], in (0, 1]
-  double hip_pitch_start_fraction = 0.4;  // hip bump over s ∈ [this, 1], in [0, 1)
+  double hip_yaw_rad = -0.2;         // signed: negative draws the foot back, the pull that peels
+  double hip_pitch_lift_rad = 0.05;  // lift at full peel, >= 0
+  double knee_lift_rad = 0.05;       // knee flexion at full peel, >= 0
+  double ramp_s = 0.2;               // time to full peel (smooth step), > 0
+  double max_duration_s = 0.6;       // give up (peel_end, time_limit), >= one control period
+  double release_s = 0.1;            // fade of the offsets once the peel ends, >= 0
 };
 
 // Re-grip: a pad that loses bonds during stance while it was attached (it should be holding)
@@ -307,7 +309,8 @@ enum class LegEventType : uint8_t {
   kPreloadEnd,
   kSearchStart,
   kSearchEnd,
-  kPeel,
+  kPeel,     // a peel starts: swing onset with the pad attached
+  kPeelEnd,  // it ends: the pad let go (detached) or time ran out (time_limit)
   kRegrip,
   kGtoHold,  // onset of GTO stance holding
   kSpindle,  // onset of spindle activity on any joint
@@ -319,12 +322,13 @@ enum class LegEventReason : uint8_t {
   kRegrip,             // preload_start: started by a re-grip
   kAttached,           // preload_end: the pad attached during the preload
   kForceLimit,         // preload_end: preload_n reached force_limit_n
-  kTimeLimit,          // preload_end: max_duration_s elapsed
+  kTimeLimit,          // preload_end/peel_end: max_duration_s elapsed
   kSwingStarted,       // preload_end/search_end: the CPG left stance anyway
   kFound,              // search_end: the pad touched (or attached)
   kAttemptsExhausted,  // search_end: max_attempts done without touching
   kLoad,               // gto_hold: the delayed load is above threshold
   kPartnerDetached,    // gto_hold: the partner is not attached (and the leg is not loaded)
+  kDetached,           // peel_end: the pad let go
 };
 
 enum class Reflex : uint8_t { kPreload, kSearch, kPeel, kRegrip, kGtoHold, kGtoPress, kSpindle };
@@ -342,7 +346,7 @@ struct LegEvent {
 };
 
 // Each event type occurs at most once per Update, so 8 slots always suffice.
-inline constexpr int kMaxLegEvents = 8;
+inline constexpr int kMaxLegEvents = 9;
 
 // This period's events, in the order: preload_end, search_end, peel, search_start, regrip,
 // preload_start, gto_hold, spindle.
@@ -358,6 +362,7 @@ struct LegEvents {
 struct LegReflexOutput {
   Eigen::Vector3d target_offset_rad = Eigen::Vector3d::Zero();  // add to the CPG's targets
   bool hold_stance = false;  // only ever true in stance: do not let this leg leave stance yet
+  bool hold_phase = false;   // hold this leg's phase where it is (a peel that has not let go)
   bool hold_others = false;  // re-grip: the other legs should stay in stance
   uint32_t fired = 0;        // bit (1 << Reflex) for each reflex that acted this period
   LegEvents events;
@@ -378,12 +383,16 @@ struct LegReflexState {
   bool search_holding = false;
   int search_release_left = 0;
   bool peeling = false;
+  int peel_samples = 0;                              // periods since the swing onset
+  Eigen::Vector3d peel_offset_rad = Eigen::Vector3d::Zero();  // when the peel ended
+  int peel_release_left = 0;
   int regrip_left = 0;  // periods of hold_others left
   bool gto_holding = false;
   bool spindle_active = false;
-  // The last period's sensing; the first Update behaves as if the leg had been in swing, in
-  // the air, detached.
-  bool prev_stance = false;
+  // The last period's sensing; the first Update behaves as if the leg had been in stance, in
+  // the air, detached: a leg that starts in swing with its pad attached (a robot placed on a
+  // wall) peels it like any other swing onset.
+  bool prev_stance = true;
   bool prev_touching = false;
   bool prev_attached = false;
   int64_t nonfinite_inputs = 0;  // non-finite sensing values replaced by 0
@@ -402,7 +411,8 @@ struct LegReflexState {
 //            | ¬attached                       | hold_stance          | (found), N attempts
 //            |                                 |                      | (attempts_exhausted),
 //            |                                 |                      | swing (swing_started)
-//  peel      | stance → swing ∧ attached       | knee, then hip lift  | s >= 1, or stance
+//  peel      | stance → swing ∧ attached       | pull back and lift,  | detached (detached),
+//            |                                 | hold_phase           | max time (time_limit)
 //  regrip    | stance ∧ bonds_lost ∧ attached  | preload (regrip),    | hold_others_s elapsed
 //            | last period                     | hold_others          |
 //  gto hold  | stance ∧ (delayed load > F0 ∨   | hold_stance, press   | unloaded ∧ partner
@@ -436,6 +446,8 @@ class LegReflex {
   int search_attempt_samples_;
   int search_release_samples_;
   int regrip_samples_;
+  int peel_max_samples_;
+  int peel_release_samples_;
   GtoReflex hold_gto_;
   GtoReflex press_gto_;
   std::array<SpindleReflex, kLegJoints> spindles_;

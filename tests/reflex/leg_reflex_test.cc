@@ -253,53 +253,67 @@ TEST(ReflexSearch, SilentWhenTouchingAtStanceOnsetOrSwitchedOff) {
 LegReflexParams PeelOnly() {
   LegReflexParams p = AllOff();
   p.peel.enabled = true;
-  p.peel.knee_lift_rad = 0.25;
-  p.peel.hip_pitch_lift_rad = 0.15;
-  p.peel.swing_fraction = 0.5;
-  p.peel.knee_end_fraction = 0.6;
-  p.peel.hip_pitch_start_fraction = 0.4;
+  p.peel.hip_yaw_rad = -0.2;
+  p.peel.hip_pitch_lift_rad = 0.05;
+  p.peel.knee_lift_rad = 0.04;
+  p.peel.ramp_s = 0.05;          // 5 periods of kDt
+  p.peel.max_duration_s = 0.2;   // 20 periods
+  p.peel.release_s = 0.03;       // 3 periods
   return p;
 }
 
-// Swing onset while attached: one peel event; the knee bump peaks at s = 0.3 while the hip is
-// still; the hip bump peaks at s = 0.7 once the knee is back; nothing from s = 1 on.
-TEST(ReflexPeel, SwingOnsetWhileAttachedLiftsKneeFirstThenHip) {
+// r(u) = 3u² − 2u³, u = periods since onset · kDt / ramp_s.
+double SmoothStep(int periods) {
+  const double u = std::min(1.0, periods * kDt / 0.05);
+  return u * u * (3.0 - 2.0 * u);
+}
+
+// Swing onset while attached: one peel event; the phase is held and the foot is drawn back
+// and lifted along the smooth step, exactly, until the ramp is done.
+TEST(ReflexPeel, SwingOnsetWhileAttachedPullsBackAlongASmoothStepAndHoldsThePhase) {
   LegReflex leg(PeelOnly(), kDt);
   Recorder rec(&leg);
-  rec.Repeat(Attached(Stance()), 3);                              // #0..#2
-  const LegReflexOutput& onset = rec.Step(Attached(Swing(0.0)));  // #3
-  EXPECT_EQ(onset.target_offset_rad, Eigen::Vector3d::Zero());    // b(0) = 0
-  EXPECT_TRUE(onset.Fired(Reflex::kPeel));
-  const LegReflexOutput& knee_peak = rec.Step(Attached(Swing(0.15)));  // s = 0.3
-  EXPECT_NEAR(knee_peak.target_offset_rad[kKnee], 0.25, 1e-15);
-  EXPECT_EQ(knee_peak.target_offset_rad[kHipPitch], 0.0);
-  EXPECT_EQ(knee_peak.target_offset_rad[kHipYaw], 0.0);
-  const LegReflexOutput& hip_peak = rec.Step(Swing(0.35));  // s = 0.7, detached by now
-  EXPECT_EQ(hip_peak.target_offset_rad[kKnee], 0.0);
-  EXPECT_NEAR(hip_peak.target_offset_rad[kHipPitch], 0.15, 1e-15);
-  const LegReflexOutput& done = rec.Step(Swing(0.5));  // s = 1
-  EXPECT_EQ(done.target_offset_rad, Eigen::Vector3d::Zero());
-  EXPECT_FALSE(done.Fired(Reflex::kPeel));
-  rec.Step(Swing(0.2));  // later samples stay silent
-  EXPECT_EQ(rec.output(rec.updates() - 1).target_offset_rad, Eigen::Vector3d::Zero());
+  rec.Repeat(Attached(Stance()), 3);  // #0..#2
+  for (int k = 0; k <= 8; ++k) {      // #3..#11, the phase held at the swing's start
+    const LegReflexOutput& out = rec.Step(Attached(Swing(0.0)));
+    const double r = SmoothStep(k);
+    EXPECT_TRUE(out.hold_phase) << k;
+    EXPECT_FALSE(out.hold_stance) << k;
+    EXPECT_TRUE(out.Fired(Reflex::kPeel)) << k;
+    EXPECT_NEAR(out.target_offset_rad[kHipYaw], -0.2 * r, 1e-15) << k;
+    EXPECT_NEAR(out.target_offset_rad[kHipPitch], 0.05 * r, 1e-15) << k;
+    EXPECT_NEAR(out.target_offset_rad[kKnee], 0.04 * r, 1e-15) << k;
+  }
   EXPECT_EQ(rec.events(), (Events{At(3, E::kPeel)}));
 }
 
-// Over a fine sweep of the swing, the knee moves before the hip and every offset is a lift.
-TEST(ReflexPeel, KneeLeadsHipOverTheSchedule) {
+// The pad lets go: peel_end (detached), the phase is free, the offsets fade linearly to zero
+// over release_s (3/4, 2/4, 1/4 of the last offset, then nothing).
+TEST(ReflexPeel, EndsWhenThePadLetsGoAndFadesOut) {
   LegReflex leg(PeelOnly(), kDt);
-  leg.Update(Attached(Stance()));
-  int first_knee = -1;
-  int first_hip = -1;
-  for (int i = 0; i <= 100; ++i) {
-    const LegReflexOutput out = leg.Update(Attached(Swing(i * 0.005)));
-    EXPECT_GE(out.target_offset_rad[kKnee], 0.0);
-    EXPECT_GE(out.target_offset_rad[kHipPitch], 0.0);
-    if (first_knee < 0 && out.target_offset_rad[kKnee] > 0.0) first_knee = i;
-    if (first_hip < 0 && out.target_offset_rad[kHipPitch] > 0.0) first_hip = i;
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 3);        // #0..#2
+  rec.Repeat(Attached(Swing(0.0)), 3);      // #3..#5: peel periods 0, 1, 2
+  const Eigen::Vector3d last = Eigen::Vector3d(-0.2, 0.05, 0.04) * SmoothStep(3);
+  for (int k = 3; k >= 0; --k) {            // #6..#9
+    const LegReflexOutput& out = rec.Step(Swing(0.05));
+    EXPECT_FALSE(out.hold_phase) << k;
+    const Eigen::Vector3d want = last * (k / 4.0);
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(out.target_offset_rad[j], want[j], 1e-15) << k;
   }
-  EXPECT_EQ(first_knee, 1);  // s = 0.01
-  EXPECT_EQ(first_hip, 41);  // s = 0.41, just after hip_pitch_start_fraction
+  EXPECT_EQ(rec.events(), (Events{At(3, E::kPeel), At(6, E::kPeelEnd, R::kDetached)}));
+}
+
+// A pad that will not let go: after max_duration_s the peel gives up and frees the phase.
+TEST(ReflexPeel, GivesUpAfterItsMaximumDuration) {
+  LegReflex leg(PeelOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 3);                           // #0..#2
+  const LegReflexOutput& held = rec.Repeat(Attached(Swing(0.0)), 20);  // #3..#22
+  EXPECT_TRUE(held.hold_phase);
+  const LegReflexOutput& gave_up = rec.Step(Attached(Swing(0.0)));     // #23: 20 periods
+  EXPECT_FALSE(gave_up.hold_phase);
+  EXPECT_EQ(rec.events(), (Events{At(3, E::kPeel), At(23, E::kPeelEnd, R::kTimeLimit)}));
 }
 
 TEST(ReflexPeel, SilentWhenDetachedAtSwingOnsetOrSwitchedOff) {
@@ -309,6 +323,7 @@ TEST(ReflexPeel, SilentWhenDetachedAtSwingOnsetOrSwitchedOff) {
     rec.Repeat(Touching(Stance()), 3);
     const LegReflexOutput& out = rec.Repeat(Swing(0.15), 3);
     EXPECT_TRUE(rec.events().empty());
+    EXPECT_FALSE(out.hold_phase);
     EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
   }
   {

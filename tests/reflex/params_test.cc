@@ -91,10 +91,10 @@ TEST(ReflexParams, LegReflexNamesTheFieldAndTheValue) {
   EXPECT_EQ(error([](auto& p) { p.search.attempt_duration_s = 0.0; }),
             "leg_reflex.search.attempt_duration_s must be at least one control period "
             "(dt_s = 0.002 s), got 0");
-  EXPECT_EQ(error([](auto& p) { p.peel.swing_fraction = 0.0; }),
-            "leg_reflex.peel.swing_fraction must be in (0, 1], got 0");
-  EXPECT_EQ(error([](auto& p) { p.peel.hip_pitch_start_fraction = 1.0; }),
-            "leg_reflex.peel.hip_pitch_start_fraction must be in [0, 1), got 1");
+  EXPECT_EQ(error([](auto& p) { p.peel.ramp_s = 0.0; }),
+            "leg_reflex.peel.ramp_s must be finite and > 0, got 0");
+  EXPECT_EQ(error([](auto& p) { p.peel.hip_yaw_rad = NAN; }),
+            "leg_reflex.peel.hip_yaw_rad must be finite, got nan");
   EXPECT_EQ(error([](auto& p) { p.peel.knee_lift_rad = INFINITY; }),
             "leg_reflex.peel.knee_lift_rad must be finite and >= 0, got inf");
   EXPECT_EQ(error([](auto& p) { p.regrip.hold_others_s = -0.2; }),
