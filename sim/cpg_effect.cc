@@ -72,6 +72,7 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
   // Shape: Hopf phases run at a uniform rate within stance and within swing, so they are
   // shaped with duty ½ in phase space (their time duty comes from the two frequencies).
   shape_.duty_factor = p.oscillator == "hopf" ? 0.5 : duty;
+  shape_.lift_share = p.lift_share;
   if (p.stride_m) {
     shape_.stride_rad = {0, 0, 0};
     shape_.lift_rad = {0, 0, 0};
@@ -106,6 +107,7 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     throw ScenarioError(scenario, "cpg", e.what());
   }
   feedback_.assign(n, 0.0);
+  held_.assign(n, 0);
 }
 
 std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
@@ -148,22 +150,41 @@ std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
   return net;
 }
 
-void CpgEffect::Reset(World& world, RunContext& ctx) {
+void CpgEffect::InitialPose(World& world, RunContext& ctx) {
   network_ = MakeNetwork();  // fresh stepper state too (Dopri5's step size)
-  WriteTargets(world, ctx);
+  const auto& legs = world.robot().legs;
+  for (size_t i = 0; i < legs.size(); ++i) {
+    const std::array<double, 3> q = Targets(i, &(*ctx.legs)[i]);
+    for (int k = 0; k < 3; ++k) world.data()->qpos[legs[i].qpos_adr[k]] = q[k];
+  }
 }
+
+void CpgEffect::Reset(World& world, RunContext& ctx) { WriteTargets(world, ctx); }
 
 void CpgEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
   WriteTargets(world, ctx);
   Feedback(ctx);
-  network_->Step(period_s_, feedback_);
+  network_->Step(period_s_, feedback_, held_);
 }
 
 void CpgEffect::Feedback(RunContext& ctx) {
   const auto phase = network_->phase_rad();
   const std::vector<LegSignals>& legs = *ctx.legs;
-  const double hold_rate = -2.0 * M_PI * params_.frequency_hz;
+  // A leg waits at the very end of its stance (the last two ticks) for its support legs.
+  const double gate = 1.0 - 2.0 * params_.frequency_hz * period_s_ / *params_.duty_factor;
+  // Any hold pauses every stance leg, not only the one that asks: stance feet welded to a
+  // wall must keep moving together, or the legs that go on push against the one that waits.
+  // Legs in swing go on (their feet are free), so the legs being waited for can land.
+  bool hold = ctx.hold_all_stance;
+  for (size_t i = 0; i < legs.size() && !hold; ++i) {
+    hold = legs[i].hold_phase || (legs[i].stance && legs[i].hold_stance);
+    if (params_.wait_for_support && legs[i].stance && legs[i].progress >= gate) {
+      for (int j : support_[i]) {
+        hold |= !legs[j].attached || legs[j].bonded_fraction < params_.support_bond_fraction;
+      }
+    }
+  }
   for (size_t i = 0; i < legs.size(); ++i) {
     double f = 0.0;
     if (params_.tegotae_sigma_rad_per_n_s > 0.0) {
@@ -172,36 +193,36 @@ void CpgEffect::Feedback(RunContext& ctx) {
       const double load = legs[i].attached ? std::abs(legs[i].normal_load_n) : legs[i].preload_n;
       f += cpg::TegotaeFeedback(params_.tegotae_sigma_rad_per_n_s, load, phase[i]);
     }
-    bool hold = legs[i].stance && (legs[i].hold_stance || ctx.hold_all_stance);
-    if (params_.wait_for_support && legs[i].stance && legs[i].progress > 0.9) {
-      for (int j : support_[i]) hold |= !legs[j].attached;
-    }
-    feedback_[i] = hold ? hold_rate : f;
+    feedback_[i] = f;
+    held_[i] = legs[i].hold_phase || (hold && legs[i].stance);
   }
 }
 
+std::array<double, 3> CpgEffect::Targets(size_t i, LegSignals* s) const {
+  const double phase = network_->phase_rad()[i];
+  const double amp = network_->amplitude()[i];
+  const cpg::LegCommand c = cpg::ShapeLeg(shape_, phase, amp);
+  s->phase_rad = phase;
+  s->stance = c.stance;
+  s->progress = c.progress;
+  std::array<double, 3> q = c.joint_rad;
+  if (ik_) {
+    // Foot space: the stride moves the foot along the body axis, the lift along its normal.
+    const double dx = amp * c.stride * 0.5 * *params_.stride_m;
+    const double dz = c.lift * params_.lift_m - params_.press_m;
+    q = ik_->Solve(static_cast<int>(i), dx, dz);
+  }
+  s->cpg_target_rad = q;
+  return q;
+}
+
 void CpgEffect::WriteTargets(World& world, RunContext& ctx) {
-  const auto phase = network_->phase_rad();
-  const auto amp = network_->amplitude();
   const auto& legs = world.robot().legs;
   double* ctrl = world.data()->ctrl;
   for (size_t i = 0; i < legs.size(); ++i) {
-    const cpg::LegCommand c = cpg::ShapeLeg(shape_, phase[i], amp[i]);
     LegSignals& s = (*ctx.legs)[i];
-    s.phase_rad = phase[i];
-    s.stance = c.stance;
-    s.progress = c.progress;
-    std::array<double, 3> q = c.joint_rad;
-    if (ik_) {
-      // Foot space: the stride moves the foot along the body axis, the lift along its normal.
-      const double dx = amp[i] * c.stride * 0.5 * *params_.stride_m;
-      const double dz = c.lift * params_.lift_m - params_.press_m;
-      q = ik_->Solve(static_cast<int>(i), dx, dz);
-    }
-    for (int k = 0; k < 3; ++k) {
-      s.cpg_target_rad[k] = q[k];
-      ctrl[legs[i].actuator[k]] = q[k] + s.offset_rad[k];
-    }
+    const std::array<double, 3> q = Targets(i, &s);
+    for (int k = 0; k < 3; ++k) ctrl[legs[i].actuator[k]] = q[k] + s.offset_rad[k];
   }
 }
 

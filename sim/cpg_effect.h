@@ -4,10 +4,15 @@
 // sample-and-hold: at a tick the targets for the current phase are written to ctrl, then
 // the oscillators advance one period with this tick's feedback:
 //   Tegotae:  dθ_i/dt += −σ·N_i·cos θ_i (N_i: the pad's normal load, from the adhesion effect)
-//   hold:     dθ_i/dt += −2πf while leg i must stay in stance: a reflex asks for it
-//             (LegSignals::hold_stance, RunContext::hold_all_stance) or, with
-//             wait_for_support, the legs that carry the robot through i's swing are not all
-//             attached yet.
+//   hold:     the oscillator of every leg in stance is held (its state does not change) while
+//             any leg must wait: a reflex
+//             asks for it (LegSignals::hold_stance in stance, hold_phase,
+//             RunContext::hold_all_stance) or, with wait_for_support, a leg in the last two
+//             ticks of its stance waits for the legs that carry the robot through its swing
+//             to be attached. All stance legs pause because feet welded to a wall must keep
+//             moving together (a leg that stopped alone would push against the others);
+//             legs in swing go on, so the legs being waited for can land. A leg holding its
+//             phase (hold_phase, a peel) pauses in swing too.
 // Reflex offsets (LegSignals::offset_rad) are added to the targets.
 #ifndef CLIMBSIM_SIM_CPG_EFFECT_H_
 #define CLIMBSIM_SIM_CPG_EFFECT_H_
@@ -30,6 +35,9 @@ class CpgEffect final : public Effect {
   CpgEffect(const Scenario& scenario, const CpgParams& params, const World& world);
   const char* name() const override { return "cpg"; }
   bool has_before_step() const override { return true; }
+  // The legs start where the gait puts them at t = 0 (foot space, or joint space at the start
+  // amplitude): feet welded to a wall at the start then need not move against each other.
+  void InitialPose(World& world, RunContext& ctx) override;
   void Reset(World& world, RunContext& ctx) override;
   void BeforeStep(World& world, RunContext& ctx) override;
   void Summarise(const World& world, nlohmann::json* summary) const override;
@@ -44,6 +52,8 @@ class CpgEffect final : public Effect {
  private:
   std::unique_ptr<cpg::OscillatorNetwork> MakeNetwork() const;
   void WriteTargets(World& world, RunContext& ctx);
+  // This tick's targets of leg i (before reflex offsets); sets its LegSignals' CPG fields.
+  std::array<double, 3> Targets(size_t i, LegSignals* s) const;
   void Feedback(RunContext& ctx);
 
   CpgParams params_;
@@ -57,6 +67,7 @@ class CpgEffect final : public Effect {
   int period_steps_ = 1;
   double period_s_ = 0.0;
   std::vector<double> feedback_;  // rad/s per oscillator, sized once
+  std::vector<uint8_t> held_;     // oscillators held this tick
 };
 
 }  // namespace climbsim::sim

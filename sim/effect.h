@@ -32,7 +32,8 @@ struct LegSignals {
   double preload_n = 0.0;                  // compressive contact force on the pad
   bool bonds_lost = false;                 // lost bonds during this step
   // Reflexes → CPG.
-  bool hold_stance = false;
+  bool hold_stance = false;                // do not leave stance yet
+  bool hold_phase = false;                 // hold the phase where it is (a peel in progress)
 };
 
 struct RunContext {
@@ -52,7 +53,10 @@ class Effect {
   virtual bool has_before_step() const { return false; }
   virtual bool has_after_step() const { return false; }
 
-  // After mj_resetData, before the first step: set initial state (ctrl, welds).
+  // After mj_resetData, before any effect's Reset: place the robot (joint angles) in the
+  // pose the effect starts from; the Resets (welds of start-attached pads) see that pose.
+  virtual void InitialPose(World& world, RunContext& ctx) { (void)world, (void)ctx; }
+  // After every InitialPose, before the first step: set initial state (ctrl, welds).
   virtual void Reset(World& world, RunContext& ctx) { (void)world, (void)ctx; }
   virtual void BeforeStep(World& world, RunContext& ctx) { (void)world, (void)ctx; }
   virtual void AfterStep(World& world, RunContext& ctx) { (void)world, (void)ctx; }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "reflex/reflex.h"
 #include "sim/archive.h"
 
 namespace climbsim::sim {
@@ -52,9 +53,11 @@ struct CpgParams {
   std::optional<double> stride_m;  // foot space when given
   double lift_m = 0.015;
   double press_m = 0.0;
+  double lift_share = 0.0;
   HopfParams hopf;
   double tegotae_sigma_rad_per_n_s = 0.0;
   bool wait_for_support = false;
+  double support_bond_fraction = 0.95;
 
   template <class A>
   void Serialize(A* a) {
@@ -77,9 +80,11 @@ struct CpgParams {
     a->Visit({"stride_m", "m", "foot space: foot travel along the body axis per stance (feet follow straight lines through the legs' inverse kinematics)", Range::OpenClosed(0, 0.2)}, &stride_m);
     a->Visit({"lift_m", "m", "foot space: height of the swing above the surface", Range::Closed(0, 0.1)}, &lift_m);
     a->Visit({"press_m", "m", "foot space: how far stance feet are aimed into the surface (a preload through the servos)", Range::Closed(0, 0.02)}, &press_m);
+    a->Visit({"lift_share", "", "0: smooth swing (stride and lift together); a > 0: lift-move-place swing, rising over the first share a of the swing and landing over the last (climbers: a peeled foot must clear the surface before it moves)", Range{0, 0.5, false, true}}, &lift_share);
     a->Visit({"hopf", "", "Hopf oscillator options (oscillator: hopf)"}, &hopf);
     a->Visit({"tegotae_sigma_rad_per_n_s", "rad/(N s)", "Tegotae load feedback dtheta_i/dt += -sigma N_i cos(theta_i), N_i the pad's normal load; 0 = off (Owaki et al. 2013)", Range::NonNegative()}, &tegotae_sigma_rad_per_n_s);
-    a->Visit({"wait_for_support", "", "a leg does not start its swing until the legs that support the robot during that swing (the other diagonal in a trot) have their pads attached"}, &wait_for_support);
+    a->Visit({"wait_for_support", "", "a leg does not start its swing until the legs that support the robot during that swing (the other diagonal in a trot) have their pads attached and bonded"}, &wait_for_support);
+    a->Visit({"support_bond_fraction", "", "wait_for_support: the bonded fraction a support pad must have built", Range::Closed(0, 1)}, &support_bond_fraction);
   }
 
   void Validate(const Checker& c) const {
@@ -169,6 +174,120 @@ struct AdhesionParams {
       c.Fail("min_bonds", "must be <= grid_x * grid_y = " + std::to_string(grid_x * grid_y) +
                               ", got " + std::to_string(min_bonds));
     }
+  }
+};
+
+// The leg reflexes (reflex/README.md has the laws, defaults and papers). Each block is the
+// reflex module's own parameter struct with its keys: the defaults are the module's.
+struct PreloadKeys : reflex::PreloadParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "", "press a pad that touched down without attaching until it attaches or a limit is reached"}, &enabled);
+    a->Visit({"hip_pitch_press_rad", "rad", "press on hip pitch at full preload", Range::NonNegative()}, &hip_pitch_press_rad);
+    a->Visit({"knee_press_rad", "rad", "press on the knee at full preload", Range::NonNegative()}, &knee_press_rad);
+    a->Visit({"ramp_s", "s", "time to full press", Range::NonNegative()}, &ramp_s);
+    a->Visit({"force_limit_n", "N", "stop once the compressive preload reaches this", Range::Positive()}, &force_limit_n);
+    a->Visit({"max_duration_s", "s", "stop after this long", Range::Positive()}, &max_duration_s);
+  }
+};
+struct SearchKeys : reflex::SearchParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "", "a swing that ends without touching reaches further and places the foot again"}, &enabled);
+    a->Visit({"reach_yaw_rad", "rad", "forward reach on hip yaw at full search", Range::NonNegative()}, &reach_yaw_rad);
+    a->Visit({"reach_pitch_rad", "rad", "extension towards the surface on hip pitch", Range::NonNegative()}, &reach_pitch_rad);
+    a->Visit({"reach_knee_rad", "rad", "extension towards the surface on the knee", Range::NonNegative()}, &reach_knee_rad);
+    a->Visit({"lift_rad", "rad", "lift within each attempt", Range::NonNegative()}, &lift_rad);
+    a->Visit({"attempt_duration_s", "s", "one attempt", Range::Positive()}, &attempt_duration_s);
+    a->Visit({"max_attempts", "", "attempts before giving up", Range::Closed(1, 1000)}, &max_attempts);
+    a->Visit({"release_s", "s", "fade of the reach once found, after the next swing starts", Range::NonNegative()}, &release_s);
+  }
+};
+struct PeelKeys : reflex::PeelParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "", "at swing onset, draw an attached foot back and up until the pad peels, the leg's phase held"}, &enabled);
+    a->Visit({"hip_yaw_rad", "rad", "hip yaw at full peel (negative draws the foot back)"}, &hip_yaw_rad);
+    a->Visit({"hip_pitch_lift_rad", "rad", "hip pitch lift at full peel", Range::NonNegative()}, &hip_pitch_lift_rad);
+    a->Visit({"knee_lift_rad", "rad", "knee lift at full peel", Range::NonNegative()}, &knee_lift_rad);
+    a->Visit({"ramp_s", "s", "time to full peel (smooth step)", Range::Positive()}, &ramp_s);
+    a->Visit({"max_duration_s", "s", "give up after this long", Range::Positive()}, &max_duration_s);
+    a->Visit({"release_s", "s", "fade of the peel offsets after it ends", Range::NonNegative()}, &release_s);
+  }
+};
+struct RegripKeys : reflex::RegripParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "", "a pad that loses bonds during stance is pressed again and the other legs hold stance"}, &enabled);
+    a->Visit({"hold_others_s", "s", "how long the other legs hold stance", Range::NonNegative()}, &hold_others_s);
+  }
+};
+struct GtoKeys : reflex::GtoHoldParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "", "Golgi-tendon-organ-like load reflex: a loaded leg stays in stance and presses; a pad building its bond is pressed"}, &enabled);
+    a->Visit({"hold_gain_rad_per_n", "rad/N", "K_F of the stance-holding channel (pad adhesive load)", Range::NonNegative()}, &hold.gain);
+    a->Visit({"hold_threshold_n", "N", "F_0 of the stance-holding channel"}, &hold.threshold);
+    a->Visit({"hold_delay_s", "s", "transmission delay of the stance-holding channel", Range::NonNegative()}, &hold.delay_s);
+    a->Visit({"hold_max_offset_rad", "rad", "largest press of the stance-holding channel", Range::NonNegative()}, &hold_max_offset_rad);
+    a->Visit({"count_compression", "", "a leg pressed onto the surface counts as loaded too (floors)"}, &count_compression);
+    a->Visit({"press_gain_rad_per_n", "rad/N", "K_F of the channel that presses a pad building its bond (preload)", Range::NonNegative()}, &press.gain);
+    a->Visit({"press_threshold_n", "N", "F_0 of the pressing channel"}, &press.threshold);
+    a->Visit({"press_delay_s", "s", "transmission delay of the pressing channel", Range::NonNegative()}, &press.delay_s);
+    a->Visit({"press_max_offset_rad", "rad", "largest press of the pressing channel", Range::NonNegative()}, &press_max_offset_rad);
+    a->Visit({"full_bond_fraction", "", "a bond counts as built from this bonded fraction on", Range::OpenClosed(0, 1)}, &full_bond_fraction);
+    a->Visit({"require_partner_attached", "", "a leg also holds stance while the legs that support its swing are not attached"}, &require_partner_attached);
+  }
+};
+// One spindle law for the three joints of every leg.
+struct SpindleKeys {
+  bool enabled = true;
+  reflex::SpindleParams law;
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "", "muscle-spindle-like stretch reflex on each joint: u = K_L [stretch(t-D) - L_0]+ + K_V [rate(t-D) - V_0]+, against the stretch"}, &enabled);
+    a->Visit({"length_gain", "rad/rad", "K_L", Range::NonNegative()}, &law.length_gain);
+    a->Visit({"velocity_gain_s", "s", "K_V", Range::NonNegative()}, &law.velocity_gain_s);
+    a->Visit({"length_threshold_rad", "rad", "L_0", Range::NonNegative()}, &law.length_threshold_rad);
+    a->Visit({"velocity_threshold_rad_per_s", "rad/s", "V_0", Range::NonNegative()}, &law.velocity_threshold_rad_per_s);
+    a->Visit({"delay_s", "s", "transmission delay D", Range::NonNegative()}, &law.delay_s);
+  }
+};
+
+struct ReflexParams {
+  PreloadKeys preload;
+  SearchKeys search;
+  PeelKeys peel;
+  RegripKeys regrip;
+  GtoKeys gto;
+  SpindleKeys spindle;
+  double max_offset_rad = 0.4;
+  bool release_failed_peel = false;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"preload", "", "press on touchdown"}, &preload);
+    a->Visit({"search", "", "reach again when a swing finds no surface"}, &search);
+    a->Visit({"peel", "", "peel the pad at swing onset"}, &peel);
+    a->Visit({"regrip", "", "press again after an unexpected bond loss"}, &regrip);
+    a->Visit({"gto", "", "load reflexes"}, &gto);
+    a->Visit({"spindle", "", "stretch reflexes"}, &spindle);
+    a->Visit({"max_offset_rad", "rad", "the reflexes' summed offset per joint is clamped to this", Range::Positive()}, &max_offset_rad);
+    a->Visit({"release_failed_peel", "", "when a peel runs out of time, let the pad go (detach cause released), as a foot with an active release mechanism would"}, &release_failed_peel);
+  }
+
+  // The reflex module's parameters for one leg.
+  reflex::LegReflexParams Leg() const {
+    reflex::LegReflexParams p;
+    p.preload = preload;
+    p.search = search;
+    p.peel = peel;
+    p.regrip = regrip;
+    p.gto = gto;
+    p.spindle.enabled = spindle.enabled;
+    p.spindle.joints = {spindle.law, spindle.law, spindle.law};
+    p.max_offset_rad = max_offset_rad;
+    return p;
   }
 };
 

@@ -89,6 +89,7 @@ struct Scenario {
   PhysicsParams physics;
   InitialParams initial;
   std::optional<AdhesionParams> adhesion;
+  std::optional<ReflexParams> reflex;
   std::optional<CpgParams> cpg;
   OutputParams outputs;
   FallParams fall;
@@ -107,6 +108,7 @@ struct Scenario {
     a->Visit({"physics", "", "MuJoCo options"}, &physics);
     a->Visit({"initial", "", "initial pose"}, &initial);
     a->Visit({"adhesion", "", "effect: dry-adhesive pads (welds and bond grids, or MuJoCo's adhesion actuator); absent: pads are ordinary contacts"}, &adhesion);
+    a->Visit({"reflex", "", "effect: leg reflexes (preload, search, peel, re-grip, load, stretch) on top of the CPG; needs cpg"}, &reflex);
     a->Visit({"cpg", "", "effect: the central pattern generator driving the leg servos; absent: servos hold the neutral pose"}, &cpg);
     a->Visit({"outputs", "", "what is recorded"}, &outputs);
     a->Visit({"fall", "", "fall detection"}, &fall);

@@ -11,6 +11,7 @@
 
 #include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
+#include "sim/reflex_effect.h"
 #include "sim/trajectory.h"
 
 namespace climbsim::sim {
@@ -66,9 +67,31 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
   if (scenario_.adhesion) {
     effects_.push_back(std::make_unique<AdhesionEffect>(scenario_, *scenario_.adhesion, world_));
   }
+  // Events name the sticky pads first (the adhesion effect's indices), then any other leg pad
+  // (reflex events go to the leg's pad).
+  std::vector<std::string> pad_names;
+  AdhesionEffect* adhesion = FindAdhesion(effects_);
+  if (adhesion != nullptr) {
+    for (int i = 0; i < adhesion->pad_count(); ++i) pad_names.push_back(adhesion->pad_name(i));
+  }
+  std::vector<int> leg_event_pad;
+  for (const LegInfo& l : robot.legs) {
+    const std::string name = mj_id2name(world_.model(), mjOBJ_BODY, l.pad_body);
+    const auto it = std::find(pad_names.begin(), pad_names.end(), name);
+    leg_event_pad.push_back(static_cast<int>(it - pad_names.begin()));
+    if (it == pad_names.end()) pad_names.push_back(name);
+  }
+  if (scenario_.reflex && !scenario_.cpg) {
+    throw ScenarioError(scenario_, "reflex", "needs the cpg block: reflexes act on its gait");
+  }
   if (scenario_.cpg) {
     auto cpg = std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_);
     scenario_.cpg = cpg->resolved();  // scenario.yaml shows the gait and defaults used
+    if (scenario_.reflex) {
+      // Before the CPG: its offsets and holds act at the same control tick.
+      effects_.push_back(std::make_unique<ReflexEffect>(scenario_, *scenario_.reflex, world_,
+                                                        *cpg, adhesion, leg_event_pad));
+    }
     effects_.push_back(std::move(cpg));
   }
   std::vector<const Effect*> column_sources;
@@ -84,18 +107,9 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
     if (e->has_after_step()) after_.push_back(e.get());
   }
 
-  // Events name the sticky pads when there are any, else every leg's pad.
-  std::vector<std::string> pad_names;
-  if (const AdhesionEffect* adhesion = FindAdhesion(effects_)) {
-    for (int i = 0; i < adhesion->pad_count(); ++i) pad_names.push_back(adhesion->pad_name(i));
-  } else {
-    for (const LegInfo& l : robot.legs) {
-      pad_names.push_back(mj_id2name(world_.model(), mjOBJ_BODY, l.pad_body));
-    }
-  }
-  // Room for a few events per pad per stride at up to 10 strides a second.
+  // Room for a few adhesion and reflex events per pad per stride at up to 10 strides a second.
   const size_t capacity =
-      static_cast<size_t>(64 + 100.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size()));
+      static_cast<size_t>(64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size()));
   events_.Configure(std::move(pad_names), capacity);
 
   steps_total_ = std::lround(scenario_.duration_s / world_.model()->opt.timestep);
@@ -114,6 +128,8 @@ void Simulation::Reset() {
   ctx_.legs = &legs_;
   ctx_.events = &events_;
   result_ = RunResult{};
+  for (auto& e : effects_) e->InitialPose(world_, ctx_);
+  mj_kinematics(m, d);
   for (auto& e : effects_) e->Reset(world_, ctx_);
 
   for (int w = 0; w < mjNWARNING; ++w) warnings_seen_[w] = d->warning[w].number;

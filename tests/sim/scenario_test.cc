@@ -44,17 +44,14 @@ TEST(Scenario, MinimalFileLoadsWithDefaults) {
 TEST(Scenario, UnknownKeyNamesItsPlaceAndTheKnownKeys) {
   EXPECT_EQ(ErrorOf("unknown.yaml", "robot: gecko\nscene: floor\nduration_s: 1\ndurration: 2\n"),
             "unknown.yaml:4:1: durration: unknown key (known here: adhesion, cpg, duration_s, fall, "
-            "initial, optimise, outputs, physics, robot, scene, seed)");
+            "initial, optimise, outputs, physics, reflex, robot, scene, seed)");
 }
 
 TEST(Scenario, UnknownNestedKey) {
   EXPECT_EQ(ErrorOf("nested.yaml",
-                    "robot: gecko\nscene: floor\nduration_s: 1\ncpg:\n  frequncy_hz: 2\n"),
-            "nested.yaml:5:3: cpg.frequncy_hz: unknown key (known here: abs_tol, amplitude, "
-            "amplitude_rate_per_s, control_period_s, coupling_per_s, duty_factor, "
-            "frequency_hz, gait, hopf, lift_m, lift_rad, offsets_cycles, oscillator, "
-            "phase_bias_rad, press_m, rel_tol, start_amplitude, stepper, stride_m, stride_rad, "
-            "tegotae_sigma_rad_per_n_s, wait_for_support)");
+                    "robot: gecko\nscene: floor\nduration_s: 1\nphysics:\n  timestepp_s: 0.002\n"),
+            "nested.yaml:5:3: physics.timestepp_s: unknown key (known here: cone, impratio, "
+            "integrator, noslip_iterations, solver_iterations, solver_tolerance, timestep_s)");
 }
 
 TEST(Scenario, WrongType) {

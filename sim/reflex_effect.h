@@ -1,0 +1,49 @@
+// The reflex effect: one reflex::LegReflex per leg (reflex/), between the adhesion effect
+// and the CPG in the pipeline. At each control tick (the CPG's period) it reads each leg's
+// signals (the CPG's stance flag and progress of the last tick, the pad's state from the
+// adhesion effect, the joints' stretch from the CPG's targets and their velocity), and writes
+//   LegSignals::offset_rad     added by the CPG to its targets,
+//   LegSignals::hold_stance    the leg may not leave stance yet,
+//   LegSignals::hold_phase     the leg's phase is held (a peel that has not let go),
+//   RunContext::hold_all_stance  a re-grip asks every leg to stay in stance,
+// and one events.csv row per reflex event, on the leg's pad. With release_failed_peel, a
+// peel that runs out of time lets the pad go through the adhesion effect (cause released).
+#ifndef CLIMBSIM_SIM_REFLEX_EFFECT_H_
+#define CLIMBSIM_SIM_REFLEX_EFFECT_H_
+
+#include <vector>
+
+#include "reflex/reflex.h"
+#include "sim/adhesion_effect.h"
+#include "sim/cpg_effect.h"
+#include "sim/effect.h"
+#include "sim/effect_params.h"
+
+namespace climbsim::sim {
+
+class ReflexEffect final : public Effect {
+ public:
+  // `cpg` gives the control period and each leg's support legs; `adhesion` may be null (then
+  // no pad ever touches or attaches, and only the stretch and load laws act). `event_pad` is
+  // each leg's pad index in the EventLog. Throws InputError at the reflex key at fault.
+  ReflexEffect(const Scenario& scenario, const ReflexParams& params, const World& world,
+               const CpgEffect& cpg, AdhesionEffect* adhesion, std::vector<int> event_pad);
+  const char* name() const override { return "reflex"; }
+  bool has_before_step() const override { return true; }
+  void Reset(World& world, RunContext& ctx) override;
+  void BeforeStep(World& world, RunContext& ctx) override;
+  void Summarise(const World& world, nlohmann::json* summary) const override;
+
+ private:
+  ReflexParams params_;
+  AdhesionEffect* adhesion_;
+  std::vector<std::vector<int>> support_;
+  std::vector<int> event_pad_;
+  std::vector<reflex::LegReflex> legs_;
+  std::vector<std::array<long, 10>> counts_;  // per leg, per LegEventType
+  int period_steps_ = 1;
+};
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_SIM_REFLEX_EFFECT_H_
