@@ -247,7 +247,7 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
          static_cast<double>(r.broken) / grid_.size(), true);
   }
   if (r.detached) {
-    Detach(m, d, time_s, lost_since_attach_ > 0 ? kCausePeel : kCauseOverload, sink);
+    Detach(m, d, time_s, lost_since_attach_ > 0 || peeling_ ? kCausePeel : kCauseOverload, sink);
   }
   lost_since_attach_ += r.broken;
 }

@@ -52,7 +52,9 @@
 //   overload      the pad had lost no bond since it attached, and this step's cascade took
 //                 it from holding to fewer than min_bonds: all at once.
 //   peel          the step's cascade ended the pad after bonds had already broken in earlier
-//                 steps of this attachment (a bonds_lost event came first): progressive.
+//                 steps of this attachment (a bonds_lost event came first): progressive; or
+//                 the controller was peeling it (SetPeeling): a peel is meant, however fast
+//                 the crack runs.
 //   released      Release() was called (a controller lifting the leg); no cascade.
 //   contact_lost  kMujoco only: the pad lost every contact with the surfaces while on.
 // On detach the weld is switched off, the grid released and the pad geom collides again.
@@ -173,6 +175,8 @@ class StickyPad {
   // (start_attached, the pull-off rig). False if already attached.
   bool ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
                    const char* cause, bool* kinematics_current, PadEventSink* sink);
+  // The controller is peeling this pad (a detach while it is counts as "peel").
+  void SetPeeling(bool peeling) { peeling_ = peeling; }
   // Detaches with cause "released". False (and nothing happens) when not attached.
   bool Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
 
@@ -197,6 +201,7 @@ class StickyPad {
   double touchdown_angle_deg() const { return touchdown_angle_deg_; }
 
  private:
+  bool peeling_ = false;
   enum class Episode : uint8_t { kNone, kPending, kClosed };
 
   void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,

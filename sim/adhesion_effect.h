@@ -68,6 +68,12 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
 
   int pad_count() const { return system_->size(); }
   const std::string& pad_name(int pad) const { return system_->pad_name(pad); }
+  // Tells the pad of leg `leg` that its controller is peeling it: a detach meanwhile has cause
+  // "peel" (adhesion/sticky_pad.h). No-op for a leg without a sticky pad.
+  void SetPeelingLeg(int leg, bool peeling) {
+    const int pad = pad_of_leg(leg);
+    if (pad >= 0) system_->pad(pad).SetPeeling(peeling);
+  }
   // The pad of a leg, or −1; the leg of a pad, or −1.
   int pad_of_leg(int leg) const {
     return leg < 0 || leg >= static_cast<int>(pad_of_leg_.size()) ? -1 : pad_of_leg_[leg];

@@ -291,6 +291,23 @@ struct ReflexParams {
   }
 };
 
+// A push: a force F = impulse / duration on a body, applied at its centre of mass in the world
+// frame from time_s for duration_s.
+struct PushParams {
+  double time_s = 0.0;
+  std::string body = "base";
+  std::vector<double> impulse_ns{0.0, 0.0, 0.0};
+  double duration_s = 0.01;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"time_s", "s", "when the push starts", Range::NonNegative(), true}, &time_s);
+    a->Visit({"body", "", "the body pushed"}, &body);
+    a->Visit({"impulse_ns", "N s", "impulse in the world frame (x, y, z)", {}, true}, &impulse_ns, 3);
+    a->Visit({"duration_s", "s", "over how long the impulse is spread (rounded to whole steps)", Range::Positive()}, &duration_s);
+  }
+};
+
 }  // namespace climbsim::sim
 
 #endif  // CLIMBSIM_SIM_EFFECT_PARAMS_H_

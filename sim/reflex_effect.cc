@@ -75,6 +75,8 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     for (int k = 0; k < 3; ++k) s.offset_rad[k] = out.target_offset_rad[k];
     s.hold_stance = out.hold_stance;
     s.hold_phase = out.hold_phase;
+    // While the peel pulls (phase held), a let-go is the peel it meant.
+    if (adhesion_ != nullptr) adhesion_->SetPeelingLeg(static_cast<int>(i), out.hold_phase);
     hold_all |= out.hold_others;
 
     for (const reflex::LegEvent& e : out.events) {

@@ -91,6 +91,7 @@ struct Scenario {
   std::optional<AdhesionParams> adhesion;
   std::optional<ReflexParams> reflex;
   std::optional<CpgParams> cpg;
+  std::vector<PushParams> perturbations;
   OutputParams outputs;
   FallParams fall;
   std::optional<OptimiseParams> optimise;
@@ -110,6 +111,7 @@ struct Scenario {
     a->Visit({"adhesion", "", "effect: dry-adhesive pads (welds and bond grids, or MuJoCo's adhesion actuator); absent: pads are ordinary contacts"}, &adhesion);
     a->Visit({"reflex", "", "effect: leg reflexes (preload, search, peel, re-grip, load, stretch) on top of the CPG; needs cpg"}, &reflex);
     a->Visit({"cpg", "", "effect: the central pattern generator driving the leg servos; absent: servos hold the neutral pose"}, &cpg);
+    a->Visit({"perturbations", "", "effect: pushes on the robot (a list); empty: none"}, &perturbations);
     a->Visit({"outputs", "", "what is recorded"}, &outputs);
     a->Visit({"fall", "", "fall detection"}, &fall);
     a->Visit({"optimise", "", "what `climbsim optimise` tunes and how (docs/optimise.md); simulate ignores it but reports the objective"}, &optimise);

@@ -11,6 +11,7 @@
 
 #include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
+#include "sim/perturbation_effect.h"
 #include "sim/reflex_effect.h"
 #include "sim/trajectory.h"
 
@@ -93,6 +94,9 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
                                                         *cpg, adhesion, leg_event_pad));
     }
     effects_.push_back(std::move(cpg));
+  }
+  if (!scenario_.perturbations.empty()) {
+    effects_.push_back(std::make_unique<PerturbationEffect>(scenario_, world_));
   }
   std::vector<const Effect*> column_sources;
   for (const auto& e : effects_) column_sources.push_back(e.get());
