@@ -167,7 +167,9 @@ void AdhesionEffect::FillSignals() {
     // A welded pad does not collide: its compression is in the weld.
     const bool welded = p.attached() && p.params().model == adhesion::AdhesionModel::kBonds;
     s.preload_n = welded ? std::max(0.0, -p.load().fn_n) : p.sense().preload_n;
-    s.bonds_lost = p.bonds_lost_this_step();
+    // Latched until a controller reads it (the reflex effect clears it): a loss in this
+    // step's AfterStep must survive the next BeforeStep's refresh.
+    s.bonds_lost = s.bonds_lost || p.bonds_lost_this_step();
   }
 }
 

@@ -78,7 +78,8 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     shape_.lift_rad = {0, 0, 0};
     // The table covers the stride, the swing and a margin into the surface for the press.
     const double reach_x = 0.5 * *p.stride_m * std::max(1.0, p.amplitude) + 0.005;
-    ik_.emplace(world.model(), world.robot(), reach_x, p.press_m + 0.01, p.lift_m + 0.01);
+    ik_.emplace(world.model(), world.robot(), reach_x, p.press_m + 0.01,
+                p.crouch_m + p.lift_m + 0.01);
   } else {
     if (params_.stride_rad.empty()) params_.stride_rad = {0.35, 0.0, 0.0};
     if (params_.lift_rad.empty()) params_.lift_rad = {0.0, 0.5, 0.5};
@@ -153,6 +154,14 @@ std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
 void CpgEffect::InitialPose(World& world, RunContext& ctx) {
   network_ = MakeNetwork();  // fresh stepper state too (Dopri5's step size)
   const auto& legs = world.robot().legs;
+  if (ik_ && params_.crouch_m > 0.0) {
+    // Crouched feet reach the surface only if the body starts that much lower, along its
+    // own normal (the surface's at the spawn).
+    double* root = world.data()->qpos + world.robot().root_qpos_adr;
+    double mat[9];
+    mju_quat2Mat(mat, root + 3);
+    for (int k = 0; k < 3; ++k) root[k] -= params_.crouch_m * mat[3 * k + 2];
+  }
   for (size_t i = 0; i < legs.size(); ++i) {
     const std::array<double, 3> q = Targets(i, &(*ctx.legs)[i]);
     for (int k = 0; k < 3; ++k) world.data()->qpos[legs[i].qpos_adr[k]] = q[k];
@@ -176,10 +185,12 @@ void CpgEffect::Feedback(RunContext& ctx) {
   // Any hold pauses every stance leg, not only the one that asks: stance feet welded to a
   // wall must keep moving together, or the legs that go on push against the one that waits.
   // Legs in swing go on (their feet are free), so the legs being waited for can land.
+  // hold_stance ("do not leave stance yet") acts where the leg would leave: at the gate.
   bool hold = ctx.hold_all_stance;
   for (size_t i = 0; i < legs.size() && !hold; ++i) {
-    hold = legs[i].hold_phase || (legs[i].stance && legs[i].hold_stance);
-    if (params_.wait_for_support && legs[i].stance && legs[i].progress >= gate) {
+    const bool leaving = legs[i].stance && legs[i].progress >= gate;
+    hold = legs[i].hold_phase || (leaving && legs[i].hold_stance);
+    if (params_.wait_for_support && leaving) {
       for (int j : support_[i]) {
         hold |= !legs[j].attached || legs[j].bonded_fraction < params_.support_bond_fraction;
       }
@@ -209,7 +220,7 @@ std::array<double, 3> CpgEffect::Targets(size_t i, LegSignals* s) const {
   if (ik_) {
     // Foot space: the stride moves the foot along the body axis, the lift along its normal.
     const double dx = amp * c.stride * 0.5 * *params_.stride_m;
-    const double dz = c.lift * params_.lift_m - params_.press_m;
+    const double dz = params_.crouch_m + c.lift * params_.lift_m - params_.press_m;
     q = ik_->Solve(static_cast<int>(i), dx, dz);
   }
   s->cpg_target_rad = q;

@@ -30,7 +30,7 @@ struct LegSignals {
   double bonded_fraction = 0.0;
   double normal_load_n = 0.0;              // pad load along its normal, + pulls it off
   double preload_n = 0.0;                  // compressive contact force on the pad
-  bool bonds_lost = false;                 // lost bonds during this step
+  bool bonds_lost = false;                 // lost bonds since the reflexes last looked
   // Reflexes → CPG.
   bool hold_stance = false;                // do not leave stance yet
   bool hold_phase = false;                 // hold the phase where it is (a peel in progress)

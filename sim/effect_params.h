@@ -53,6 +53,7 @@ struct CpgParams {
   std::optional<double> stride_m;  // foot space when given
   double lift_m = 0.015;
   double press_m = 0.0;
+  double crouch_m = 0.0;
   double lift_share = 0.0;
   HopfParams hopf;
   double tegotae_sigma_rad_per_n_s = 0.0;
@@ -80,6 +81,7 @@ struct CpgParams {
     a->Visit({"stride_m", "m", "foot space: foot travel along the body axis per stance (feet follow straight lines through the legs' inverse kinematics)", Range::OpenClosed(0, 0.2)}, &stride_m);
     a->Visit({"lift_m", "m", "foot space: height of the swing above the surface", Range::Closed(0, 0.1)}, &lift_m);
     a->Visit({"press_m", "m", "foot space: how far stance feet are aimed into the surface (a preload through the servos)", Range::Closed(0, 0.02)}, &press_m);
+    a->Visit({"crouch_m", "m", "foot space: feet held this much closer to the body than in the neutral pose, so the body rides lower (a climber's centre of mass near the wall pulls its front pads off less)", Range::Closed(0, 0.03)}, &crouch_m);
     a->Visit({"lift_share", "", "0: smooth swing (stride and lift together); a > 0: lift-move-place swing, rising over the first share a of the swing and landing over the last (climbers: a peeled foot must clear the surface before it moves)", Range{0, 0.5, false, true}}, &lift_share);
     a->Visit({"hopf", "", "Hopf oscillator options (oscillator: hopf)"}, &hopf);
     a->Visit({"tegotae_sigma_rad_per_n_s", "rad/(N s)", "Tegotae load feedback dtheta_i/dt += -sigma N_i cos(theta_i), N_i the pad's normal load; 0 = off (Owaki et al. 2013)", Range::NonNegative()}, &tegotae_sigma_rad_per_n_s);

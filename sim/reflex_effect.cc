@@ -62,6 +62,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     in.normal_load_n = s.normal_load_n;
     in.preload_n = s.preload_n;
     in.bonds_lost = s.bonds_lost;
+    s.bonds_lost = false;  // consumed
     for (int k = 0; k < 3; ++k) {
       // Stretch: the joint against the CPG's own target (reflex offsets left out, so the
       // spindle does not chase its own output).

@@ -1,0 +1,183 @@
+// Climbing control (issue: climbing gaits): the bundled wall and ceiling examples climb and
+// hang as documented, the climbing reflexes recover from a push that the same gait without
+// them does not survive, and every climbing reflex is logged on the leg that fired it.
+// Body lengths are those of mjcf/README.md: gecko 0.10 m, spider 0.16 m.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "sim/sim.h"
+#include "tests/sim/test_util.h"
+
+namespace climbsim::sim {
+namespace {
+
+using climbsim::testing::Source;
+using climbsim::testing::WriteFile;
+
+RunResult RunScenario(const Scenario& s, std::string* events = nullptr) {
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  const RunResult r = sim.Run();
+  if (events != nullptr) *events = sim.EventsCsv();
+  return r;
+}
+
+// The example's text with extra YAML appended (a push, a reflex switched off).
+Scenario ExampleWith(const std::string& example, const std::string& name,
+                     const std::string& replace_from = "", const std::string& replace_to = "",
+                     const std::string& append = "") {
+  std::string text = climbsim::testing::ReadFile(Source(example));
+  if (!replace_from.empty()) {
+    const size_t at = text.find(replace_from);
+    EXPECT_NE(at, std::string::npos) << replace_from;
+    text.replace(at, replace_from.size(), replace_to);
+  }
+  return LoadScenario(WriteFile(name, text + append));
+}
+
+TEST(Climb, GeckoClimbsThreeBodyLengthsUpAWallIn20s) {
+  const RunResult r = RunScenario(LoadScenario(Source("examples/gecko_wall.yaml")));
+  ASSERT_TRUE(r.stable) << r.failure;
+  EXPECT_FALSE(r.fell) << r.fall_time_s;
+  EXPECT_GE(r.distance_m, 3 * 0.10);
+}
+
+TEST(Climb, SpiderClimbsTwoBodyLengthsUpAWallIn20s) {
+  const RunResult r = RunScenario(LoadScenario(Source("examples/spider_wall.yaml")));
+  ASSERT_TRUE(r.stable) << r.failure;
+  EXPECT_FALSE(r.fell) << r.fall_time_s;
+  EXPECT_GE(r.distance_m, 2 * 0.16);
+}
+
+TEST(Climb, GeckoWalksUnderTheCeilingFor20sWithoutFalling) {
+  const Scenario s = LoadScenario(Source("examples/gecko_ceiling.yaml"));
+  ASSERT_EQ(s.duration_s, 20.0);
+  const RunResult r = RunScenario(s);
+  ASSERT_TRUE(r.stable) << r.failure;
+  EXPECT_FALSE(r.fell) << r.fall_time_s;
+  EXPECT_GT(r.distance_m, 0.02);  // walking, not only hanging
+}
+
+// Without the reflex block the wall gait cannot even lift its feet: a swing drags its pad
+// along instead of peeling it, and the robot falls within a second.
+TEST(Climb, WithoutReflexesTheWallGaitFalls) {
+  std::string text = climbsim::testing::ReadFile(Source("examples/gecko_wall.yaml"));
+  text = text.substr(0, text.find("reflex:\n")) +
+         text.substr(text.find("optimise:\n"));  // reflex block dropped
+  const RunResult r = RunScenario(LoadScenario(WriteFile("noreflex2.yaml", text)));
+  EXPECT_TRUE(r.fell);
+  EXPECT_LT(r.fall_time_s, 1.0);
+}
+
+// The push: 0.6 N sideways on the right front tibia for 0.3 s (0.18 N s) at t = 3 s, while
+// that leg is in stance. It costs the pad a row of bonds; the re-grip reflex presses the pad
+// and holds the other legs, and the robot climbs on. The same gait and push with re-grip off
+// falls: the crack runs on through the pad and the robot peels off the wall.
+const char* kPush =
+    "perturbations:\n  - {time_s: 3.0, body: RF_tibia, impulse_ns: [0, 0.18, 0], duration_s: 0.3}\n";
+
+TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
+  const Scenario with = ExampleWith("examples/gecko_wall.yaml", "push_on.yaml", "", "", kPush);
+  const Scenario without = ExampleWith("examples/gecko_wall.yaml", "push_off.yaml",
+                                       "  preload:", "  regrip: {enabled: false}\n  preload:",
+                                       kPush);
+  std::string events;
+  const RunResult on = RunScenario(with, &events);
+  const RunResult off = RunScenario(without);
+  EXPECT_FALSE(on.fell) << on.fall_time_s;
+  EXPECT_GE(on.distance_m, 3 * 0.10);
+  EXPECT_NE(events.find("RF_pad,regrip"), std::string::npos);
+  EXPECT_TRUE(off.fell);
+  EXPECT_LT(off.distance_m, on.distance_m - 0.1);
+}
+
+// One events.csv row.
+struct Row {
+  double t;
+  std::string pad, event, cause;
+};
+
+std::vector<Row> Parse(const std::string& csv) {
+  std::vector<Row> rows;
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::istringstream f(line);
+    Row r;
+    std::string t;
+    std::getline(f, t, ',');
+    std::getline(f, r.pad, ',');
+    std::getline(f, r.event, ',');
+    std::getline(f, r.cause, ',');
+    r.t = std::stod(t);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// The first row after (or at) index i of `event` on `pad`, or nullptr.
+const Row* Next(const std::vector<Row>& rows, size_t i, const std::string& pad,
+                const std::string& event) {
+  for (; i < rows.size(); ++i) {
+    if (rows[i].pad == pad && rows[i].event == event) return &rows[i];
+  }
+  return nullptr;
+}
+
+// Each climbing reflex is logged on the leg that fired it, which the adhesion events of that
+// same pad confirm: a peel is followed by that pad's detach (cause peel) within the peel's
+// time limit; a preload starts at that pad's touchdown; a search ends when that pad touches;
+// a re-grip fires in the control period in which that pad lost bonds.
+TEST(Climb, EveryClimbingReflexIsLoggedOnTheLegThatFiredIt) {
+  std::string wall_events, ceiling_events;
+  RunScenario(ExampleWith("examples/gecko_wall.yaml", "push_log.yaml", "", "", kPush),
+              &wall_events);
+  RunScenario(LoadScenario(Source("examples/gecko_ceiling.yaml")), &ceiling_events);
+  int seen[4] = {0, 0, 0, 0};  // peel, preload, search, regrip
+  for (const std::string& csv : {wall_events, ceiling_events}) {
+    const std::vector<Row> rows = Parse(csv);
+    for (size_t i = 0; i < rows.size(); ++i) {
+      const Row& r = rows[i];
+      if (r.event == "peel") {
+        ++seen[0];
+        const Row* detach = Next(rows, i, r.pad, "detach");
+        ASSERT_NE(detach, nullptr) << r.pad << " " << r.t;
+        const Row* end = Next(rows, i, r.pad, "peel_end");
+        ASSERT_NE(end, nullptr);
+        if (end->cause == "detached") {
+          EXPECT_EQ(detach->cause, "peel") << r.pad << " " << r.t;
+          EXPECT_LE(detach->t - r.t, 0.6 + 1e-9) << r.pad;  // peel.max_duration_s
+        }
+      } else if (r.event == "preload_start" && r.cause == "touchdown") {
+        ++seen[1];
+        // The reflex sees the touchdown at its next control tick: within 20 ms here.
+        bool touched = false;
+        for (size_t j = 0; j < i; ++j) {
+          touched |= rows[j].pad == r.pad && rows[j].event == "touchdown" && r.t - rows[j].t < 0.02;
+        }
+        EXPECT_TRUE(touched) << r.pad << " " << r.t;
+      } else if (r.event == "search_end" && r.cause == "found") {
+        ++seen[2];
+        bool touched = false;
+        for (size_t j = 0; j < rows.size(); ++j) {
+          touched |= rows[j].pad == r.pad && rows[j].event == "touchdown" &&
+                     std::abs(r.t - rows[j].t) < 0.02;
+        }
+        EXPECT_TRUE(touched) << r.pad << " " << r.t;
+      } else if (r.event == "regrip") {
+        ++seen[3];
+        bool lost = false;
+        for (size_t j = 0; j < i + 1; ++j) {
+          lost |= rows[j].pad == r.pad && rows[j].event == "bonds_lost" && r.t - rows[j].t < 0.002;
+        }
+        EXPECT_TRUE(lost) << r.pad << " " << r.t;
+      }
+    }
+  }
+  for (int k = 0; k < 4; ++k) EXPECT_GT(seen[k], 0) << "reflex " << k << " never fired";
+}
+
+}  // namespace
+}  // namespace climbsim::sim
