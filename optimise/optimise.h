@@ -12,6 +12,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <functional>
+#include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -75,6 +77,38 @@ class Problem {
   std::string file_;
   sim::Scenario scenario_;
 };
+
+// ---- Compiled models -------------------------------------------------------------------
+// One thread's compiled models, by structure: scenarios that differ only in values (which the
+// World applies per run) share one. Not thread-safe: one cache per thread.
+class ModelCache {
+ public:
+  const sim::CompiledModel& For(const sim::Scenario& scenario);
+
+ private:
+  std::map<std::string, std::unique_ptr<sim::CompiledModel>> models_;
+};
+
+// ---- Parameter sweeps ------------------------------------------------------------------
+// `climbsim sweep`: each scenario run with one numeric key set to each value of a range
+// (e.g. scene.incline_deg from 0 to 180 in steps of 15), runs side by side on threads.
+struct SweepOptions {
+  std::string key;
+  double from = 0.0, to = 0.0, step = 1.0;
+  int threads = 0;  // 0: all cores
+};
+struct SweepRow {
+  double value = 0.0;
+  std::vector<sim::RunResult> results;  // one per scenario, in the order given
+};
+// Throws InputError for a key the files cannot hold or a value that makes a scenario invalid
+// (checked for every value before anything runs).
+std::vector<SweepRow> Sweep(const std::vector<std::string>& scenario_files,
+                            const SweepOptions& options);
+// sweep.csv (value, then distance, speed, fell and fall time per scenario) and sweep.png.
+// Returns the plot's warning ("" when drawn).
+std::string WriteSweep(const std::string& dir, const std::vector<std::string>& scenario_files,
+                       const SweepOptions& options, const std::vector<SweepRow>& rows);
 
 // ---- Running it ---------------------------------------------------------------------------
 struct Evaluation {

@@ -211,7 +211,7 @@ class StartRunner {
       Cost c;
       try {
         const sim::Scenario s = problem_.ScenarioFor(x, run);
-        sim::Simulation rollout(s, ModelFor(s));
+        sim::Simulation rollout(s, models_.For(s));
         rollout.Run();
         c = RolloutCost(rollout, o);
       } catch (const std::exception& ex) {
@@ -235,15 +235,6 @@ class StartRunner {
     return e;
   }
 
-  // Models are compiled once per distinct structure (parameters rarely change it).
-  const sim::CompiledModel& ModelFor(const sim::Scenario& s) {
-    const sim::MjcfAdditions add = sim::EffectAdditions(s);
-    const std::string key = sim::ComposeMjcf(sim::RobotFile(s), sim::SceneFile(s), add);
-    auto it = models_.find(key);
-    if (it == models_.end()) it = models_.emplace(key, sim::CompiledModel::Build(s, add)).first;
-    return *it->second;
-  }
-
   const Problem& problem_;
   const int start_;
   const int budget_;
@@ -252,7 +243,7 @@ class StartRunner {
   int count_ = 0;
   double best_f_ = std::numeric_limits<double>::infinity();
   std::vector<double> best_u_;
-  std::map<std::string, std::unique_ptr<sim::CompiledModel>> models_;
+  ModelCache models_;
 };
 
 std::string HistoryCsv(const Problem& problem, const std::vector<Evaluation>& history) {
@@ -300,6 +291,14 @@ void WriteConvergence(const std::string& dir, const Problem& problem,
 }
 
 }  // namespace
+
+const sim::CompiledModel& ModelCache::For(const sim::Scenario& s) {
+  const sim::MjcfAdditions add = sim::EffectAdditions(s);
+  const std::string key = sim::ComposeMjcf(sim::RobotFile(s), sim::SceneFile(s), add);
+  auto it = models_.find(key);
+  if (it == models_.end()) it = models_.emplace(key, sim::CompiledModel::Build(s, add)).first;
+  return *it->second;
+}
 
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress) {

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 failed run, 2 bad input.");
   climbsim::tools::AddSimulateCommand(app);
   climbsim::tools::AddOptimiseCommand(app);
+  climbsim::tools::AddSweepCommand(app);
   climbsim::tools::AddPulloffCommand(app);
   climbsim::tools::AddKeysCommand(app);
   try {

@@ -14,6 +14,7 @@ int& ExitCode();
 void AddSimulateCommand(CLI::App& app);
 void AddKeysCommand(CLI::App& app);
 void AddOptimiseCommand(CLI::App& app);
+void AddSweepCommand(CLI::App& app);
 void AddPulloffCommand(CLI::App& app);
 
 }  // namespace climbsim::tools
