@@ -81,7 +81,8 @@ class PulloffRig::Sink final : public PadEventSink {
 };
 
 mjModel* CompileMjcfString(const std::string& xml, std::string* error) {
-  // MuJoCo's XML loader keeps process-wide state: one load at a time in this module.
+  // MuJoCo's XML loader keeps process-wide state: one load at a time in the program. The
+  // top file has a bare name: 2.2.2 prefixes every include with the top file's folder.
   static std::mutex mutex;
   std::lock_guard<std::mutex> lock(mutex);
   auto vfs = std::make_unique<mjVFS>();

@@ -124,10 +124,9 @@ class PulloffRig {
 double MujocoPulloffClosedForm(double gain_n, double friction, double width_m, double arm_m,
                                double angle_rad);
 
-// Compiles MJCF text through an in-memory file (no includes). Returns nullptr and fills
-// `error` on failure. MuJoCo's XML loader keeps process-wide state: calls are serialised
-// among themselves, but not against other loaders (sim::CompileMjcf has its own lock), so do
-// not compile from two modules on two threads at once.
+// Compiles MJCF text through an in-memory file (includes by absolute path). Returns nullptr
+// and fills `error` on failure. MuJoCo's XML loader keeps process-wide state: every load of
+// the program goes through here (sim::CompileMjcf too), serialised by one mutex.
 mjModel* CompileMjcfString(const std::string& xml, std::string* error);
 
 }  // namespace climbsim::adhesion

@@ -9,6 +9,7 @@
 #ifndef CLIMBSIM_SIM_SIM_H_
 #define CLIMBSIM_SIM_SIM_H_
 
+#include "sim/bench_speed.h"
 #include "sim/input_error.h"
 #include "sim/scenario.h"
 #include "sim/simulation.h"

@@ -157,6 +157,38 @@ bool Simulation::Step() {
   return Monitor();
 }
 
+bool Simulation::StepProfiled(Profile* p) {
+  using Clock = std::chrono::steady_clock;
+  mjModel* m = world_.model();
+  mjData* d = world_.data();
+  if (p->effect_s.size() != effects_.size()) p->effect_s.assign(effects_.size(), 0.0);
+  auto lap = [](Clock::time_point* t) {
+    const Clock::time_point now = Clock::now();
+    const double s = std::chrono::duration<double>(now - *t).count();
+    *t = now;
+    return s;
+  };
+  ctx_.time_s = d->time;
+  Clock::time_point t = Clock::now();
+  for (size_t i = 0; i < effects_.size(); ++i) {
+    if (!effects_[i]->has_before_step()) continue;
+    effects_[i]->BeforeStep(world_, ctx_);
+    p->effect_s[i] += lap(&t);
+  }
+  mj_step(m, d);
+  p->mj_step_s += lap(&t);
+  for (size_t i = 0; i < effects_.size(); ++i) {
+    if (!effects_[i]->has_after_step()) continue;
+    effects_[i]->AfterStep(world_, ctx_);
+    p->effect_s[i] += lap(&t);
+  }
+  ++ctx_.step;
+  const bool ok = Monitor();
+  p->monitor_s += lap(&t);
+  ++p->steps;
+  return ok;
+}
+
 bool Simulation::Monitor() {
   const mjData* d = world_.data();
   const double t = ctx_.time_s + world_.model()->opt.timestep;

@@ -1,18 +1,15 @@
 #include "sim/world.h"
 
+#include "adhesion/adhesion.h"
+
 #include <cmath>
 #include <cstring>
 #include <memory>
-#include <mutex>
 #include <sstream>
 
 namespace climbsim::sim {
 namespace {
 
-std::mutex& LoaderMutex() {
-  static std::mutex m;
-  return m;
-}
 
 int Id(const mjModel* m, mjtObj type, const std::string& name) {
   return mj_name2id(m, type, name.c_str());
@@ -52,22 +49,8 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
 }
 
 mjModel* CompileMjcf(const std::string& xml, std::string* error) {
-  std::lock_guard<std::mutex> lock(LoaderMutex());
-  // mjVFS is about 2 MB: on the heap, not on a worker thread's stack. The top file gets a
-  // bare name because MuJoCo 2.2.2 prefixes every include with the top file's folder.
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const char* name = "climbsim_composed.xml";
-  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
-    *error = "cannot create the model in MuJoCo's VFS";
-    return nullptr;
-  }
-  std::memcpy(vfs->filedata[vfs->nfile - 1], xml.data(), xml.size());
-  char err[1024] = {0};
-  mjModel* m = mj_loadXML(name, vfs.get(), err, sizeof(err));
-  mj_deleteVFS(vfs.get());
-  if (m == nullptr) *error = err;
-  return m;
+  // One loader for the whole program: adhesion's, which serialises every load.
+  return adhesion::CompileMjcfString(xml, error);
 }
 
 std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,

@@ -109,8 +109,9 @@ class World {
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& additions);
 
-// Compiles MJCF text through MuJoCo's VFS (no temporary files). Serialised by a mutex:
-// the XML loader keeps process-wide state. Returns nullptr and fills error on failure.
+// Compiles MJCF text through MuJoCo's VFS (no temporary files), with
+// adhesion::CompileMjcfString: the one loader of the program, serialised because MuJoCo's XML
+// loader keeps process-wide state. Returns nullptr and fills error on failure.
 mjModel* CompileMjcf(const std::string& xml, std::string* error);
 
 }  // namespace climbsim::sim

@@ -1,0 +1,101 @@
+#include "sim/bench_speed.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "sim/simulation.h"
+
+namespace climbsim::sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions) {
+  Scenario base = full;
+  base.duration_s = duration_s;
+  base.fall.stop = false;
+  const auto model = CompileScenario(base);
+
+  // The cumulative variants, each a scenario with a prefix of the effects.
+  std::vector<std::pair<std::string, Scenario>> variants;
+  Scenario s = base;
+  s.adhesion.reset();
+  s.cpg.reset();
+  s.reflex.reset();
+  s.perturbations.clear();
+  s.outputs.trajectory_rate_hz = 0.0;
+  variants.push_back({"no effects", s});
+  if (base.adhesion) {
+    s.adhesion = base.adhesion;
+    variants.push_back({"+adhesion", s});
+  }
+  if (base.cpg) {
+    s.cpg = base.cpg;
+    variants.push_back({"+cpg", s});
+  }
+  if (base.reflex) {
+    s.reflex = base.reflex;
+    variants.push_back({"+reflex", s});
+  }
+  if (!base.perturbations.empty()) {
+    s.perturbations = base.perturbations;
+    variants.push_back({"+perturbation", s});
+  }
+  if (base.outputs.trajectory_rate_hz > 0) {
+    s.outputs = base.outputs;
+    variants.push_back({"+trajectory", s});
+  }
+
+  SpeedReport report;
+  report.repetitions = repetitions;
+  report.variants.push_back({"bare mj_step", {}, 0.0, 0.0});
+  for (const auto& v : variants) report.variants.push_back({v.first, {}, 0.0, 0.0});
+
+  for (int rep = 0; rep < repetitions; ++rep) {
+    // Bare: the same model copy and the same options as every Simulation gets.
+    {
+      World world(*model, base);
+      mj_resetData(world.model(), world.data());
+      const long steps = std::lround(duration_s / world.model()->opt.timestep);
+      const auto t0 = Clock::now();
+      for (long i = 0; i < steps; ++i) mj_step(world.model(), world.data());
+      const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+      report.variants[0].steps_per_s.push_back(steps / dt);
+      report.steps = steps;
+    }
+    for (size_t k = 0; k < variants.size(); ++k) {
+      Simulation sim(variants[k].second, *model);
+      const auto t0 = Clock::now();
+      const long steps = sim.steps_total();
+      for (long i = 0; i < steps; ++i) sim.Step();
+      const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+      report.variants[k + 1].steps_per_s.push_back(steps / dt);
+    }
+  }
+  for (auto& v : report.variants) v.median_steps_per_s = Median(v.steps_per_s);
+  for (auto& v : report.variants) {
+    v.overhead = report.variants[0].median_steps_per_s / v.median_steps_per_s - 1.0;
+  }
+
+  // Profile of the full scenario.
+  Simulation sim(variants.back().second, *model);
+  Simulation::Profile p;
+  for (long i = 0; i < sim.steps_total(); ++i) sim.StepProfiled(&p);
+  report.mj_step_s = p.mj_step_s;
+  report.monitor_s = p.monitor_s;
+  for (size_t i = 0; i < sim.effects().size(); ++i) {
+    report.effect_s.push_back({sim.effects()[i]->name(), p.effect_s[i]});
+  }
+  return report;
+}
+
+}  // namespace climbsim::sim
