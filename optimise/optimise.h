@@ -110,6 +110,36 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& scenario_files,
 std::string WriteSweep(const std::string& dir, const std::vector<std::string>& scenario_files,
                        const SweepOptions& options, const std::vector<SweepRow>& rows);
 
+// ---- What accuracy costs in time -------------------------------------------------------
+// `climbsim bench accuracy`: one knob at a time (time step; MuJoCo integrator; solver
+// iterations; solver tolerance; bond grid; Odeint stepper and tolerance) swept around the
+// scenario, each run measured against a reference at the finest setting of every knob.
+struct AccuracyRun {
+  double wall_s = 0.0;
+  bool stable = true, fell = false;
+  double distance_m = 0.0;
+  std::vector<std::vector<double>> detach_s;  // per pad, in order
+  std::vector<double> peak_load_n;            // per pad, over the event rows
+  double pulloff_n = 0.0;                     // pull-off at 45° (pull-off rig), 0 without adhesion
+};
+struct AccuracyRow {
+  std::string knob, setting;
+  AccuracyRun run;
+  double distance_error_m = 0.0;
+  double detach_time_error_s = 0.0;  // mean |Δt| of the detaches matched in order per pad
+  int detach_count_diff = 0;         // detaches one run has and the other has not
+  double peak_load_error = 0.0;      // largest relative error of a pad's peak load
+  double pulloff_error = 0.0;        // relative
+};
+struct AccuracyReport {
+  double duration_s = 0.0;
+  AccuracyRun reference;
+  std::vector<AccuracyRow> rows;
+};
+AccuracyReport BenchAccuracy(const std::string& scenario_file, double duration_s, int threads);
+// accuracy.csv and accuracy.png (error against wall time on log axes, a curve per knob).
+std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
+
 // ---- Running it ---------------------------------------------------------------------------
 struct Evaluation {
   int start = 0;

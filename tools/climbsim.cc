@@ -30,7 +30,10 @@ int main(int argc, char** argv) {
   climbsim::tools::AddSimulateCommand(app);
   climbsim::tools::AddOptimiseCommand(app);
   climbsim::tools::AddSweepCommand(app);
+  climbsim::tools::AddBenchCommand(app);
   climbsim::tools::AddPulloffCommand(app);
+  climbsim::tools::AddInspectCommand(app);
+  climbsim::tools::AddRenderCommand(app);
   climbsim::tools::AddKeysCommand(app);
   try {
     app.parse(argc, argv);

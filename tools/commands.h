@@ -15,7 +15,10 @@ void AddSimulateCommand(CLI::App& app);
 void AddKeysCommand(CLI::App& app);
 void AddOptimiseCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
+void AddBenchCommand(CLI::App& app);
 void AddPulloffCommand(CLI::App& app);
+void AddInspectCommand(CLI::App& app);
+void AddRenderCommand(CLI::App& app);
 
 }  // namespace climbsim::tools
 

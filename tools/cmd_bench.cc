@@ -1,0 +1,114 @@
+// climbsim bench speed|accuracy|optimise SCENARIO
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "optimise/optimise.h"
+#include "sim/sim.h"
+#include "tools/commands.h"
+
+namespace climbsim::tools {
+namespace {
+
+void Speed(const std::string& file, double duration_s, int repetitions) {
+  const sim::Scenario s = sim::LoadScenario(file);
+  const sim::SpeedReport r = sim::BenchSpeed(s, duration_s, repetitions);
+  std::printf("climbsim bench speed: %s, %ld steps per run, %d repetitions, interleaved\n",
+              file.c_str(), r.steps, r.repetitions);
+  std::printf("  %-16s %14s %12s %s\n", "variant", "steps/s", "vs bare", "(median; each run)");
+  for (const auto& v : r.variants) {
+    std::printf("  %-16s %14.0f %+11.1f%%  (", v.name.c_str(), v.median_steps_per_s,
+                100 * v.overhead);
+    for (size_t k = 0; k < v.steps_per_s.size(); ++k) {
+      std::printf("%s%.0f", k ? " " : "", v.steps_per_s[k]);
+    }
+    std::printf(")\n");
+  }
+  double effects = 0.0;
+  for (const auto& e : r.effect_s) effects += e.second;
+  std::printf("  profile of the full scenario (time inside each part of the step):\n");
+  std::printf("    %-14s %9.3f s\n", "mj_step", r.mj_step_s);
+  for (const auto& e : r.effect_s) {
+    std::printf("    %-14s %9.3f s  %+6.2f%% of mj_step\n", e.first.c_str(), e.second,
+                100 * e.second / r.mj_step_s);
+  }
+  std::printf("    %-14s %9.3f s  %+6.2f%% of mj_step\n", "monitor", r.monitor_s,
+              100 * r.monitor_s / r.mj_step_s);
+  std::printf("    %-14s %9.3f s  %+6.2f%% of mj_step\n", "all effects", effects,
+              100 * effects / r.mj_step_s);
+}
+
+void Accuracy(const std::string& file, double duration_s, int threads, const std::string& out) {
+  const optimise::AccuracyReport r = optimise::BenchAccuracy(file, duration_s, threads);
+  const std::string warning = optimise::WriteAccuracy(out, r);
+  std::printf("climbsim bench accuracy: %s, %.1f s simulated per run\n", file.c_str(),
+              r.duration_s);
+  std::printf("  reference (finest of every knob): %.4f m climbed in %.2f s wall%s\n",
+              r.reference.distance_m, r.reference.wall_s, r.reference.fell ? ", fell" : "");
+  std::printf("  %-18s %-14s %8s %12s %12s %6s %10s %10s\n", "knob", "setting", "wall [s]",
+              "dist err [m]", "detach [s]", "n diff", "peak load", "pull-off");
+  for (const auto& row : r.rows) {
+    std::printf("  %-18s %-14s %8.2f %12.2e %12.2e %6d %10.2e %10.2e%s\n", row.knob.c_str(),
+                row.setting.c_str(), row.run.wall_s, row.distance_error_m,
+                row.detach_time_error_s, row.detach_count_diff, row.peak_load_error,
+                row.pulloff_error, row.run.fell ? "  fell" : "");
+  }
+  std::printf("  outputs %s/{accuracy.csv,accuracy.png}%s%s\n", out.c_str(),
+              warning.empty() ? "" : "  plot: ", warning.c_str());
+}
+
+// Evaluations per second of `climbsim optimise` with 1 and 2 threads on a short budget.
+void OptimiseSpeed(const std::string& file, int evaluations, const std::string& out) {
+  std::printf("climbsim bench optimise: %s, %d evaluations\n", file.c_str(), evaluations);
+  double rate[2] = {0, 0};
+  for (int threads : {1, 2}) {
+    optimise::Options o;
+    o.out_dir = out + "/threads" + std::to_string(threads);
+    o.threads = threads;
+    o.max_evaluations = evaluations;
+    const optimise::Result r = optimise::Optimise(file, o);
+    rate[threads - 1] = r.evaluations_computed / r.wall_time_s;
+    std::printf("  --threads %d: %.2f evaluations/s (%d in %.1f s), best J %.6f\n", threads,
+                rate[threads - 1], r.evaluations_computed, r.wall_time_s, r.best.objective);
+  }
+  std::printf("  speed-up with 2 threads: %.2fx\n", rate[1] / rate[0]);
+}
+
+}  // namespace
+
+void AddBenchCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("bench", "What accuracy costs in time, and what effects cost");
+  cmd->require_subcommand(1);
+  cmd->footer("Example:\n  climbsim bench speed examples/gecko_wall.yaml --duration 5");
+
+  static std::string file, out_dir = "runs/bench";
+  static double duration_s = 10.0;
+  static int repetitions = 5, threads = 0, evaluations = 8;
+
+  auto* speed = cmd->add_subcommand("speed", "steps per second: bare mj_step against each effect");
+  speed->add_option("scenario", file, "scenario file")->required();
+  speed->add_option("--duration", duration_s, "simulated seconds per run")->check(CLI::PositiveNumber);
+  speed->add_option("--repetitions", repetitions, "runs per variant, interleaved")
+      ->check(CLI::Range(1, 1000));
+  speed->footer("Example:\n  climbsim bench speed examples/gecko_wall.yaml --duration 5");
+  speed->callback([] { Speed(file, duration_s, repetitions); });
+
+  auto* accuracy = cmd->add_subcommand("accuracy", "error of the observables against wall time, per knob");
+  accuracy->add_option("scenario", file, "scenario file")->required();
+  accuracy->add_option("--duration", duration_s, "simulated seconds per run")->check(CLI::PositiveNumber);
+  accuracy->add_option("--threads", threads, "runs side by side (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+  accuracy->add_option("--out", out_dir, "folder for accuracy.csv and accuracy.png");
+  accuracy->footer(
+      "Example:\n  climbsim bench accuracy examples/gecko_wall.yaml --duration 5 --out runs/acc");
+  accuracy->callback([] { Accuracy(file, duration_s, threads, out_dir); });
+
+  auto* opt = cmd->add_subcommand("optimise", "evaluations per second with 1 and 2 threads");
+  opt->add_option("scenario", file, "scenario file with an optimise block")->required();
+  opt->add_option("--evaluations", evaluations, "evaluations per run")->check(CLI::Range(2, 100000));
+  opt->add_option("--out", out_dir, "folder for the two optimisation runs");
+  opt->footer("Example:\n  climbsim bench optimise examples/gecko_wall.yaml --evaluations 8");
+  opt->callback([] { OptimiseSpeed(file, evaluations, out_dir); });
+}
+
+}  // namespace climbsim::tools
