@@ -338,6 +338,11 @@ LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
   }
   st.spindle_active = spindle_active;
 
+  // The inputs are finite (sanitised), but gains and amounts have no upper bound: two opposing
+  // terms that each overflow to ±inf sum to NaN, which no clamp would catch. They cancel.
+  for (int j = 0; j < kLegJoints; ++j) {
+    if (std::isnan(offset[j])) offset[j] = 0.0;
+  }
   out.target_offset_rad = offset.cwiseMax(-p.max_offset_rad).cwiseMin(p.max_offset_rad);
   out.hold_stance = stance && (st.preloading || st.searching || gto_holding);
   out.hold_others = st.regrip_left > 0;
