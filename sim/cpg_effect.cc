@@ -1,6 +1,7 @@
 #include "sim/cpg_effect.h"
 
 #include <cmath>
+#include <limits>
 
 namespace climbsim::sim {
 namespace {
@@ -212,6 +213,14 @@ void CpgEffect::Feedback(RunContext& ctx) {
 std::array<double, 3> CpgEffect::Targets(size_t i, LegSignals* s) const {
   const double phase = network_->phase_rad()[i];
   const double amp = network_->amplitude()[i];
+  if (!std::isfinite(phase) || !std::isfinite(amp)) {
+    // The network went numerically bad (status() kNonFinite: a coupling too stiff for an
+    // explicit stepper at this period). Bad targets, not an exception: MuJoCo flags the ctrl
+    // (mjWARN_BADCTRL) and the monitor stops the run with the step, the time and the cause.
+    s->phase_rad = phase;
+    s->cpg_target_rad.fill(std::numeric_limits<double>::quiet_NaN());
+    return s->cpg_target_rad;
+  }
   const cpg::LegCommand c = cpg::ShapeLeg(shape_, phase, amp);
   s->phase_rad = phase;
   s->stance = c.stance;
