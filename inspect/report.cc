@@ -1,0 +1,382 @@
+// The per-leg table, the events of one leg, and pulloff.csv, as text and as JSON.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "inspect/inspect.h"
+#include "sim/input_error.h"
+
+namespace climbsim::inspect {
+namespace {
+
+constexpr const char* kCli = "climbsim inspect";
+
+std::string Num(double v, const char* format = "%.3f") {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+// The window clipped to the run; InputError when nothing is left.
+std::pair<double, double> Clip(const Run& run, const Window& w) {
+  if (!(w.from_s < w.to_s)) {
+    throw InputError(
+        kCli, 0, 0, "--from",
+        "must be below --to, got " + Num(w.from_s, "%g") + " and " + Num(w.to_s, "%g"));
+  }
+  const double a = std::max(w.from_s, 0.0), b = std::min(w.to_s, run.duration_s);
+  if (!(a < b)) {
+    throw InputError(kCli, 0, 0, w.from_s > 0 ? "--from" : "--to",
+                     "the window " + Num(w.from_s, "%g") + " .. " + Num(w.to_s, "%g") +
+                         " s holds none of the run (0 .. " + Num(run.duration_s, "%g") + " s)");
+  }
+  return {a, b};
+}
+
+int LegOrThrow(const Run& run, std::string_view leg) {
+  const int i = run.LegIndex(leg);
+  if (i < 0) {
+    std::string known;
+    for (const auto& l : run.legs) known += (known.empty() ? "" : ", ") + l;
+    throw InputError(kCli, 0, 0, "--leg",
+                     "'" + std::string(leg) + "' is not a leg of the robot (" + known + ")");
+  }
+  return i;
+}
+
+nlohmann::json Optional(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+void Max(std::optional<double>* v, double x) {
+  if (!*v || x > **v) *v = x;
+}
+void Min(std::optional<double>* v, double x) {
+  if (!*v || x < **v) *v = x;
+}
+
+std::string SummaryText(const Run& run, const char* key) {
+  const auto it = run.summary.find(key);
+  return it != run.summary.end() && it->is_string() ? it->get<std::string>() : "?";
+}
+
+nlohmann::json WindowJson(double a, double b) {
+  return {{"from_s", a}, {"to_s", b}, {"observed_s", b - a}};
+}
+
+}  // namespace
+
+Report Analyse(const Run& run, const Window& window) {
+  const auto [a, b] = Clip(run, window);
+  Report report;
+  report.dir = run.dir;
+  report.from_s = a;
+  report.to_s = b;
+  report.observed_s = b - a;
+  for (size_t leg = 0; leg < run.legs.size(); ++leg) {
+    LegReport r;
+    r.leg = run.legs[leg];
+    r.pad = run.pads[leg];
+
+    // Stances over the whole run; the rows of the open stance kept for its loads.
+    struct RawStance {
+      double start, end;
+      bool closed;
+      std::string cause;
+    };
+    std::vector<RawStance> raw;
+    std::vector<const EventRow*> rows;
+    bool attached = false;
+    double start = 0.0;
+    // Loads while attached: every row of the stance in the window; bonded fraction: those
+    // before the detach's own step.
+    auto take_loads = [&](double detach_time) {
+      for (const EventRow* e : rows) {
+        if (e->time_s < a || e->time_s > b) continue;
+        Max(&r.peak_normal_n, e->fn_n);
+        Max(&r.peak_shear_n, e->shear_n());
+        if (e->time_s < detach_time) Min(&r.lowest_bonded_fraction, e->bonded_fraction);
+      }
+    };
+    for (const EventRow& e : run.events) {
+      if (e.pad != r.pad) continue;
+      if (e.time_s >= a && e.time_s <= b) {
+        if (e.event == "touchdown") {
+          ++r.touchdowns;
+        } else if (e.event == "attach") {
+          ++r.attachments;
+        } else if (e.event == "attach_rejected") {
+          ++r.rejected;
+          ++r.rejected_by[e.cause_name()];
+        } else if (e.event == "detach") {
+          ++r.detaches;
+          ++r.detached_by[e.cause.empty() ? "unknown" : e.cause];
+        } else if (e.event == "bonds_lost") {
+          ++r.bonds_lost_steps;
+        } else {
+          ++r.reflexes[e.event];
+        }
+      }
+      if (e.event == "attach" && !attached) {
+        attached = true;
+        start = e.time_s;
+        rows.clear();
+      }
+      if (attached) rows.push_back(&e);
+      if (e.event == "detach" && attached) {
+        raw.push_back({start, e.time_s, true, e.cause});
+        take_loads(e.time_s);
+        attached = false;
+      }
+    }
+    if (attached) {
+      raw.push_back({start, run.duration_s, false, ""});
+      take_loads(std::numeric_limits<double>::infinity());
+    }
+
+    // Clipped to the window.
+    double sum_complete = 0.0;
+    for (const RawStance& s : raw) {
+      if (s.end < a || s.start > b) continue;
+      Stance c;
+      c.start_s = std::max(s.start, a);
+      c.end_s = std::min(s.end, b);
+      c.open_start = s.start < a;
+      c.open_end = !s.closed || s.end > b;
+      c.end_cause = c.open_end ? "" : s.cause;
+      r.attached_s += c.length_s();
+      if (!c.open_start && !c.open_end) {
+        ++r.complete_stances;
+        sum_complete += c.length_s();
+        Min(&r.shortest_stance_s, c.length_s());
+      }
+      r.stances.push_back(c);
+    }
+    if (r.complete_stances > 0) r.mean_stance_s = sum_complete / r.complete_stances;
+    r.duty_factor = r.attached_s / report.observed_s;
+    report.legs.push_back(std::move(r));
+  }
+  return report;
+}
+
+nlohmann::json ReportJson(const Run& run, const Report& report) {
+  nlohmann::json j;
+  j["kind"] = "simulation";
+  j["run"] = run.dir;
+  j["robot"] = SummaryText(run, "robot");
+  j["scene"] = SummaryText(run, "scene");
+  j["duration_s"] = run.duration_s;
+  j["window"] = WindowJson(report.from_s, report.to_s);
+  nlohmann::json legs = nlohmann::json::array();
+  for (const LegReport& r : report.legs) {
+    nlohmann::json stances = nlohmann::json::array();
+    for (const Stance& s : r.stances) {
+      stances.push_back({{"start_s", s.start_s},
+                         {"end_s", s.end_s},
+                         {"open_start", s.open_start},
+                         {"open_end", s.open_end},
+                         {"end_cause", s.end_cause}});
+    }
+    legs.push_back({{"leg", r.leg},
+                    {"pad", r.pad},
+                    {"touchdowns", r.touchdowns},
+                    {"attachments", r.attachments},
+                    {"rejected", r.rejected},
+                    {"rejected_by", r.rejected_by},
+                    {"detaches", r.detaches},
+                    {"detached_by", r.detached_by},
+                    {"bonds_lost_steps", r.bonds_lost_steps},
+                    {"stances", stances},
+                    {"complete_stances", r.complete_stances},
+                    {"mean_stance_s", Optional(r.mean_stance_s)},
+                    {"shortest_stance_s", Optional(r.shortest_stance_s)},
+                    {"attached_s", r.attached_s},
+                    {"duty_factor", r.duty_factor},
+                    {"peak_normal_n", Optional(r.peak_normal_n)},
+                    {"peak_shear_n", Optional(r.peak_shear_n)},
+                    {"lowest_bonded_fraction", Optional(r.lowest_bonded_fraction)},
+                    {"reflexes", r.reflexes}});
+  }
+  j["legs"] = legs;
+  return j;
+}
+
+std::string ReportText(const Run& run, const Report& report) {
+  size_t width = 8;
+  for (const LegReport& r : report.legs) width = std::max(width, r.leg.size() + 2);
+  constexpr int kLabel = 28;
+  std::string out;
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "%s: %s (%s on %s), %.3f .. %.3f s (%.3f s observed)\n\n", kCli,
+                run.dir.c_str(), SummaryText(run, "robot").c_str(),
+                SummaryText(run, "scene").c_str(), report.from_s, report.to_s, report.observed_s);
+  out += buf;
+  auto row = [&](const std::string& label, auto value_of) {
+    std::snprintf(buf, sizeof(buf), "%-*s", kLabel, label.c_str());
+    out += buf;
+    for (const LegReport& r : report.legs) {
+      std::snprintf(buf, sizeof(buf), "%*s", static_cast<int>(width), value_of(r).c_str());
+      out += buf;
+    }
+    out += "\n";
+  };
+  auto opt = [](const std::optional<double>& v, const char* f) {
+    return v ? Num(*v, f) : std::string("-");
+  };
+  auto count_rows = [&](const std::string& label, auto total, auto map_of) {
+    row(label, [&](const LegReport& r) { return std::to_string(total(r)); });
+    std::set<std::string> keys;
+    for (const LegReport& r : report.legs) {
+      for (const auto& [k, n] : map_of(r)) keys.insert(k);
+    }
+    for (const std::string& k : keys) {
+      row("  " + k, [&](const LegReport& r) {
+        const auto& m = map_of(r);
+        const auto it = m.find(k);
+        return std::to_string(it == m.end() ? 0 : it->second);
+      });
+    }
+  };
+  row("leg", [](const LegReport& r) { return r.leg; });
+  row("touchdowns", [](const LegReport& r) { return std::to_string(r.touchdowns); });
+  row("attachments", [](const LegReport& r) { return std::to_string(r.attachments); });
+  count_rows(
+      "rejected attaches", [](const LegReport& r) { return r.rejected; },
+      [](const LegReport& r) -> const std::map<std::string, int>& { return r.rejected_by; });
+  count_rows(
+      "detaches", [](const LegReport& r) { return r.detaches; },
+      [](const LegReport& r) -> const std::map<std::string, int>& { return r.detached_by; });
+  row("bonds-lost steps", [](const LegReport& r) { return std::to_string(r.bonds_lost_steps); });
+  row("stances (complete)", [](const LegReport& r) { return std::to_string(r.complete_stances); });
+  row("stance mean (s)", [&](const LegReport& r) { return opt(r.mean_stance_s, "%.3f"); });
+  row("stance shortest (s)", [&](const LegReport& r) { return opt(r.shortest_stance_s, "%.3f"); });
+  row("attached (s)", [](const LegReport& r) { return Num(r.attached_s); });
+  row("duty factor", [](const LegReport& r) { return Num(r.duty_factor); });
+  row("peak normal load (N)", [&](const LegReport& r) { return opt(r.peak_normal_n, "%.3f"); });
+  row("peak shear load (N)", [&](const LegReport& r) { return opt(r.peak_shear_n, "%.3f"); });
+  row("lowest bonded fraction",
+      [&](const LegReport& r) { return opt(r.lowest_bonded_fraction, "%.3f"); });
+  std::set<std::string> reflexes;
+  for (const LegReport& r : report.legs) {
+    for (const auto& [k, n] : r.reflexes) reflexes.insert(k);
+  }
+  if (!reflexes.empty()) {
+    out += "reflexes fired\n";
+    for (const std::string& k : reflexes) {
+      row("  " + k, [&](const LegReport& r) {
+        const auto it = r.reflexes.find(k);
+        return std::to_string(it == r.reflexes.end() ? 0 : it->second);
+      });
+    }
+  }
+  out +=
+      "\nstance = attach .. detach; mean and shortest over stances whole inside the window;\n"
+      "duty factor = attached time / observed time; loads (pad frame, normal + pulls off) are\n"
+      "those at the pad's events while attached, its detach included; lowest bonded fraction\n"
+      "is before the step the pad let go. - : none.\n";
+  return out;
+}
+
+std::vector<EventRow> LegEvents(const Run& run, std::string_view leg, const Window& window) {
+  const int i = LegOrThrow(run, leg);
+  const auto [a, b] = Clip(run, window);
+  std::vector<EventRow> rows;
+  for (const EventRow& e : run.events) {
+    if (e.pad == run.pads[i] && e.time_s >= a && e.time_s <= b) rows.push_back(e);
+  }
+  return rows;
+}
+
+nlohmann::json LegEventsJson(const Run& run, std::string_view leg, const Window& window) {
+  const int i = LegOrThrow(run, leg);
+  const auto [a, b] = Clip(run, window);
+  nlohmann::json events = nlohmann::json::array();
+  for (const EventRow& e : LegEvents(run, leg, window)) {
+    events.push_back({{"time_s", e.time_s},
+                      {"event", e.event},
+                      {"cause", e.cause},
+                      {"surface", e.surface},
+                      {"bonded_fraction", e.bonded_fraction},
+                      {"fn_n", e.fn_n},
+                      {"fx_n", e.fx_n},
+                      {"fy_n", e.fy_n},
+                      {"shear_n", e.shear_n()},
+                      {"mx_nm", e.mx_nm},
+                      {"my_nm", e.my_nm},
+                      {"line", e.line}});
+  }
+  return {{"kind", "simulation"},       {"run", run.dir},
+          {"leg", run.legs[i]},         {"pad", run.pads[i]},
+          {"window", WindowJson(a, b)}, {"events", events}};
+}
+
+std::string LegEventsText(const Run& run, std::string_view leg, const Window& window) {
+  const int i = LegOrThrow(run, leg);
+  const auto [a, b] = Clip(run, window);
+  const std::vector<EventRow> rows = LegEvents(run, leg, window);
+  std::string out;
+  char buf[512];
+  std::snprintf(buf, sizeof(buf), "%s: %s, leg %s (%s), %.3f .. %.3f s: %zu events\n\n", kCli,
+                run.dir.c_str(), run.legs[i].c_str(), run.pads[i].c_str(), a, b, rows.size());
+  out += buf;
+  std::snprintf(buf, sizeof(buf), "%10s  %-16s %-28s %-10s %7s %9s %9s %9s %9s %10s %10s\n",
+                "time_s", "event", "cause", "surface", "bonded", "fn_n", "shear_n", "fx_n", "fy_n",
+                "mx_nm", "my_nm");
+  out += buf;
+  for (const EventRow& e : rows) {
+    std::snprintf(buf, sizeof(buf),
+                  "%10.3f  %-16s %-28s %-10s %7.3f %9.4f %9.4f %9.4f %9.4f %10.5f %10.5f\n",
+                  e.time_s, e.event.c_str(), e.cause.c_str(), e.surface.c_str(), e.bonded_fraction,
+                  e.fn_n, e.shear_n(), e.fx_n, e.fy_n, e.mx_nm, e.my_nm);
+    out += buf;
+  }
+  return out;
+}
+
+std::string PulloffText(const TextTable& t) {
+  std::vector<size_t> width(t.columns.size());
+  for (size_t c = 0; c < t.columns.size(); ++c) {
+    width[c] = t.columns[c].size();
+    for (const auto& r : t.rows) width[c] = std::max(width[c], r[c].size());
+  }
+  std::string out = std::string(kCli) + ": " + t.path + " (climbsim pulloff), " +
+                    std::to_string(t.rows.size()) + " rows\n\n";
+  auto line = [&](const std::vector<std::string>& cells) {
+    for (size_t c = 0; c < cells.size(); ++c) {
+      const std::string cell = cells[c].empty() ? "-" : cells[c];
+      out += std::string(c ? 2 : 0, ' ') +
+             std::string(width[c] - std::min(width[c], cell.size()), ' ') + cell;
+    }
+    out += "\n";
+  };
+  line(t.columns);
+  for (const auto& r : t.rows) line(r);
+  out += "\ninf: the pad never let go; -: not computed (that model was not run).\n";
+  return out;
+}
+
+nlohmann::json PulloffJson(const std::string& dir, const TextTable& t) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& r : t.rows) {
+    nlohmann::json row = nlohmann::json::array();
+    for (const std::string& cell : r) {
+      double v = 0.0;
+      const auto res = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+      if (cell.empty()) {
+        row.push_back(nullptr);
+      } else if (res.ec == std::errc() && res.ptr == cell.data() + cell.size() &&
+                 std::isfinite(v)) {
+        row.push_back(v);
+      } else {
+        row.push_back(cell);
+      }
+    }
+    rows.push_back(row);
+  }
+  return {
+      {"kind", "pulloff"}, {"run", dir}, {"file", t.path}, {"columns", t.columns}, {"rows", rows}};
+}
+
+}  // namespace climbsim::inspect
