@@ -1,0 +1,97 @@
+// Helpers of the inspect tests: the climbsim executable as a user runs it, temporary folders,
+// and real runs simulated once per build and shared by the test processes.
+#ifndef CLIMBSIM_TESTS_INSPECT_INSPECT_TEST_UTIL_H_
+#define CLIMBSIM_TESTS_INSPECT_INSPECT_TEST_UTIL_H_
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace climbsim::testing {
+
+// A fresh folder per test process, left behind for inspection after a failure.
+inline std::string TempDir() {
+  static const std::string dir = [] {
+    auto d = std::filesystem::temp_directory_path() /
+             ("climbsim_inspect_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    return d.string();
+  }();
+  return dir;
+}
+
+inline std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+inline void WriteFile(const std::string& path, const std::string& text) {
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+inline std::string Source(const std::string& rel) {
+  return std::string(CLIMBSIM_SOURCE_DIR) + "/" + rel;
+}
+
+inline std::string Climbsim() { return std::string(CLIMBSIM_BINARY_DIR) + "/climbsim"; }
+
+struct CliResult {
+  int code;
+  std::string out, err;
+};
+
+// Runs `climbsim ARGS` in a shell; stdout and stderr captured.
+inline CliResult RunClimbsim(const std::string& args) {
+  static int n = 0;
+  const std::string base = TempDir() + "/cli_" + std::to_string(n++);
+  const std::string cmd = Climbsim() + " " + args + " >" + base + ".out 2>" + base + ".err";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(base + ".out"),
+          ReadFile(base + ".err")};
+}
+
+// A real run of `scenario` (a path), simulated by the climbsim executable into the build tree
+// once per build: redone when its summary.json is missing or older than the executable.
+// Test processes run in parallel: each simulates into its own folder and renames it into
+// place, so a reader sees a complete run or none.
+inline std::string SharedRun(const std::string& name, const std::string& scenario) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(CLIMBSIM_BINARY_DIR) / "tests" / "inspect_runs";
+  const fs::path dir = root / name;
+  std::error_code ec;
+  const auto exe_time = fs::last_write_time(Climbsim(), ec);
+  auto fresh = [&] {
+    std::error_code e;
+    return fs::exists(dir / "summary.json", e) &&
+           fs::last_write_time(dir / "summary.json", e) >= exe_time;
+  };
+  if (fresh()) return dir.string();
+  const fs::path mine = root / (name + ".tmp." + std::to_string(::getpid()));
+  fs::remove_all(mine, ec);
+  const CliResult r = RunClimbsim("simulate " + scenario + " --out " + mine.string() + " --quiet");
+  if (r.code != 0) return "simulate failed: " + r.err;
+  if (!fresh()) {  // else another process finished first: its run is as good
+    fs::remove_all(dir, ec);
+    fs::rename(mine, dir, ec);
+  }
+  fs::remove_all(mine, ec);
+  return dir.string();
+}
+
+// Copies a run directory to a fresh folder under TempDir().
+inline std::string CopyRun(const std::string& from, const std::string& name) {
+  const std::string to = TempDir() + "/" + name;
+  std::filesystem::remove_all(to);
+  std::filesystem::copy(from, to, std::filesystem::copy_options::recursive);
+  return to;
+}
+
+}  // namespace climbsim::testing
+
+#endif  // CLIMBSIM_TESTS_INSPECT_INSPECT_TEST_UTIL_H_

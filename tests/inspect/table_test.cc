@@ -1,0 +1,292 @@
+// `climbsim inspect --json` against the per-leg table recomputed here from events.csv by a
+// parser and a state machine of its own (std::getline, std::stod; nothing of inspect/), on
+// real runs of the gecko and the spider climbing a wall with adhesion and reflexes.
+// Doubles must be equal, not near: both sides parse with correctly rounded conversions and
+// add the same numbers in the same (time) order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include "tests/inspect/inspect_test_util.h"
+
+namespace {
+
+using climbsim::testing::CopyRun;
+using climbsim::testing::ReadFile;
+using climbsim::testing::RunClimbsim;
+using climbsim::testing::SharedRun;
+using climbsim::testing::Source;
+using climbsim::testing::TempDir;
+using climbsim::testing::WriteFile;
+using nlohmann::json;
+
+struct Ev {
+  double t;
+  std::string pad, event, cause;
+  double bonded, fn, fx, fy;
+};
+
+std::vector<Ev> ParseEvents(const std::string& path) {
+  std::istringstream in(ReadFile(path));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "time_s,pad,event,cause,surface,bonded_fraction,fn_n,fx_n,fy_n,mx_nm,my_nm");
+  std::vector<Ev> out;
+  while (std::getline(in, line)) {
+    std::vector<std::string> c;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+    if (c.size() == 10) c.push_back("");  // getline drops an empty last cell
+    EXPECT_EQ(c.size(), 11u) << line;
+    out.push_back({std::stod(c[0]), c[1], c[2], c[3], std::stod(c[5]), std::stod(c[6]),
+                   std::stod(c[7]), std::stod(c[8])});
+  }
+  return out;
+}
+
+struct Interval {
+  double start, end;
+  bool closed;
+  std::string cause;
+  std::vector<const Ev*> rows;  // attach row .. detach row
+};
+
+// The table of one pad, from the definitions in docs/inspect.md.
+json Recompute(const std::vector<Ev>& all, const std::string& pad, double a, double b,
+               double duration) {
+  std::vector<const Ev*> ev;
+  for (const Ev& e : all) {
+    if (e.pad == pad) ev.push_back(&e);
+  }
+  std::map<std::string, int> counts, rejected_by, detached_by, reflexes;
+  for (const Ev* e : ev) {
+    if (e->t < a || e->t > b) continue;
+    ++counts[e->event];
+    if (e->event == "attach_rejected") {
+      ++rejected_by[e->cause.substr(0, e->cause.find('='))];
+    } else if (e->event == "detach") {
+      ++detached_by[e->cause];
+    } else if (e->event != "touchdown" && e->event != "attach" && e->event != "bonds_lost") {
+      ++reflexes[e->event];
+    }
+  }
+  std::vector<Interval> intervals;
+  std::optional<Interval> open;
+  for (const Ev* e : ev) {
+    if (!open && e->event == "attach") open = Interval{e->t, 0, false, "", {}};
+    if (open) open->rows.push_back(e);
+    if (open && e->event == "detach") {
+      open->end = e->t;
+      open->closed = true;
+      open->cause = e->cause;
+      intervals.push_back(*open);
+      open.reset();
+    }
+  }
+  if (open) {
+    open->end = duration;
+    intervals.push_back(*open);
+  }
+  json stances = json::array();
+  double attached = 0, complete_sum = 0;
+  int complete = 0;
+  std::optional<double> shortest, peak_n, peak_s, lowest;
+  for (const Interval& i : intervals) {
+    for (const Ev* e : i.rows) {
+      if (e->t < a || e->t > b) continue;
+      peak_n = std::max(peak_n.value_or(-INFINITY), e->fn);
+      peak_s = std::max(peak_s.value_or(-INFINITY), std::hypot(e->fx, e->fy));
+      if (!i.closed || e->t < i.end) lowest = std::min(lowest.value_or(INFINITY), e->bonded);
+    }
+    if (i.end < a || i.start > b) continue;
+    const double s = std::max(i.start, a), t = std::min(i.end, b);
+    const bool open_start = i.start < a, open_end = !i.closed || i.end > b;
+    stances.push_back({{"start_s", s},
+                       {"end_s", t},
+                       {"open_start", open_start},
+                       {"open_end", open_end},
+                       {"end_cause", open_end ? "" : i.cause}});
+    attached += t - s;
+    if (!open_start && !open_end) {
+      ++complete;
+      complete_sum += t - s;
+      shortest = std::min(shortest.value_or(INFINITY), t - s);
+    }
+  }
+  auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  return {{"pad", pad},
+          {"touchdowns", counts["touchdown"]},
+          {"attachments", counts["attach"]},
+          {"rejected", counts["attach_rejected"]},
+          {"rejected_by", rejected_by},
+          {"detaches", counts["detach"]},
+          {"detached_by", detached_by},
+          {"bonds_lost_steps", counts["bonds_lost"]},
+          {"stances", stances},
+          {"complete_stances", complete},
+          {"mean_stance_s", complete ? json(complete_sum / complete) : json(nullptr)},
+          {"shortest_stance_s", opt(shortest)},
+          {"attached_s", attached},
+          {"duty_factor", attached / (b - a)},
+          {"peak_normal_n", opt(peak_n)},
+          {"peak_shear_n", opt(peak_s)},
+          {"lowest_bonded_fraction", opt(lowest)},
+          {"reflexes", reflexes}};
+}
+
+// Runs inspect --json on `dir` and compares every leg with the recomputed table.
+void ExpectTableMatches(const std::string& dir, const std::string& window_args, double from,
+                        double to) {
+  const auto r = RunClimbsim("inspect " + dir + " --json " + window_args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json got = json::parse(r.out);
+  const json summary = json::parse(ReadFile(dir + "/summary.json"));
+  const double duration = summary["duration_s"];
+  const double a = std::max(from, 0.0), b = std::min(to, duration);
+  EXPECT_EQ(got["window"]["from_s"], a);
+  EXPECT_EQ(got["window"]["to_s"], b);
+  const std::vector<Ev> events = ParseEvents(dir + "/events.csv");
+  ASSERT_FALSE(got["legs"].empty());
+  int attachments = 0;
+  for (const json& leg : got["legs"]) {
+    json want = Recompute(events, leg["pad"], a, b, duration);
+    json have = leg;
+    have.erase("leg");
+    EXPECT_EQ(have, want) << "leg " << leg["leg"] << "\n got: " << have.dump()
+                          << "\nwant: " << want.dump();
+    attachments += leg["attachments"].get<int>();
+  }
+  EXPECT_GT(attachments, 0) << "a run with adhesion events is needed";
+}
+
+std::string GeckoWall() { return SharedRun("gecko_wall", Source("examples/gecko_wall.yaml")); }
+std::string SpiderWall() { return SharedRun("spider_wall", Source("examples/spider_wall.yaml")); }
+
+TEST(InspectTable, GeckoWallMatchesAnIndependentRecount) {
+  ExpectTableMatches(GeckoWall(), "", 0, INFINITY);
+}
+
+TEST(InspectTable, SpiderWallMatchesAnIndependentRecount) {
+  ExpectTableMatches(SpiderWall(), "", 0, INFINITY);
+}
+
+TEST(InspectTable, WindowClipsStancesAndCountsTheSameWay) {
+  ExpectTableMatches(GeckoWall(), "--from 3.3 --to 11.7", 3.3, 11.7);
+  ExpectTableMatches(SpiderWall(), "--from 7.25 --to 50", 7.25, 50);
+}
+
+// A third source: the adhesion effect's own per-pad counts in summary.json.
+TEST(InspectTable, CountsAgreeWithTheRunSummary) {
+  for (const std::string& dir : {GeckoWall(), SpiderWall()}) {
+    const auto r = RunClimbsim("inspect " + dir + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const json got = json::parse(r.out);
+    const json pads = json::parse(ReadFile(dir + "/summary.json"))["adhesion"]["pads"];
+    for (const json& leg : got["legs"]) {
+      const json& p = pads[leg["pad"].get<std::string>()];
+      EXPECT_EQ(leg["touchdowns"], p["touchdown"]) << dir << " " << leg["pad"];
+      EXPECT_EQ(leg["attachments"], p["attach"]);
+      EXPECT_EQ(leg["rejected"], p["attach_rejected"]);
+      EXPECT_EQ(leg["bonds_lost_steps"], p["bonds_lost_steps"]);
+      for (const char* cause : {"peel", "overload", "released", "contact_lost"}) {
+        EXPECT_EQ(leg["detached_by"].value(cause, 0), p["detach_" + std::string(cause)]) << cause;
+      }
+      const json& last = leg["stances"].back();
+      EXPECT_EQ(last["open_end"], p["attached_at_end"]);
+    }
+  }
+}
+
+TEST(InspectLeg, ListsThatPadsEventsInTimeOrderWithTheirLoads) {
+  const std::string dir = GeckoWall();
+  const auto r = RunClimbsim("inspect " + dir + " --json --leg RF --from 2 --to 6");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json got = json::parse(r.out);
+  EXPECT_EQ(got["leg"], "RF");
+  EXPECT_EQ(got["pad"], "RF_pad");
+  std::vector<Ev> want;
+  for (const Ev& e : ParseEvents(dir + "/events.csv")) {
+    if (e.pad == "RF_pad" && e.t >= 2 && e.t <= 6) want.push_back(e);
+  }
+  ASSERT_EQ(got["events"].size(), want.size());
+  ASSERT_FALSE(want.empty());
+  for (size_t i = 0; i < want.size(); ++i) {
+    const json& e = got["events"][i];
+    EXPECT_EQ(e["time_s"], want[i].t);
+    EXPECT_EQ(e["event"], want[i].event);
+    EXPECT_EQ(e["cause"], want[i].cause);
+    EXPECT_EQ(e["fn_n"], want[i].fn);
+    EXPECT_EQ(e["shear_n"], std::hypot(want[i].fx, want[i].fy));
+  }
+  // The text form: one line per event under a header.
+  const auto text = RunClimbsim("inspect " + dir + " --leg RF_pad --from 2 --to 6");
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_EQ(std::count(text.out.begin(), text.out.end(), '\n'), 3 + static_cast<long>(want.size()));
+}
+
+TEST(InspectTable, TextShowsEveryLegAndTheDefinitions) {
+  const auto r = RunClimbsim("inspect " + SpiderWall());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* leg : {"L1", "L2", "L3", "R1", "R2", "R3"}) {
+    EXPECT_NE(r.out.find(leg), std::string::npos) << leg;
+  }
+  for (const char* row : {"attachments", "rejected attaches", "detaches", "stance mean (s)",
+                          "stance shortest (s)", "duty factor", "peak normal load (N)",
+                          "peak shear load (N)", "lowest bonded fraction", "reflexes fired"}) {
+    EXPECT_NE(r.out.find(row), std::string::npos) << row;
+  }
+}
+
+TEST(InspectPulloff, ShowsPulloffCsvAsATableAndAsJson) {
+  const std::string dir = TempDir() + "/pulloff";
+  ASSERT_EQ(RunClimbsim("pulloff --out " + dir + " --model bonds --step-deg 45 --quiet").code, 0);
+  const auto text = RunClimbsim("inspect " + dir);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("angle_deg"), std::string::npos);
+  const auto r = RunClimbsim("inspect " + dir + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json got = json::parse(r.out);
+  EXPECT_EQ(got["kind"], "pulloff");
+  std::istringstream in(ReadFile(dir + "/pulloff.csv"));
+  std::string header, line;
+  std::getline(in, header);
+  int rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(got["rows"].size(), static_cast<size_t>(rows));
+  EXPECT_EQ(got["columns"][0], "angle_deg");
+  EXPECT_EQ(got["rows"][1][0], 45.0);
+  // --leg has no meaning there.
+  EXPECT_EQ(RunClimbsim("inspect " + dir + " --leg LF").code, 2);
+}
+
+// An optimise folder: best.yaml is simulated into best_run the first time, reused after.
+TEST(InspectOptimise, ReplaysBestYamlOnceThenInspectsIt) {
+  const std::string dir = TempDir() + "/optimise_results";
+  std::string best = ReadFile(Source("examples/gecko_wall.yaml"));
+  best.replace(best.find("duration_s: 20"), 14, "duration_s: 3");
+  WriteFile(dir + "/best.yaml", best);
+  WriteFile(dir + "/summary.json", "{\"best_cost\": -0.01}\n");  // as optimise leaves it
+  const auto first = RunClimbsim("inspect " + dir + " --json");
+  ASSERT_EQ(first.code, 0) << first.err;
+  EXPECT_NE(first.err.find("just replayed"), std::string::npos) << first.err;
+  const json got = json::parse(first.out);
+  EXPECT_EQ(got["kind"], "optimise");
+  EXPECT_EQ(got["run"], dir + "/best_run");
+  EXPECT_EQ(got["duration_s"], 3.0);
+  EXPECT_GT(got["legs"][0]["attachments"].get<int>(), 0);
+  const auto when = std::filesystem::last_write_time(dir + "/best_run/summary.json");
+  const auto second = RunClimbsim("inspect " + dir + " --json");
+  ASSERT_EQ(second.code, 0) << second.err;
+  EXPECT_EQ(second.err.find("just replayed"), std::string::npos);
+  EXPECT_EQ(std::filesystem::last_write_time(dir + "/best_run/summary.json"), when);
+  EXPECT_EQ(json::parse(second.out)["legs"], got["legs"]);
+}
+
+}  // namespace
