@@ -255,7 +255,7 @@ struct RenderOptions {
   Quality quality = Quality::kDefault;
   double from_s = 0.0;  // video and frames: the time span, clipped to the run
   double to_s = std::numeric_limits<double>::infinity();
-  double distance_m = 0.0;  // camera distance; 0: five times the robot's radius
+  double distance_m = 0.0;  // camera distance; 0: 3.5 times the robot's radius
 };
 
 struct RenderStats {
@@ -268,7 +268,7 @@ struct RenderStats {
 // Frame times of a video or frame folder: from + k/fps for k = 0, 1, ... while ≤ to.
 std::vector<double> FrameTimes(const Run& run, const RenderOptions& options);
 
-// One PNG at time t (clipped to the recorded span).
+// One PNG at time t, which must lie inside the recording (InputError at --at otherwise).
 RenderStats RenderStill(const Run& run, const RenderOptions& options, double t_s,
                         const std::string& png_path);
 // An H.264 MP4 (libx264, yuv420p).

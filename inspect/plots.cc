@@ -186,7 +186,7 @@ void PadPlot(const Run& run, const Report& report, const LegReport& leg, const s
           sim::GnuplotQuote("leg " + leg.leg + " (" + leg.pad + "): " + run.dir +
                             "   green: attach, red: detach") +
           "\n";
-  body += "set lmargin 10\nset rmargin 24\nset grid\nset key at screen 0.99, graph 1 right top\n";
+  body += "set lmargin 10\nset rmargin 26\nset grid\nset key outside right top\n";
   body += "set ylabel \"bonded fraction\"\nset yrange [-0.05:1.05]\nunset xlabel\n";
   std::vector<const Block*> blocks;
   if (fraction.empty()) {

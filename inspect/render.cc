@@ -226,7 +226,7 @@ class Renderer {
     camera_.type = mjCAMERA_FREE;
     camera_.azimuth = std::atan2(forward.y(), forward.x()) * 180.0 / M_PI;
     camera_.elevation = std::asin(std::clamp(forward.z(), -1.0, 1.0)) * 180.0 / M_PI;
-    camera_.distance = o_.distance_m > 0 ? o_.distance_m : 5.0 * RobotRadius();
+    camera_.distance = o_.distance_m > 0 ? o_.distance_m : 3.5 * RobotRadius();
 
     // Prefix sums of the base position for the ±0.25 s average the camera looks at.
     base_sum_.assign(traj_.rows() + 1, Eigen::Vector3d::Zero());

@@ -30,10 +30,10 @@ void AddInspectCommand(CLI::App& app) {
                 "also draw gait.png/.svg, pad_<leg>.png/.svg and path.png/.svg into the run "
                 "directory");
   cmd->footer(
-      "Example:\n  climbsim inspect runs/gecko_wall --plots\n"
-      "  climbsim inspect runs/gecko_wall --leg LF --from 5 --to 10\n"
       "An optimise folder is inspected through DIR/best_run, simulated from DIR/best.yaml the\n"
-      "first time (as climbsim simulate DIR/best.yaml --out DIR/best_run would).");
+      "first time (as climbsim simulate DIR/best.yaml --out DIR/best_run would).\n"
+      "Example:\n  climbsim inspect runs/gecko_wall --leg LF --from 5 --to 10\n"
+      "  climbsim inspect runs/gecko_wall --plots");
   cmd->callback([] {
     const inspect::Window window{from_s, to_s};
     const inspect::RunKind kind = inspect::DetectRunKind(dir);

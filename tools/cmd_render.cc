@@ -36,7 +36,7 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_option("--from", o.from_s, "start of the video (s)");
   cmd->add_option("--to", o.to_s, "end of the video (s)");
   cmd->add_option("--distance-m", o.distance_m,
-                  "camera distance (m); default five times the robot's radius");
+                  "camera distance (m); default 3.5 times the robot's radius");
   cmd->add_flag("--quiet", quiet, "no progress and no summary");
   cmd->footer(
       "Example:\n  climbsim render runs/gecko_wall --at 10 --out runs/gecko_wall/still.png\n"

@@ -289,4 +289,21 @@ TEST(InspectOptimise, ReplaysBestYamlOnceThenInspectsIt) {
   EXPECT_EQ(json::parse(second.out)["legs"], got["legs"]);
 }
 
+// STYLE.md 10: each verb's --help ends with an example that runs.
+TEST(InspectCli, HelpEndsWithExamplesThatRun) {
+  for (const std::string verb : {"inspect", "render"}) {
+    const auto r = RunClimbsim(verb + " --help");
+    EXPECT_EQ(r.code, 0) << verb;
+    const size_t at = r.out.rfind("Example:\n  climbsim " + verb + " runs/gecko_wall");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    // Nothing but example lines after it.
+    std::istringstream rest(r.out.substr(at + 9));
+    for (std::string line; std::getline(rest, line);) {
+      EXPECT_TRUE(line.empty() || line.rfind("  climbsim " + verb + " ", 0) == 0) << line;
+    }
+  }
+  // The example's run directory comes from the example scenario the README simulates.
+  EXPECT_TRUE(std::filesystem::exists(Source("examples/gecko_wall.yaml")));
+}
+
 }  // namespace
