@@ -105,6 +105,9 @@ class YamlReadArchive {
   // A list of numbers; size 0 accepts any length (and absence keeps the default).
   void Visit(const Field& f, std::vector<double>* v, size_t size) {
     Place(f);
+    if (f.required && (!map_.Has(f.key) || map_.Raw(f.key).IsNull())) {
+      throw map_.Error(f.key, "is required");
+    }
     *v = map_.Doubles(f.key, *v, size, f.range);
   }
   void Visit(const Field& f, std::vector<std::string>* v) {
@@ -112,6 +115,9 @@ class YamlReadArchive {
     YAML::Node n = map_.Raw(f.key);
     if (!n.IsDefined() || n.IsNull()) return;
     if (n.IsScalar()) {
+      if (const std::string problem = ControlCharacterProblem(n.Scalar()); !problem.empty()) {
+        throw map_.ErrorAt(n, f.key, problem);
+      }
       *v = {n.Scalar()};
       return;
     }
@@ -119,6 +125,9 @@ class YamlReadArchive {
     v->clear();
     for (const auto& item : n) {
       if (!item.IsScalar()) throw map_.ErrorAt(item, f.key, "expected a name");
+      if (const std::string problem = ControlCharacterProblem(item.Scalar()); !problem.empty()) {
+        throw map_.ErrorAt(item, f.key, problem);
+      }
       v->push_back(item.Scalar());
     }
   }

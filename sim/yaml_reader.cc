@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -60,6 +61,19 @@ YAML::Node LoadYamlFile(const std::string& path) {
   } catch (const YAML::ParserException& e) {
     throw InputError(path, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
   }
+}
+
+std::string ControlCharacterProblem(std::string_view text) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "0x%02x", c);
+      return std::string("must not contain control characters (") + hex + " at " +
+             std::to_string(i) + ")";
+    }
+  }
+  return "";
 }
 
 YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string path)
@@ -141,6 +155,8 @@ double YamlMap::Double(std::string_view key, double default_value, Range range) 
 
 double YamlMap::RequiredDouble(std::string_view key, Range range) {
   if (!Has(key)) throw Error(key, "is required");
+  // "key:" with nothing after it is null, which Double() reads as its default: not a value.
+  if (const YAML::Node v = Get(key); v.IsNull()) throw ErrorAt(v, key, "is required, got nothing");
   return Double(key, 0.0, range);
 }
 
@@ -175,6 +191,9 @@ std::string YamlMap::String(std::string_view key, const std::string& default_val
   YAML::Node v = Get(key);
   if (!v.IsDefined() || v.IsNull()) return default_value;
   if (!v.IsScalar()) throw ErrorAt(v, key, "expected text, got " + Shape(v));
+  if (const std::string problem = ControlCharacterProblem(v.Scalar()); !problem.empty()) {
+    throw ErrorAt(v, key, problem);
+  }
   return v.Scalar();
 }
 

@@ -36,6 +36,12 @@ struct Range {
 // Reads a whole file; a YAML syntax error becomes an InputError at its place.
 YAML::Node LoadYamlFile(const std::string& path);
 
+// "" when `text` holds no control character (bytes below 0x20, and 0x7f), else what is
+// wrong ("must not contain control characters (0x0d at 15)"). Names and paths never hold
+// one, and the resolved scenario could not write it back (yaml-cpp emits a carriage return
+// unquoted, which then reads as a line break).
+std::string ControlCharacterProblem(std::string_view text);
+
 class YamlMap {
  public:
   // `node` must be a map or null (null reads as an empty map); `path` is the dotted prefix of
