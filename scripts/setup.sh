@@ -12,6 +12,7 @@ packages=(
   libeigen3-dev libboost-dev libnlopt-cxx-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox ffmpeg
+  clang-14 libclang-rt-14-dev  # libFuzzer and its sanitizers: the fuzz_scenario_loader test
 )
 
 missing=()
