@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -20,7 +21,9 @@ std::string GnuplotQuote(const std::string& s) {
 
 std::string RunGnuplot(const std::string& script, const std::vector<std::string>& outputs) {
   namespace fs = std::filesystem;
-  const std::string pid = std::to_string(::getpid());
+  // Process id and a counter: unique across processes and across threads of one process.
+  static std::atomic<long> counter{0};
+  const std::string pid = std::to_string(::getpid()) + "_" + std::to_string(counter++);
   std::string text = script;
   std::vector<std::string> temps;
   for (size_t k = 0; k < outputs.size(); ++k) {
