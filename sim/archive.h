@@ -77,10 +77,9 @@ class YamlReadArchive {
   }
   void Visit(const Field& f, std::optional<double>* v) {
     Place(f);
-    if (map_.Has(f.key)) {
+    // Absent or null ("key:" alone, as for every other key): the default, not 0.
+    if (const YAML::Node n = map_.Raw(f.key); n.IsDefined() && !n.IsNull()) {
       *v = map_.Double(f.key, 0.0, f.range);
-    } else {
-      map_.Raw(f.key);  // a known key, absent
     }
   }
   void Visit(const Field& f, int* v) {
