@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "cpg/internal/checks.h"
 
 #include <charconv>
@@ -78,6 +79,36 @@ void CheckStepperParams(std::string_view owner, const StepperParams& params) {
     Fail(prefix + "abs_tol and " + prefix +
          "rel_tol are both 0: Dopri5 could never meet them; give one of them > 0");
   }
+}
+
+bool StepInputs::Latch(std::string_view owner, double dt_s,
+                       std::span<const double> feedback_rad_per_s,
+                       std::span<const uint8_t> held) {
+  const int n = static_cast<int>(held_.size());
+  const std::string who(owner);
+  if (!(dt_s >= 0.0)) Fail(who + "::Step: dt_s", ">= 0", dt_s);
+  if (!feedback_rad_per_s.empty() && static_cast<int>(feedback_rad_per_s.size()) != n) {
+    Fail(who + "::Step: feedback_rad_per_s must be empty or have " + std::to_string(n) +
+         " entries, got " + std::to_string(feedback_rad_per_s.size()));
+  }
+  if (!held.empty() && static_cast<int>(held.size()) != n) {
+    Fail(who + "::Step: held must be empty or have " + std::to_string(n) + " entries, got " +
+         std::to_string(held.size()));
+  }
+  bool changed = false;
+  for (int i = 0; i < n; ++i) {
+    const double f = feedback_rad_per_s.empty() ? 0.0 : feedback_rad_per_s[i];
+    const uint8_t h = held.empty() ? 0 : held[i] != 0;
+    changed |= f != feedback_rad_per_s_[i] || h != held_[i];
+    feedback_rad_per_s_[i] = f;
+    held_[i] = h;
+  }
+  return changed;
+}
+
+void StepInputs::Clear() {
+  std::fill(feedback_rad_per_s_.begin(), feedback_rad_per_s_.end(), 0.0);
+  std::fill(held_.begin(), held_.end(), 0);
 }
 
 }  // namespace climbsim::cpg::internal

@@ -34,6 +34,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cpg/internal/checks.h"
 #include "cpg/internal/odeint_driver.h"
 
 namespace climbsim::cpg {
@@ -227,8 +228,7 @@ class PhaseNetwork final : public OscillatorNetwork {
   // Scratch and state: all sized in the constructor.
   std::vector<double> sin_theta_;
   std::vector<double> cos_theta_;
-  std::vector<double> feedback_rad_per_s_;
-  std::vector<uint8_t> held_;
+  internal::StepInputs inputs_;
   std::vector<double> theta_before_rad_;
   std::vector<double> unwrapped_rad_;
   internal::OdeintDriver driver_;
@@ -408,8 +408,7 @@ class HopfNetwork final : public OscillatorNetwork {
   std::vector<double> radius_;
   std::vector<double> scaled_cos_;
   std::vector<double> scaled_sin_;
-  std::vector<double> feedback_rad_per_s_;
-  std::vector<uint8_t> held_;
+  internal::StepInputs inputs_;
   std::vector<double> phase_rad_;
   std::vector<double> amplitude_;
   std::vector<double> unwrapped_rad_;

@@ -72,8 +72,7 @@ HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
       radius_(n_),
       scaled_cos_(2 * n_),
       scaled_sin_(2 * n_),
-      feedback_rad_per_s_(n_, 0.0),
-      held_(n_, 0),
+      inputs_(n_),
       phase_rad_(n_),
       amplitude_(n_),
       unwrapped_rad_(n_),
@@ -132,11 +131,10 @@ void HopfNetwork::Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd&
     const double radius = amplitude[i] * sqrt_mu_;
     z[i] = radius * std::cos(theta_rad[i] - kPi);
     z[n_ + i] = radius * std::sin(theta_rad[i] - kPi);
-    feedback_rad_per_s_[i] = 0.0;
-    held_[i] = 0;
   }
   UpdateOutputs(/*accumulate=*/false);
   for (int i = 0; i < n_; ++i) unwrapped_rad_[i] = phase_rad_[i];
+  inputs_.Clear();
   driver_.Restart();
   time_s_ = 0.0;
   steps_ = 0;
@@ -177,7 +175,7 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
         omega_swing_rad_per_s_ +
         (omega_stance_rad_per_s_ - omega_swing_rad_per_s_) * Logistic(params_.b * y[i]);
     // Feedback on the tangent (−y, x): adds exactly feedback to dϑ/dt (cpg.h).
-    const double rate = omega + feedback_rad_per_s_[i];
+    const double rate = omega + inputs_.feedback(i);
     double dx = params_.alpha_per_s * pull * x[i] - rate * y[i];
     double dy = params_.beta_per_s * pull * y[i] + rate * x[i];
     for (int j = 0; j < n_; ++j) {
@@ -209,8 +207,8 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
       dx += k * (target_x - x[i]);
       dy += k * (target_y - y[i]);
     }
-    dzdt[i] = held_[i] ? 0.0 : dx;
-    dzdt[n_ + i] = held_[i] ? 0.0 : dy;
+    dzdt[i] = inputs_.held(i) ? 0.0 : dx;
+    dzdt[n_ + i] = inputs_.held(i) ? 0.0 : dy;
   }
 }
 
@@ -228,33 +226,10 @@ void HopfNetwork::UpdateOutputs(bool accumulate) {
 
 void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
                      std::span<const uint8_t> held) {
-  if (!(dt_s >= 0.0)) internal::Fail("HopfNetwork::Step: dt_s", ">= 0", dt_s);
-  if (!feedback_rad_per_s.empty() && static_cast<int>(feedback_rad_per_s.size()) != n_) {
-    internal::Fail("HopfNetwork::Step: feedback_rad_per_s must be empty or have " +
-                   std::to_string(n_) + " entries, got " +
-                   std::to_string(feedback_rad_per_s.size()));
-  }
-  if (!held.empty() && static_cast<int>(held.size()) != n_) {
-    internal::Fail("HopfNetwork::Step: held must be empty or have " + std::to_string(n_) +
-                   " entries, got " + std::to_string(held.size()));
-  }
+  // A new feedback or hold changes the right-hand side: Dopri5's derivative is stale.
+  const bool changed = inputs_.Latch("HopfNetwork", dt_s, feedback_rad_per_s, held);
   if (dt_s == 0.0) return;
-  bool feedback_changed = false;
-  for (int i = 0; i < n_; ++i) {
-    const double f = feedback_rad_per_s.empty() ? 0.0 : feedback_rad_per_s[i];
-    if (f != feedback_rad_per_s_[i]) {
-      feedback_changed = true;
-      feedback_rad_per_s_[i] = f;
-    }
-  }
-  for (int i = 0; i < n_; ++i) {
-    const uint8_t h = held.empty() ? 0 : held[i] != 0;
-    if (h != held_[i]) {
-      feedback_changed = true;
-      held_[i] = h;
-    }
-  }
-  if (feedback_changed) driver_.InvalidateDerivative();
+  if (changed) driver_.InvalidateDerivative();
 
   double unfinished_s = 0.0;
   const bool finished = driver_.Advance(Rhs{this}, dt_s, &unfinished_s);

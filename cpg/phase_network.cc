@@ -51,8 +51,7 @@ PhaseNetwork::PhaseNetwork(const PhaseNetworkParams& params)
       sin_bias_(n_ * n_),
       sin_theta_(n_),
       cos_theta_(n_),
-      feedback_rad_per_s_(n_, 0.0),
-      held_(n_, 0),
+      inputs_(n_),
       theta_before_rad_(n_),
       unwrapped_rad_(n_),
       driver_(params.stepper, 2 * n_) {
@@ -86,9 +85,8 @@ void PhaseNetwork::Reset(const Eigen::VectorXd& theta_rad, const Eigen::VectorXd
     x[i] = internal::WrapTwoPi(theta_rad[i]);
     x[n_ + i] = amplitude[i];
     unwrapped_rad_[i] = x[i];
-    feedback_rad_per_s_[i] = 0.0;
-    held_[i] = 0;
   }
+  inputs_.Clear();
   driver_.Restart();
   time_s_ = 0.0;
   steps_ = 0;
@@ -114,42 +112,18 @@ void PhaseNetwork::Derivative(const double* x, double* dxdt) {
       const double cos_diff = cos_theta_[j] * cos_theta_[i] + sin_theta_[j] * sin_theta_[i];
       coupling += w * r[j] * (sin_diff * cos_bias_[i * n_ + j] - cos_diff * sin_bias_[i * n_ + j]);
     }
-    dxdt[i] = omega_rad_per_s_ + coupling + feedback_rad_per_s_[i];
+    dxdt[i] = omega_rad_per_s_ + coupling + inputs_.feedback(i);
     dxdt[n_ + i] = params_.amplitude_rate_per_s * (params_.target_amplitude[i] - r[i]);
-    if (held_[i]) dxdt[i] = dxdt[n_ + i] = 0.0;
+    if (inputs_.held(i)) dxdt[i] = dxdt[n_ + i] = 0.0;
   }
 }
 
 void PhaseNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
                      std::span<const uint8_t> held) {
-  if (!(dt_s >= 0.0)) internal::Fail("PhaseNetwork::Step: dt_s", ">= 0", dt_s);
-  if (!feedback_rad_per_s.empty() && static_cast<int>(feedback_rad_per_s.size()) != n_) {
-    internal::Fail("PhaseNetwork::Step: feedback_rad_per_s must be empty or have " +
-                   std::to_string(n_) + " entries, got " +
-                   std::to_string(feedback_rad_per_s.size()));
-  }
-  if (!held.empty() && static_cast<int>(held.size()) != n_) {
-    internal::Fail("PhaseNetwork::Step: held must be empty or have " + std::to_string(n_) +
-                   " entries, got " + std::to_string(held.size()));
-  }
+  // A new feedback or hold changes the right-hand side: Dopri5's derivative is stale.
+  const bool changed = inputs_.Latch("PhaseNetwork", dt_s, feedback_rad_per_s, held);
   if (dt_s == 0.0) return;
-  // A new feedback changes the right-hand side: Dopri5's carried-over derivative is stale.
-  bool feedback_changed = false;
-  for (int i = 0; i < n_; ++i) {
-    const double f = feedback_rad_per_s.empty() ? 0.0 : feedback_rad_per_s[i];
-    if (f != feedback_rad_per_s_[i]) {
-      feedback_changed = true;
-      feedback_rad_per_s_[i] = f;
-    }
-  }
-  for (int i = 0; i < n_; ++i) {
-    const uint8_t h = held.empty() ? 0 : held[i] != 0;
-    if (h != held_[i]) {
-      feedback_changed = true;
-      held_[i] = h;
-    }
-  }
-  if (feedback_changed) driver_.InvalidateDerivative();
+  if (changed) driver_.InvalidateDerivative();
 
   std::vector<double>& x = driver_.x();
   for (int i = 0; i < n_; ++i) theta_before_rad_[i] = x[i];

@@ -123,13 +123,6 @@ void CheckTimeOrder(const std::string& path, int line, double previous, double n
   }
 }
 
-// A custom numeric of `size` numbers, or false when the model lacks it.
-bool Numeric(const mjModel* m, const char* name, int size, double* out) {
-  const int id = mj_name2id(m, mjOBJ_NUMERIC, name);
-  if (id < 0 || m->numeric_size[id] < size) return false;
-  for (int i = 0; i < size; ++i) out[i] = m->numeric_data[m->numeric_adr[id] + i];
-  return true;
-}
 
 }  // namespace
 
@@ -305,7 +298,7 @@ Run LoadRun(const std::string& dir_in) {
     }
   }
   double v[3];
-  if (Numeric(m, "climbsim_travel", 3, v)) {
+  if (sim::CustomNumeric(m, "climbsim_travel", 3, v)) {
     const Eigen::Vector3d t(v[0], v[1], v[2]);
     if (t.norm() > 0) run.travel = t.normalized();
   }

@@ -25,15 +25,15 @@ std::vector<std::string> LegNames(const mjModel* m) {
   return names;
 }
 
-// A custom numeric of `size` numbers, or false when the model lacks it.
-bool Numeric(const mjModel* m, const char* name, int size, double* out) {
+
+}  // namespace
+
+bool CustomNumeric(const mjModel* m, const char* name, int size, double* out) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, name);
   if (id < 0 || m->numeric_size[id] < size) return false;
   for (int i = 0; i < size; ++i) out[i] = m->numeric_data[m->numeric_adr[id] + i];
   return true;
 }
-
-}  // namespace
 
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& add) {
@@ -67,8 +67,8 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
   // The scene's own gravity and travel direction; the scenario's options apply per World.
   c->scene_.gravity = Eigen::Vector3d(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
   double v[3];
-  if (Numeric(m, "climbsim_travel", 3, v)) c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
-  if (Numeric(m, "climbsim_spawn", 3, v)) {
+  if (CustomNumeric(m, "climbsim_travel", 3, v)) c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (CustomNumeric(m, "climbsim_spawn", 3, v)) {
     for (int i = 0; i < 3; ++i) c->spawn_offset_[i] = v[i];
   }
 

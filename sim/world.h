@@ -105,6 +105,9 @@ class World {
   Eigen::Vector3d gravity_;
 };
 
+// A model's custom numeric `name` with at least `size` numbers into out; false when absent.
+bool CustomNumeric(const mjModel* model, const char* name, int size, double* out);
+
 // The composed top-level MJCF for a robot and a scene file (absolute paths).
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& additions);

@@ -4,8 +4,11 @@
 #define CLIMBSIM_CPG_INTERNAL_CHECKS_H_
 
 #include <Eigen/Core>
+#include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace climbsim::cpg {
 struct StepperParams;  // cpg.h
@@ -36,6 +39,24 @@ void CheckSquare(std::string_view field, const Eigen::MatrixXd& m, int n, std::s
 void CheckZeroDiagonal(std::string_view field, const Eigen::MatrixXd& m);
 // StepperParams as cpg.h documents; owner is "PhaseNetworkParams" or "HopfNetworkParams".
 void CheckStepperParams(std::string_view owner, const StepperParams& params);
+
+// What a network's Step holds constant over the step: the feedback and the held flags, one per
+// oscillator, sized once. Latch checks a Step's arguments (owner names the network in
+// messages) and returns true when any value changed: the right-hand side changed with it, so
+// Dopri5's carried-over derivative is stale.
+class StepInputs {
+ public:
+  explicit StepInputs(int n) : feedback_rad_per_s_(n, 0.0), held_(n, 0) {}
+  bool Latch(std::string_view owner, double dt_s, std::span<const double> feedback_rad_per_s,
+             std::span<const uint8_t> held);
+  void Clear();
+  double feedback(int i) const { return feedback_rad_per_s_[i]; }
+  bool held(int i) const { return held_[i] != 0; }
+
+ private:
+  std::vector<double> feedback_rad_per_s_;
+  std::vector<uint8_t> held_;
+};
 
 }  // namespace climbsim::cpg::internal
 

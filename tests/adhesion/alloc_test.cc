@@ -1,70 +1,20 @@
-// Nothing allocates in the step: the global operator new is replaced for this executable and
-// counts calls while g_counting is set. The loop does what the simulation does every step
+// Nothing allocates in the step: every operator new and malloc of this executable is counted
+// (tests/common/alloc_counter). The loop does what the simulation does every step
 // (Update, queries) plus the attachment changes, with cascades and degenerate sets.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include "adhesion/bond_grid.h"
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-
-void* Allocate(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* AllocateAligned(std::size_t size, std::align_val_t align) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  const std::size_t a = static_cast<std::size_t>(align);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
-}  // namespace
-
-void* operator new(std::size_t size) { return Allocate(size); }
-void* operator new[](std::size_t size) { return Allocate(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return Allocate(size);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return Allocate(size);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new(std::size_t size, std::align_val_t align) { return AllocateAligned(size, align); }
-void* operator new[](std::size_t size, std::align_val_t align) {
-  return AllocateAligned(size, align);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+#include "tests/common/alloc_counter.h"
 
 namespace climbsim::adhesion {
 namespace {
 
 TEST(PadAllocation, CounterSeesAllocations) {
-  g_allocations = 0;
-  g_counting = true;
-  auto* p = new int(3);
-  g_counting = false;
+  // Through a volatile pointer the compiler may not elide the allocation.
+  int* volatile p = nullptr;
+  const auto counts = climbsim::testing::CountAllocations([&] { p = new int(3); });
   delete p;
-  EXPECT_EQ(g_allocations.load(), 1);
+  EXPECT_EQ(counts.news, 1);
 }
 
 TEST(PadAllocation, UpdateNeverAllocatesAfterConstruction) {
@@ -84,8 +34,7 @@ TEST(PadAllocation, UpdateNeverAllocatesAfterConstruction) {
 
   long broken = 0;
   double sink = 0.0;
-  g_allocations = 0;
-  g_counting = true;
+  const auto counts = climbsim::testing::CountAllocations([&] {
   for (int k = 0; k < 1000; ++k) {
     switch (k % 4) {
       case 0: grid.BondAll(); break;
@@ -108,8 +57,8 @@ TEST(PadAllocation, UpdateNeverAllocatesAfterConstruction) {
     for (const BrokenBond& b : grid.last_broken()) sink += b.round;
     sink += PadLoadFromSurfaceWrench(Eigen::Vector3d(f, 0, -f), Eigen::Vector3d(0, f, 0)).fn_n;
   }
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  });
+  EXPECT_EQ(counts.total(), 0);
   EXPECT_GT(broken, 1000);  // the loop did break bonds, in cascades
   EXPECT_TRUE(std::isfinite(sink) || std::isinf(sink));
 }

@@ -1,6 +1,6 @@
 // Step never allocates: every global operator new (and, on glibc without sanitizers, every
-// malloc, which is what Eigen and C code call) is counted while the networks step.
-// Its own executable, because replacing operator new and malloc applies to the whole program.
+// malloc, which is what Eigen and C code call) is counted (tests/common/alloc_counter) while
+// the networks step. Its own executable: the counting replaces them for the whole program.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -12,87 +12,18 @@
 #include <vector>
 
 #include "cpg/cpg.h"
-
-namespace {
-std::atomic<long> g_new_calls{0};
-std::atomic<long> g_malloc_calls{0};
-void* volatile g_sink = nullptr;
-}  // namespace
-
-// GCC sees our replacement delete call free() on memory from operator new and warns; that pair
-// is exactly what this file defines (new = malloc, delete = free).
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-
-// Every replaceable allocation form; the array and nothrow ones do not all route through the
-// plain one in libstdc++, so each is counted itself.
-void* operator new(std::size_t size) {
-  g_new_calls.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  g_new_calls.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-  return operator new(size, tag);
-}
-void* operator new(std::size_t size, std::align_val_t align) {
-  g_new_calls.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t a = static_cast<std::size_t>(align);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size, std::align_val_t align) { return operator new(size, align); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-
-// malloc itself, on glibc: forward to the allocator glibc exports under __libc_malloc. Not with
-// AddressSanitizer, which interposes malloc itself.
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
-#define CLIMBSIM_COUNT_MALLOC 1
-extern "C" void* __libc_malloc(std::size_t size);
-extern "C" void* __libc_calloc(std::size_t count, std::size_t size);
-extern "C" void* __libc_realloc(void* p, std::size_t size);
-extern "C" void* malloc(std::size_t size) {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
-extern "C" void* calloc(std::size_t count, std::size_t size) {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(count, size);
-}
-extern "C" void* realloc(void* p, std::size_t size) {
-  g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, size);
-}
-#else
-#define CLIMBSIM_COUNT_MALLOC 0
-#endif
+#include "tests/common/alloc_counter.h"
 
 namespace climbsim::cpg {
 namespace {
 
-struct Counts {
-  long news;
-  long mallocs;
-};
+void* volatile g_sink = nullptr;  // a stored allocation cannot be elided
+using climbsim::testing::AllocationCounts;
+using Counts = AllocationCounts;
 
 template <class Body>
 Counts Count(Body body) {
-  const long news = g_new_calls.load();
-  const long mallocs = g_malloc_calls.load();
-  body();
-  return {g_new_calls.load() - news, g_malloc_calls.load() - mallocs};
+  return climbsim::testing::CountAllocations(body);
 }
 
 std::unique_ptr<OscillatorNetwork> Make(bool hopf, int legs, Stepper stepper) {
@@ -115,7 +46,7 @@ TEST(CpgAllocation, CounterSeesAllocations) {
     delete v;
   });
   EXPECT_GE(counts.news, 1);
-  if (CLIMBSIM_COUNT_MALLOC) {
+  if (climbsim::testing::MallocIsCounted()) {
     EXPECT_GE(counts.mallocs, 1);
   }
 }
