@@ -10,21 +10,10 @@
 #include <vector>
 
 #include "cpg/cpg.h"
+#include "tests/cpg/test_util.h"
 
 namespace climbsim::cpg {
 namespace {
-
-std::unique_ptr<OscillatorNetwork> Make(bool hopf, int legs, Stepper stepper) {
-  const Gait gait = GaitPreset(legs == 4 ? "lateral_sequence" : "wave", legs);
-  if (hopf) {
-    HopfNetworkParams p = HopfNetworkParamsForGait(gait, 1.0, 2.0);
-    p.stepper.type = stepper;
-    return std::make_unique<HopfNetwork>(p);
-  }
-  PhaseNetworkParams p = PhaseNetworkParamsForGait(gait, 1.0, 2.0);
-  p.stepper.type = stepper;
-  return std::make_unique<PhaseNetwork>(p);
-}
 
 // Args: hopf (0/1), legs (4/6), stepper (0 Euler, 1 RK4, 2 Dopri5), changing feedback (0/1).
 void BM_Step(benchmark::State& state) {
@@ -32,7 +21,7 @@ void BM_Step(benchmark::State& state) {
   const int legs = static_cast<int>(state.range(1));
   const auto stepper = static_cast<Stepper>(state.range(2));
   const bool feedback_on = state.range(3) != 0;
-  std::unique_ptr<OscillatorNetwork> network = Make(hopf, legs, stepper);
+  std::unique_ptr<OscillatorNetwork> network = testing::MakeGaitNetwork(hopf, legs, stepper);
   std::vector<double> feedback(legs, 0.0);
   // Settle first, so that Dopri5's step size is the steady one.
   for (int k = 0; k < 2000; ++k) network->Step(1e-3, {});

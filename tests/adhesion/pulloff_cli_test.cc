@@ -3,7 +3,6 @@
 // plot; bad options exit 2 with a message; the help ends with an example that runs; every
 // adhesion example runs.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -12,25 +11,15 @@
 #include <vector>
 
 #include "sim/sim.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace {
 
+using climbsim::testing::CliResult;
 using climbsim::testing::ReadFile;
+using climbsim::testing::RunClimbsim;
 using climbsim::testing::TempDir;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
-
-Result RunClimbsim(const std::string& args) {
-  const std::string out = TempDir() + "/pulloff_stdout", err = TempDir() + "/pulloff_stderr";
-  const std::string cmd =
-      std::string(CLIMBSIM_BINARY_DIR) + "/climbsim " + args + " >" + out + " 2>" + err;
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(out), ReadFile(err)};
-}
 
 std::vector<std::string> Split(const std::string& line) {
   std::vector<std::string> cells;
@@ -44,7 +33,7 @@ std::vector<std::string> Split(const std::string& line) {
 // quasi-static column (one ramp step plus the weld's lag), and a PNG that draws both.
 TEST(PulloffCli, SweepWritesBothModelsAndThePlot) {
   const std::string dir = TempDir() + "/pulloff";
-  const Result r = RunClimbsim("pulloff --out " + dir + " --step-deg 30 --grid 8");
+  const CliResult r = RunClimbsim("pulloff --out " + dir + " --step-deg 30 --grid 8");
   ASSERT_EQ(r.code, 0) << r.err;
   std::istringstream csv(ReadFile(dir + "/pulloff.csv"));
   std::string line;
@@ -76,7 +65,7 @@ TEST(PulloffCli, SweepWritesBothModelsAndThePlot) {
 }
 
 TEST(PulloffCli, BadOptionsExitTwoWithAMessage) {
-  Result r = RunClimbsim("pulloff --out " + TempDir() + "/x --from-deg 90 --to-deg 10");
+  CliResult r = RunClimbsim("pulloff --out " + TempDir() + "/x --from-deg 90 --to-deg 10");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--from-deg: must be <= --to-deg"), std::string::npos) << r.err;
   r = RunClimbsim("pulloff --out " + TempDir() + "/x --sigma-t-pa -5");
@@ -89,7 +78,7 @@ TEST(PulloffCli, BadOptionsExitTwoWithAMessage) {
 }
 
 TEST(PulloffCli, HelpEndsWithAnExampleThatRuns) {
-  const Result help = RunClimbsim("pulloff --help");
+  const CliResult help = RunClimbsim("pulloff --help");
   EXPECT_EQ(help.code, 0);
   const size_t at = help.out.rfind("Example:\n  climbsim ");
   ASSERT_NE(at, std::string::npos) << help.out;
@@ -100,7 +89,7 @@ TEST(PulloffCli, HelpEndsWithAnExampleThatRuns) {
   ASSERT_NE(out, std::string::npos) << example;
   example.replace(out, std::string("--out runs/pulloff").size(),
                   "--out " + TempDir() + "/example --step-deg 45");
-  const Result r = RunClimbsim(example);
+  const CliResult r = RunClimbsim(example);
   EXPECT_EQ(r.code, 0) << example << "\n" << r.err;
 }
 

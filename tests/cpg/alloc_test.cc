@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cpg/cpg.h"
+#include "tests/cpg/test_util.h"
 #include "tests/common/alloc_counter.h"
 
 namespace climbsim::cpg {
@@ -24,18 +25,6 @@ using Counts = AllocationCounts;
 template <class Body>
 Counts Count(Body body) {
   return climbsim::testing::CountAllocations(body);
-}
-
-std::unique_ptr<OscillatorNetwork> Make(bool hopf, int legs, Stepper stepper) {
-  const Gait gait = GaitPreset(legs == 4 ? "lateral_sequence" : "wave", legs);
-  if (hopf) {
-    HopfNetworkParams p = HopfNetworkParamsForGait(gait, 1.0, 2.0);
-    p.stepper.type = stepper;
-    return std::make_unique<HopfNetwork>(p);
-  }
-  PhaseNetworkParams p = PhaseNetworkParamsForGait(gait, 1.0, 2.0);
-  p.stepper.type = stepper;
-  return std::make_unique<PhaseNetwork>(p);
 }
 
 TEST(CpgAllocation, CounterSeesAllocations) {
@@ -58,7 +47,7 @@ TEST(CpgAllocation, StepNeverAllocatesForAnyStepperOrNetwork) {
         const std::string what = std::string(hopf ? "Hopf" : "Phase") + " legs " +
                                  std::to_string(legs) + " stepper " +
                                  std::to_string(static_cast<int>(stepper));
-        std::unique_ptr<OscillatorNetwork> network = Make(hopf, legs, stepper);
+        std::unique_ptr<OscillatorNetwork> network = testing::MakeGaitNetwork(hopf, legs, stepper);
         std::vector<double> feedback(legs, 0.0);
         // "Better never": even the first Step, before any warm-up, allocates nothing.
         const Counts first = Count([&] { network->Step(1e-3, feedback); });

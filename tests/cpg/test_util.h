@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <span>
@@ -19,6 +20,20 @@ inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // Δ into [−π, π).
 inline double WrapPi(double delta_rad) {
   return delta_rad - kTwoPi * std::floor((delta_rad + kPi) / kTwoPi);
+}
+
+// A network of either type on the lateral-sequence walk (4 legs) or the wave (6), stride 1 Hz,
+// coupling 2 /s, with the given stepper: what the allocation tests and the benchmarks step.
+inline std::unique_ptr<OscillatorNetwork> MakeGaitNetwork(bool hopf, int legs, Stepper stepper) {
+  const Gait gait = GaitPreset(legs == 4 ? "lateral_sequence" : "wave", legs);
+  if (hopf) {
+    HopfNetworkParams p = HopfNetworkParamsForGait(gait, 1.0, 2.0);
+    p.stepper.type = stepper;
+    return std::make_unique<HopfNetwork>(p);
+  }
+  PhaseNetworkParams p = PhaseNetworkParamsForGait(gait, 1.0, 2.0);
+  p.stepper.type = stepper;
+  return std::make_unique<PhaseNetwork>(p);
 }
 
 // Steps until time_s() reaches t_end_s (to within half a step).

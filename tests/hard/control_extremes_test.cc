@@ -15,7 +15,7 @@
 #include "reflex/reflex.h"
 #include "sim/sim.h"
 #include "tests/hard/hard_util.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim {
 namespace {

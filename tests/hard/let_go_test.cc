@@ -8,7 +8,7 @@
 #include "sim/adhesion_effect.h"
 #include "sim/sim.h"
 #include "tests/hard/hard_util.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {

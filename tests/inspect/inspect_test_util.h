@@ -1,60 +1,16 @@
-// Helpers of the inspect tests: the climbsim executable as a user runs it, temporary folders,
-// and real runs simulated once per build and shared by the test processes.
+// Helpers of the inspect tests, beside tests/common/test_util.h: real runs simulated once per
+// build and shared by the test processes.
 #ifndef CLIMBSIM_TESTS_INSPECT_INSPECT_TEST_UTIL_H_
 #define CLIMBSIM_TESTS_INSPECT_INSPECT_TEST_UTIL_H_
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
+#include "tests/common/test_util.h"
+
 namespace climbsim::testing {
-
-// A fresh folder per test process, left behind for inspection after a failure.
-inline std::string TempDir() {
-  static const std::string dir = [] {
-    auto d = std::filesystem::temp_directory_path() /
-             ("climbsim_inspect_test_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d.string();
-  }();
-  return dir;
-}
-
-inline std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-inline void WriteFile(const std::string& path, const std::string& text) {
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-  std::ofstream(path, std::ios::binary) << text;
-}
-
-inline std::string Source(const std::string& rel) {
-  return std::string(CLIMBSIM_SOURCE_DIR) + "/" + rel;
-}
-
-inline std::string Climbsim() { return std::string(CLIMBSIM_BINARY_DIR) + "/climbsim"; }
-
-struct CliResult {
-  int code;
-  std::string out, err;
-};
-
-// Runs `climbsim ARGS` in a shell; stdout and stderr captured.
-inline CliResult RunClimbsim(const std::string& args) {
-  static int n = 0;
-  const std::string base = TempDir() + "/cli_" + std::to_string(n++);
-  const std::string cmd = Climbsim() + " " + args + " >" + base + ".out 2>" + base + ".err";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(base + ".out"),
-          ReadFile(base + ".err")};
-}
 
 // A real run of `scenario` (a path), simulated by the climbsim executable into the build tree
 // once per build: redone when its summary.json is missing or older than the executable.

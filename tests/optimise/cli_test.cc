@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "optimise/optimise.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace {
 

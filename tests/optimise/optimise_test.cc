@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "optimise/optimise.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::optimise {
 namespace {
@@ -138,17 +138,7 @@ TEST(Optimise, ThreadCountDoesNotChangeTheResultAndBestReplaysBitForBit) {
 // A rollout that goes numerically bad costs kFailedCost, is logged, and the optimisation
 // goes on (an exception through NLopt would end it).
 TEST(Optimise, FailedRolloutsScoreLargeAndAreLogged) {
-  WriteFile("models/fragile.xml", R"(<mujoco>
-  <compiler autolimits="true"/>
-  <worldbody>
-    <body name="base" pos="0 0 0.5"><freejoint name="root"/>
-      <geom type="box" size="0.05 0.05 0.01" mass="0.1"/>
-      <body pos="0.1 0 0"><joint name="spring" type="hinge" axis="0 1 0" stiffness="1e9"
-        springref="1"/><geom type="capsule" fromto="0 0 0 0.05 0 0" size="0.005" mass="0.001"/>
-      </body>
-    </body>
-  </worldbody>
-</mujoco>)");
+  WriteFile("models/fragile.xml", climbsim::testing::kUnstableRobotMjcf);
   const std::string path = WriteFile(
       "fragile.yaml",
       "robot: models/fragile.xml\nscene: floor\nduration_s: 0.5\n"

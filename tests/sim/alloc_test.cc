@@ -4,7 +4,7 @@
 
 #include "sim/sim.h"
 #include "tests/common/alloc_counter.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {

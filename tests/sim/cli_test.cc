@@ -1,47 +1,36 @@
 // The climbsim executable as a user meets it: exit codes, messages, help, and that bad input
 // leaves an existing run directory as it was.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace {
 
+using climbsim::testing::CliResult;
 using climbsim::testing::ReadFile;
+using climbsim::testing::RunClimbsim;
 using climbsim::testing::TempDir;
 using climbsim::testing::WriteFile;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
-
-Result RunClimbsim(const std::string& args) {
-  const std::string out = TempDir() + "/cli_stdout", err = TempDir() + "/cli_stderr";
-  const std::string cmd = std::string(CLIMBSIM_BINARY_DIR) + "/climbsim " + args + " >" + out +
-                          " 2>" + err;
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(out), ReadFile(err)};
-}
 
 TEST(Cli, BadScenarioExitsTwoAndKeepsTheRunDirectory) {
   const std::string dir = TempDir() + "/kept_run";
   std::filesystem::create_directories(dir);
   WriteFile("kept_run/summary.json", "{\"from\": \"an earlier run\"}\n");
   const std::string bad = WriteFile("bad_cli.yaml", "robot: gecko\nscene: floor\nduration_s: -1\n");
-  const Result r = RunClimbsim("simulate " + bad + " --out " + dir);
+  const CliResult r = RunClimbsim("simulate " + bad + " --out " + dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, bad + ":3:13: duration_s: must be in (0, 1000000], got -1\n");
   EXPECT_EQ(ReadFile(dir + "/summary.json"), "{\"from\": \"an earlier run\"}\n");
 }
 
 TEST(Cli, MissingScenarioFileExitsTwo) {
-  const Result r = RunClimbsim("simulate /nonexistent/x.yaml --out " + TempDir() + "/never");
+  const CliResult r = RunClimbsim("simulate /nonexistent/x.yaml --out " + TempDir() + "/never");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "/nonexistent/x.yaml: scenario file not found\n");
   EXPECT_FALSE(std::filesystem::exists(TempDir() + "/never"));
@@ -54,7 +43,7 @@ TEST(Cli, UnknownOptionExitsTwo) {
 
 TEST(Cli, HelpEndsWithAnExampleThatRuns) {
   for (const std::string verb : {"", "simulate ", "keys "}) {
-    const Result r = RunClimbsim(verb + "--help");
+    const CliResult r = RunClimbsim(verb + "--help");
     EXPECT_EQ(r.code, 0) << verb;
     const size_t at = r.out.rfind("Example:\n  climbsim ");
     ASSERT_NE(at, std::string::npos) << verb << r.out;
@@ -68,7 +57,7 @@ TEST(Cli, SimulatePrintsTheSummaryAndWritesTheRun) {
                                          "robot: gecko\nscene: floor\nduration_s: 0.2\n"
                                          "cpg:\n  gait: trot\n");
   const std::string dir = TempDir() + "/cli_ok_run";
-  const Result r = RunClimbsim("simulate " + scenario + " --out " + dir);
+  const CliResult r = RunClimbsim("simulate " + scenario + " --out " + dir);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("distance"), std::string::npos);
   const auto summary = nlohmann::json::parse(ReadFile(dir + "/summary.json"));

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "sim/sim.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "cpg/cpg.h"
 #include "sim/sim.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {

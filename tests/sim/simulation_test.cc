@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "sim/sim.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {
@@ -106,17 +106,7 @@ TEST(Simulation, NoTemporaryFilesAreLeftBehind) {
 // A joint with an absurd explicit spring at a large step diverges: MuJoCo flags the bad
 // acceleration; the run must stop there and say where.
 TEST(Simulation, UnstableRunStopsWithStepTimeAndCause) {
-  WriteFile("models/unstable.xml", R"(<mujoco>
-  <compiler autolimits="true"/>
-  <worldbody>
-    <body name="base" pos="0 0 0.5"><freejoint name="root"/>
-      <geom type="box" size="0.05 0.05 0.01" mass="0.1"/>
-      <body pos="0.1 0 0"><joint name="spring" type="hinge" axis="0 1 0" stiffness="1e9"
-        springref="1"/><geom type="capsule" fromto="0 0 0 0.05 0 0" size="0.005" mass="0.001"/>
-      </body>
-    </body>
-  </worldbody>
-</mujoco>)");
+  WriteFile("models/unstable.xml", climbsim::testing::kUnstableRobotMjcf);
   const Scenario s = Load("unstable.yaml",
                           "robot: models/unstable.xml\nscene: floor\nduration_s: 1\n"
                           "physics:\n  integrator: euler\n  timestep_s: 0.01\n");

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/sim.h"
-#include "tests/sim/test_util.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {

@@ -1,0 +1,81 @@
+// Helpers shared by the tests: a private temporary folder, files written and read, the source
+// tree, the climbsim executable as a user runs it, and a robot MuJoCo is sure to flag.
+#ifndef CLIMBSIM_TESTS_COMMON_TEST_UTIL_H_
+#define CLIMBSIM_TESTS_COMMON_TEST_UTIL_H_
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace climbsim::testing {
+
+// A fresh folder per test process, removed by nobody (tests may inspect it after failure).
+inline std::string TempDir() {
+  static const std::string dir = [] {
+    auto d = std::filesystem::temp_directory_path() /
+             ("climbsim_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    return d.string();
+  }();
+  return dir;
+}
+
+// Writes text to path (an absolute path, or a name under TempDir()), making its folders;
+// returns the path written.
+inline std::string WriteFile(const std::string& path_or_name, const std::string& text) {
+  const std::filesystem::path p(path_or_name);
+  const std::string path = p.is_absolute() ? path_or_name : TempDir() + "/" + path_or_name;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+inline std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+inline std::string Source(const std::string& rel) {
+  return std::string(CLIMBSIM_SOURCE_DIR) + "/" + rel;
+}
+
+inline std::string Climbsim() { return std::string(CLIMBSIM_BINARY_DIR) + "/climbsim"; }
+
+struct CliResult {
+  int code;  // the exit code; -1 when killed by a signal
+  std::string out, err;
+};
+
+// Runs `climbsim ARGS` in a shell, stdout and stderr captured (each call its own files, so
+// a failed test leaves every output behind).
+inline CliResult RunClimbsim(const std::string& args) {
+  static int n = 0;
+  const std::string base = TempDir() + "/cli_" + std::to_string(n++);
+  const std::string cmd = Climbsim() + " " + args + " >" + base + ".out 2>" + base + ".err";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(base + ".out"),
+          ReadFile(base + ".err")};
+}
+
+// A robot that diverges: a 1e9 N·m/rad spring on a 1 g link. Its frequency sqrt(k/I) is
+// ~1e8 rad/s against the explicit-Euler stability limit 2/dt (200 rad/s at 10 ms), so it
+// blows up within a few steps and MuJoCo flags the bad acceleration (mjWARN_BADQACC).
+inline constexpr const char* kUnstableRobotMjcf = R"(<mujoco>
+  <compiler autolimits="true"/>
+  <worldbody>
+    <body name="base" pos="0 0 0.5"><freejoint name="root"/>
+      <geom type="box" size="0.05 0.05 0.01" mass="0.1"/>
+      <body pos="0.1 0 0"><joint name="spring" type="hinge" axis="0 1 0" stiffness="1e9"
+        springref="1"/><geom type="capsule" fromto="0 0 0 0.05 0 0" size="0.005" mass="0.001"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+}  // namespace climbsim::testing
+
+#endif  // CLIMBSIM_TESTS_COMMON_TEST_UTIL_H_
