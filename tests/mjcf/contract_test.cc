@@ -21,6 +21,8 @@ struct RobotSpec {
   double stall_torque_nm;      // servo stall torque = forcerange
   double no_load_speed_rad_s;  // servo no-load speed (60 deg per t_60)
 };
+// Names the case in test listings (gtest would print the struct's bytes).
+void PrintTo(const RobotSpec& spec, std::ostream* os) { *os << spec.robot; }
 
 const RobotSpec kGecko{"gecko", {"LF", "RF", "LH", "RH"}, 0.080, 0.150, 0.025, 0.002, 0.001, 0.005,
                        0.078,   (M_PI / 3) / 0.10};

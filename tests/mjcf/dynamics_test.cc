@@ -159,6 +159,7 @@ struct HoldCase {
   std::vector<std::string> stance;  // legs welded to the surface (the gait's stance set)
   double max_torque_ratio;          // max |servo torque| / stall torque allowed
 };
+void PrintTo(const HoldCase& c, std::ostream* os) { *os << c.robot << " on " << c.scene; }
 
 class MjcfHold : public testing::TestWithParam<HoldCase> {};
 

@@ -119,6 +119,7 @@ struct SceneSpec {
   std::vector<std::string> surfaces;
   std::array<double, 3> travel;
 };
+void PrintTo(const SceneSpec& spec, std::ostream* os) { *os << spec.scene; }
 
 class MjcfScene : public testing::TestWithParam<SceneSpec> {};
 

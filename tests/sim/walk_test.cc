@@ -13,6 +13,7 @@ struct Case {
   const char* example;
   double body_length_m;
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.example; }
 
 class Walk : public ::testing::TestWithParam<Case> {};
 
