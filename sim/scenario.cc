@@ -27,7 +27,8 @@ bool Exists(const std::string& path) {
 }
 
 const std::vector<std::string>& BuiltinScenes() {
-  static const std::vector<std::string> k{"floor", "wall", "ceiling", "incline", "floor_to_wall"};
+  static const std::vector<std::string> k{"floor", "wall", "ceiling", "incline", "floor_to_wall",
+                                          "floor_to_wall_fillet"};
   return k;
 }
 
@@ -76,7 +77,7 @@ Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
     if (!known) {
       throw ScenarioError(s, "scene.name",
                           "no bundled scene '" + s.scene.name +
-                              "' (floor, wall, ceiling, incline, floor_to_wall)");
+                              "' (floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet)");
     }
   }
   if (!Exists(SceneFile(s))) {

@@ -24,7 +24,7 @@ struct SceneParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"name", "", "floor, wall, ceiling, incline, floor_to_wall, or a path to an MJCF scene file", {}, true}, &name);
+    a->Visit({"name", "", "floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet, or a path to an MJCF scene file", {}, true}, &name);
     a->Visit({"incline_deg", "deg", "slope of the incline scene, default 30 (0 floor, 90 wall, 180 ceiling); gravity is rotated, uphill is +x; incline scene only", Range::Closed(0, 180)}, &incline_deg);
   }
 };

@@ -23,7 +23,7 @@ std::vector<std::string> AllMjcfFiles() {
   return files;
 }
 
-// The file set is what the README lists: 2 robots, 5 scenes, one viewer file per pair.
+// The file set is what the README lists: 2 robots, 6 scenes, one viewer file per pair.
 TEST(MjcfFiles, TheDocumentedFilesExist) {
   std::set<std::string> files;
   for (const auto& f : AllMjcfFiles()) files.insert(f);
@@ -34,7 +34,7 @@ TEST(MjcfFiles, TheDocumentedFilesExist) {
     }
   }
   for (const auto& scene : SceneNames()) EXPECT_TRUE(files.count("scenes/" + scene + ".xml"));
-  EXPECT_EQ(files.size(), 2u + 5u + 10u) << "a file was added or removed: update the README";
+  EXPECT_EQ(files.size(), 2u + 6u + 12u) << "a file was added or removed: update the README";
 }
 
 class MjcfFileLoads : public testing::TestWithParam<std::string> {};
@@ -167,7 +167,8 @@ INSTANTIATE_TEST_SUITE_P(
                     SceneSpec{"wall", {-9.81, 0, 0}, {"wall"}, {1, 0, 0}},
                     SceneSpec{"ceiling", {0, 0, 9.81}, {"ceiling"}, {1, 0, 0}},
                     SceneSpec{"incline", {-4.905, 0, -8.49571}, {"incline"}, {1, 0, 0}},
-                    SceneSpec{"floor_to_wall", {0, 0, -9.81}, {"floor", "wall"}, {1, 0, 1}}),
+                    SceneSpec{"floor_to_wall", {0, 0, -9.81}, {"floor", "wall"}, {1, 0, 1}},
+                    SceneSpec{"floor_to_wall_fillet", {0, 0, -9.81}, {"floor", "wall", "fillet0", "fillet17"}, {1, 0, 1}}),
     [](const testing::TestParamInfo<SceneSpec>& info) { return info.param.scene; });
 
 // The floor-to-wall wall: a box whose -x face is the plane x = 0.30, at least 1 m tall from

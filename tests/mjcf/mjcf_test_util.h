@@ -25,7 +25,7 @@ inline const std::vector<std::string>& RobotNames() {
 }
 inline const std::vector<std::string>& SceneNames() {
   static const std::vector<std::string> kScenes = {"floor", "wall", "ceiling", "incline",
-                                                   "floor_to_wall"};
+                                                   "floor_to_wall", "floor_to_wall_fillet"};
   return kScenes;
 }
 inline std::filesystem::path RobotFile(const std::string& robot) {
