@@ -72,11 +72,13 @@ struct OutputParams {
 
 struct FallParams {
   double drop_m = 0.1;
+  double turn_over_deg = 90.0;
   bool stop = false;
 
   template <class A>
   void Serialize(A* a) {
     a->Visit({"drop_m", "m", "the robot has fallen when its base drops this far along gravity below the highest point it reached, or turns over", Range::Positive()}, &drop_m);
+    a->Visit({"turn_over_deg", "deg", "the robot has turned over when its base normal is more than this from the normal it started with (a floor-to-wall climb turns it by 90 deg on purpose)", Range::OpenClosed(0, 180)}, &turn_over_deg);
     a->Visit({"stop", "", "end the run at the fall (the optimiser does; simulate goes on by default)"}, &stop);
   }
 };

@@ -97,6 +97,7 @@ class Simulation {
   // Monitor state.
   std::array<int, mjNWARNING> warnings_seen_{};
   Eigen::Vector3d start_pos_, up0_, forward0_, down_;
+  double turn_over_cos_ = 0.0;  // cos of fall.turn_over_deg
   double highest_ = 0.0;
 };
 
