@@ -1,9 +1,11 @@
 // Climbing control (issue: climbing gaits): the bundled wall and ceiling examples climb and
-// hang as documented, the climbing reflexes recover from a push that the same gait without
-// them does not survive, and every climbing reflex is logged on the leg that fired it.
+// hang as documented, the gecko walks from the floor onto the wall round a fillet, the
+// climbing reflexes recover from a push that the same gait without them does not survive,
+// and every climbing reflex is logged on the leg that fired it.
 // Body lengths are those of mjcf/README.md: gecko 0.10 m, spider 0.16 m.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "sim/sim.h"
@@ -95,7 +97,7 @@ TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
 // One events.csv row.
 struct Row {
   double t;
-  std::string pad, event, cause;
+  std::string pad, event, cause, surface;
 };
 
 std::vector<Row> Parse(const std::string& csv) {
@@ -111,6 +113,7 @@ std::vector<Row> Parse(const std::string& csv) {
     std::getline(f, r.pad, ',');
     std::getline(f, r.event, ',');
     std::getline(f, r.cause, ',');
+    std::getline(f, r.surface, ',');
     r.t = std::stod(t);
     rows.push_back(r);
   }
@@ -177,6 +180,53 @@ TEST(Climb, EveryClimbingReflexIsLoggedOnTheLegThatFiredIt) {
     }
   }
   for (int k = 0; k < 4; ++k) EXPECT_GT(seen[k], 0) << "reflex " << k << " never fired";
+}
+
+// Floor to wall round a fillet of radius 0.20 m (docs/climbing.md, "Floor to wall"). The base
+// starts at z = 0.055 on the floor; the fillet meets the wall at z = 0.20. Measured: the first
+// front pad attaches to the wall at 40.1 s, the last hind pad at 50.5 s, and at 60 s the base
+// is at z = 0.363 m, pitched up 89°, every pad on the wall (0.551 m along the L). The bounds:
+// the base at least 0.10 m above the fillet's top (so the robot climbs the wall itself, not the
+// bend), standing within 10° of vertical, and each pad's last attach on the wall geom.
+TEST(Climb, GeckoWalksFromTheFloorOntoTheWallRoundAFillet) {
+  const Scenario s = LoadScenario(Source("examples/gecko_floor_to_wall_fillet.yaml"));
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  const RunResult r = sim.Run();
+  ASSERT_TRUE(r.stable) << r.failure;
+  EXPECT_FALSE(r.fell) << r.fall_time_s;
+  EXPECT_GE(r.distance_m, 0.5);
+  const mjData* d = sim.world().data();
+  const double* root = d->qpos + sim.world().robot().root_qpos_adr;
+  EXPECT_GE(root[2], 0.20 + 0.10) << "base z";
+  // Pitch: the body's forward axis against the horizontal, sin = its z component.
+  const double q0 = root[3], q1 = root[4], q2 = root[5], q3 = root[6];
+  const double forward_z = 2 * (q1 * q3 - q0 * q2);
+  EXPECT_GE(forward_z, std::sin(80.0 * M_PI / 180.0));
+  const std::vector<Row> rows = Parse(sim.EventsCsv());
+  for (const char* pad : {"LF_pad", "RF_pad", "LH_pad", "RH_pad"}) {
+    const Row* last = nullptr;
+    for (const Row& row : rows) {
+      if (row.pad == pad && row.event == "attach") last = &row;
+    }
+    ASSERT_NE(last, nullptr) << pad;
+    EXPECT_EQ(last->surface, "wall") << pad;
+    EXPECT_LT(last->t, 60.0) << pad;
+  }
+}
+
+// The fall monitor calls a base turned more than fall.turn_over_deg (default 90°) from its
+// start normal turned over. A floor-to-wall climb does that on purpose once the body passes
+// vertical: with the default the same run is flagged fallen while it climbs on, which is why
+// the example sets 135°.
+TEST(Climb, FloorToWallPastVerticalIsATurnOverAtTheDefaultAngle) {
+  const RunResult r = RunScenario(ExampleWith("examples/gecko_floor_to_wall_fillet.yaml",
+                                              "f2w_turn.yaml", "turn_over_deg: 135",
+                                              "turn_over_deg: 90"));
+  ASSERT_TRUE(r.stable) << r.failure;
+  EXPECT_TRUE(r.fell);
+  EXPECT_GT(r.fall_time_s, 40.0);  // near the wall, not on the floor
+  EXPECT_GE(r.distance_m, 0.5);    // and it went on climbing
 }
 
 }  // namespace
