@@ -73,11 +73,14 @@ Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
     s.scene.name = Absolute(s.scene.name, file);
   } else {
     bool known = false;
-    for (const auto& b : BuiltinScenes()) known |= b == s.scene.name;
+    std::string names;
+    for (const auto& b : BuiltinScenes()) {
+      known |= b == s.scene.name;
+      names += (names.empty() ? "" : ", ") + b;
+    }
     if (!known) {
       throw ScenarioError(s, "scene.name",
-                          "no bundled scene '" + s.scene.name +
-                              "' (floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet)");
+                          "no bundled scene '" + s.scene.name + "' (" + names + ")");
     }
   }
   if (!Exists(SceneFile(s))) {

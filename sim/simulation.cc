@@ -140,10 +140,7 @@ void Simulation::Reset() {
   const RobotInfo& r = world_.robot();
   start_pos_ = BasePos(d, r);
   up0_ = BaseAxis(d, r, 2);
-  // cos 90° is 6e-17, not 0: keep the exact 0 of the default.
-  turn_over_cos_ = scenario_.fall.turn_over_deg == 90.0
-                       ? 0.0
-                       : std::cos(scenario_.fall.turn_over_deg * M_PI / 180.0);
+  turn_over_cos_ = std::cos(scenario_.fall.turn_over_deg * M_PI / 180.0);
   forward0_ = BaseAxis(d, r, 0);
   const Eigen::Vector3d g = world_.gravity();
   down_ = g.norm() > 0 ? Eigen::Vector3d(g.normalized()) : Eigen::Vector3d(0, 0, -1);
