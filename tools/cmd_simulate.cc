@@ -36,7 +36,7 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
   if (!s["stable"].get<bool>()) {
     std::printf("  UNSTABLE        %s\n", s["failure"].get<std::string>().c_str());
   }
-  std::printf("  outputs         %s/{scenario.yaml,trajectory.csv,events.csv,summary.json}\n",
+  std::printf("  outputs         %s/{scenario.yaml,model.xml,trajectory.csv,events.csv,summary.json}\n",
               dir.c_str());
 }
 
