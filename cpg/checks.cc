@@ -15,6 +15,12 @@ double WrapTwoPi(double theta_rad) {
   return wrapped;
 }
 
+StepStatus StepStatusOf(bool state_finite, bool step_finished) {
+  return !state_finite    ? StepStatus::kNonFinite
+         : !step_finished ? StepStatus::kStepSizeUnderflow
+                          : StepStatus::kOk;
+}
+
 double WrapPi(double delta_rad) { return WrapTwoPi(delta_rad + kPi) - kPi; }
 
 std::string Num(double value) {

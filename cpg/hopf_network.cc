@@ -239,9 +239,7 @@ void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
 
   bool finite = true;
   for (double value : driver_.x()) finite = finite && std::isfinite(value);
-  status_ = !finite     ? StepStatus::kNonFinite
-            : !finished ? StepStatus::kStepSizeUnderflow
-                        : StepStatus::kOk;
+  status_ = internal::StepStatusOf(finite, finished);
 }
 
 std::span<const double> HopfNetwork::x() const {

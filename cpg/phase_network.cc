@@ -141,9 +141,7 @@ void PhaseNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
     x[i] = internal::WrapTwoPi(x[i]);
     finite = finite && std::isfinite(x[i]) && std::isfinite(x[n_ + i]);
   }
-  status_ = !finite     ? StepStatus::kNonFinite
-            : !finished ? StepStatus::kStepSizeUnderflow
-                        : StepStatus::kOk;
+  status_ = internal::StepStatusOf(finite, finished);
 }
 
 std::span<const double> PhaseNetwork::phase_rad() const {

@@ -12,6 +12,7 @@
 
 namespace climbsim::cpg {
 struct StepperParams;  // cpg.h
+enum class StepStatus;  // cpg.h
 }  // namespace climbsim::cpg
 
 namespace climbsim::cpg::internal {
@@ -39,6 +40,9 @@ void CheckSquare(std::string_view field, const Eigen::MatrixXd& m, int n, std::s
 void CheckZeroDiagonal(std::string_view field, const Eigen::MatrixXd& m);
 // StepperParams as cpg.h documents; owner is "PhaseNetworkParams" or "HopfNetworkParams".
 void CheckStepperParams(std::string_view owner, const StepperParams& params);
+
+// A network's status after a step: a non-finite state outranks a Dopri5 step-size collapse.
+StepStatus StepStatusOf(bool state_finite, bool step_finished);
 
 // What a network's Step holds constant over the step: the feedback and the held flags, one per
 // oscillator, sized once. Latch checks a Step's arguments (owner names the network in
