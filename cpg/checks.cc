@@ -1,6 +1,6 @@
-#include <algorithm>
 #include "cpg/internal/checks.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
@@ -88,17 +88,17 @@ void CheckStepperParams(std::string_view owner, const StepperParams& params) {
 }
 
 bool StepInputs::Latch(std::string_view owner, double dt_s,
-                       std::span<const double> feedback_rad_per_s,
-                       std::span<const uint8_t> held) {
+                       std::span<const double> feedback_rad_per_s, std::span<const uint8_t> held) {
   const int n = static_cast<int>(held_.size());
-  const std::string who(owner);
-  if (!(dt_s >= 0.0)) Fail(who + "::Step: dt_s", ">= 0", dt_s);
+  // The owner's name is built on the error paths only: this runs every step.
+  const auto who = [owner] { return std::string(owner); };
+  if (!(dt_s >= 0.0)) Fail(who() + "::Step: dt_s", ">= 0", dt_s);
   if (!feedback_rad_per_s.empty() && static_cast<int>(feedback_rad_per_s.size()) != n) {
-    Fail(who + "::Step: feedback_rad_per_s must be empty or have " + std::to_string(n) +
+    Fail(who() + "::Step: feedback_rad_per_s must be empty or have " + std::to_string(n) +
          " entries, got " + std::to_string(feedback_rad_per_s.size()));
   }
   if (!held.empty() && static_cast<int>(held.size()) != n) {
-    Fail(who + "::Step: held must be empty or have " + std::to_string(n) + " entries, got " +
+    Fail(who() + "::Step: held must be empty or have " + std::to_string(n) + " entries, got " +
          std::to_string(held.size()));
   }
   bool changed = false;

@@ -213,7 +213,6 @@ class PhaseNetwork final : public OscillatorNetwork {
   const PhaseNetworkParams& params() const { return params_; }
 
  private:
-  struct Rhs;
   // dx/dt for x = [θ_0..θ_{n−1}, r_0..r_{n−1}], with the feedback held in feedback_.
   void Derivative(const double* x, double* dxdt);
 
@@ -381,7 +380,6 @@ class HopfNetwork final : public OscillatorNetwork {
   const HopfNetworkParams& params() const { return params_; }
 
  private:
-  struct Rhs;
   // dz/dt for z = [x_0..x_{n−1}, y_0..y_{n−1}], with the feedback held in feedback_.
   void Derivative(const double* z, double* dzdt);
   double TimePhase(double theta_rad) const;

@@ -47,13 +47,6 @@ double Logistic(double z) {
 
 }  // namespace
 
-struct HopfNetwork::Rhs {
-  HopfNetwork* network;
-  void operator()(const std::vector<double>& z, std::vector<double>& dzdt, double) const {
-    network->Derivative(z.data(), dzdt.data());
-  }
-};
-
 HopfNetwork::HopfNetwork(const HopfNetworkParams& params)
     : params_(Validated(params)),
       n_(static_cast<int>(params.coupling_per_s.rows())),
@@ -225,14 +218,15 @@ void HopfNetwork::UpdateOutputs(bool accumulate) {
 }
 
 void HopfNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
-                     std::span<const uint8_t> held) {
+                       std::span<const uint8_t> held) {
   // A new feedback or hold changes the right-hand side: Dopri5's derivative is stale.
   const bool changed = inputs_.Latch("HopfNetwork", dt_s, feedback_rad_per_s, held);
   if (dt_s == 0.0) return;
   if (changed) driver_.InvalidateDerivative();
 
   double unfinished_s = 0.0;
-  const bool finished = driver_.Advance(Rhs{this}, dt_s, &unfinished_s);
+  const bool finished = driver_.Advance(
+      [this](const double* x, double* dxdt) { Derivative(x, dxdt); }, dt_s, &unfinished_s);
   ++steps_;
   time_s_ += dt_s - unfinished_s;
   UpdateOutputs(/*accumulate=*/true);

@@ -34,14 +34,6 @@ const PhaseNetworkParams& Validated(const PhaseNetworkParams& p) {
 
 }  // namespace
 
-// The functor odeint calls; a pointer, so copying it (odeint does) costs nothing.
-struct PhaseNetwork::Rhs {
-  PhaseNetwork* network;
-  void operator()(const std::vector<double>& x, std::vector<double>& dxdt, double) const {
-    network->Derivative(x.data(), dxdt.data());
-  }
-};
-
 PhaseNetwork::PhaseNetwork(const PhaseNetworkParams& params)
     : params_(Validated(params)),
       n_(static_cast<int>(params.target_amplitude.size())),
@@ -119,7 +111,7 @@ void PhaseNetwork::Derivative(const double* x, double* dxdt) {
 }
 
 void PhaseNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
-                     std::span<const uint8_t> held) {
+                        std::span<const uint8_t> held) {
   // A new feedback or hold changes the right-hand side: Dopri5's derivative is stale.
   const bool changed = inputs_.Latch("PhaseNetwork", dt_s, feedback_rad_per_s, held);
   if (dt_s == 0.0) return;
@@ -128,7 +120,8 @@ void PhaseNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
   std::vector<double>& x = driver_.x();
   for (int i = 0; i < n_; ++i) theta_before_rad_[i] = x[i];
   double unfinished_s = 0.0;
-  const bool finished = driver_.Advance(Rhs{this}, dt_s, &unfinished_s);
+  const bool finished = driver_.Advance(
+      [this](const double* x, double* dxdt) { Derivative(x, dxdt); }, dt_s, &unfinished_s);
   ++steps_;
   time_s_ += dt_s - unfinished_s;
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 namespace climbsim::cpg {
-struct StepperParams;  // cpg.h
+struct StepperParams;   // cpg.h
 enum class StepStatus;  // cpg.h
 }  // namespace climbsim::cpg
 

@@ -36,13 +36,14 @@ class OdeintDriver {
   State& x() { return x_; }
   const State& x() const { return x_; }
 
-  // Advances x() by dt_s > 0 with system(x, dxdt, t). Euler and RK4 take one step of dt_s (the
+  // Advances x() by dt_s > 0 with derivative(x, dxdt) (raw arrays of the state's size; a
+  // lambda calling a network's private Derivative). Euler and RK4 take one step of dt_s (the
   // caller's dt sets their accuracy); Dopri5 takes as many accepted steps as its tolerances need,
   // the last one cut to land on dt_s, and remembers the step size for the next call. Returns
   // false if Dopri5 rejected kMaxConsecutiveRejections steps in a row: x() then holds the last
   // accepted state, short of dt_s by the returned remainder in *unfinished_s.
-  template <class System>
-  bool Advance(System system, double dt_s, double* unfinished_s);
+  template <class Derivative>
+  bool Advance(Derivative derivative, double dt_s, double* unfinished_s);
 
   // Call after the right-hand side changed between calls (new feedback) or x() was rewritten:
   // Dopri5 reuses the derivative at the end of the previous step (first same as last), which is
@@ -75,8 +76,12 @@ class OdeintDriver {
   std::int64_t rejected_steps_ = 0;
 };
 
-template <class System>
-bool OdeintDriver::Advance(System system, double dt_s, double* unfinished_s) {
+template <class Derivative>
+bool OdeintDriver::Advance(Derivative derivative, double dt_s, double* unfinished_s) {
+  // The system odeint calls; it captures by reference, so odeint's copies of it cost nothing.
+  auto system = [&derivative](const State& x, State& dxdt, double) {
+    derivative(x.data(), dxdt.data());
+  };
   *unfinished_s = 0.0;
   if (method_ == Method::kEuler) {
     euler_.do_step(system, x_, 0.0, dt_s);
