@@ -80,6 +80,13 @@ std::string Range(double a, double b) {
   return buf;
 }
 
+// A panel with nothing to draw: gnuplot refuses `plot NaN` on an autoscaled axis ("all points
+// y value undefined"), so the y range is fixed for it and restored to autoscale after.
+std::string EmptyPanel(const std::string& what) {
+  return "set yrange [0:1]\nset label 1 " + sim::GnuplotQuote(what) +
+         " at graph 0.5, graph 0.5 center\nplot NaN notitle\nunset label 1\nset autoscale y\n";
+}
+
 // Vertical lines at the pad's attach (green) and detach (red) inside the window.
 std::string AttachDetachArrows(const Run& run, const std::string& pad, double a, double b) {
   std::string s = "unset arrow\n";
@@ -190,7 +197,7 @@ void PadPlot(const Run& run, const Report& report, const LegReport& leg, const s
   body += "set ylabel \"bonded fraction\"\nset yrange [-0.05:1.05]\nunset xlabel\n";
   std::vector<const Block*> blocks;
   if (fraction.empty()) {
-    body += "plot NaN notitle\n";
+    body += EmptyPanel("no bonded fraction in this window");
   } else {
     blocks.push_back(&fraction);
     body += std::string("plot $fraction using 1:2 with ") + (from_events ? "steps" : "lines") +
@@ -198,7 +205,7 @@ void PadPlot(const Run& run, const Report& report, const LegReport& leg, const s
   }
   body += "set ylabel \"pad load (N)\"\nset autoscale y\nset xlabel \"time (s)\"\n";
   if (loads.empty()) {
-    body += "plot NaN notitle\n";
+    body += EmptyPanel("no pad events in this window");
   } else {
     blocks.push_back(&loads);
     body +=
@@ -255,7 +262,7 @@ void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
       "direction (m)\"\nset title \"path of the base (start at 0)\"\n";
   std::vector<const Block*> blocks;
   if (path.empty()) {
-    body += "plot NaN notitle\n";
+    body += EmptyPanel("no trajectory rows in this window");
   } else {
     blocks.push_back(&path);
     body += "plot $path using 1:2 with lines lw 1.5 lc rgb \"#1565c0\" notitle\n";
@@ -267,7 +274,7 @@ void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
   std::snprintf(buf, sizeof(buf), "%.9g dt 2 lc rgb \"#616161\" title \"run mean %.4f m/s\"", mean,
                 mean);
   if (speed.empty()) {
-    body += "plot NaN notitle\n";
+    body += EmptyPanel("no speed: it needs 0.25 s of recording either side");
   } else {
     blocks.push_back(&speed);
     body += "plot $speed using 1:2 with lines lc rgb \"#2e7d32\" title \"speed\", " +

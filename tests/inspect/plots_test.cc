@@ -65,4 +65,28 @@ TEST(InspectPlots, WithoutATrajectoryThePathIsSkippedAndSaidSo) {
   EXPECT_NE(r.out.find("drawn from the events"), std::string::npos) << r.out;
 }
 
+// Empty panels are drawn, not refused: a walk without adhesion has no pad events at all, and a
+// narrow window of a climb has none either. gnuplot rejects `plot NaN` on an autoscaled axis,
+// which once failed `inspect --plots` on the README's own floor run.
+TEST(InspectPlots, RunsWithoutPadEventsStillGetEveryPlot) {
+  const std::string floor =
+      CopyRun(SharedRun("gecko_floor", Source("examples/gecko_floor.yaml")), "plots_floor");
+  auto r = RunClimbsim("inspect " + floor + " --plots");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* name : {"gait", "pad_LF", "pad_RF", "pad_LH", "pad_RH", "path"}) {
+    ExpectPlot(floor + "/" + name);
+  }
+  EXPECT_NE(ReadFile(floor + "/pad_LF.svg").find("no pad events in this window"),
+            std::string::npos);
+
+  // The first 0.2 s of a climb: the speed (a central difference over 0.5 s) has no point there.
+  const std::string wall =
+      CopyRun(SharedRun("gecko_wall", Source("examples/gecko_wall.yaml")), "plots_narrow");
+  r = RunClimbsim("inspect " + wall + " --plots --from 0 --to 0.2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* name : {"gait", "pad_LF", "path"}) ExpectPlot(wall + "/" + name);
+  EXPECT_NE(ReadFile(wall + "/path.svg").find("it needs 0.25 s of recording either side"),
+            std::string::npos);
+}
+
 }  // namespace
