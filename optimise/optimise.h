@@ -43,10 +43,24 @@ struct Cost {
   double energy_penalty = 0.0;
   bool failed = false;
   std::string failure;            // why, when failed
+  std::string early_stop;         // "" ran to its end (or fell), "stalled", "bound"
+  double stop_time_s = 0.0;       // simulated time at which the rollout ended
+  double wall_time_s = 0.0;
 };
 
 // The cost of a finished run of `sim` (its scenario's duration_s is T).
 Cost RolloutCost(const sim::Simulation& sim, const sim::ObjectiveParams& objective);
+
+// Runs a fresh `sim` (its scenario with fall.stop set, as Problem::ScenarioFor makes it) and
+// stops it as soon as its outcome is decided (docs/optimise.md, "Early stopping"):
+//  - fell or numerically bad: Step() says stop; J is exactly the finished run's;
+//  - stalled: less than objective.stall_distance_m climbed in the last stall_window_s; J as
+//    if it stayed where it is (early_stop = "stalled");
+//  - bound: even at objective.max_speed_mps for the rest of the run, with no penalty added,
+//    J would stay above `bound_j` (the cost a rollout must beat to matter); J is that lower
+//    bound, which is above bound_j (early_stop = "bound"). bound_j = +inf: rule off.
+// A rollout that reaches duration_s gets exactly RolloutCost's J.
+Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& objective, double bound_j);
 
 // ---- The problem ------------------------------------------------------------------------
 // A scenario file with an optimise block. Parameter vectors are in the parameters' own units.
@@ -153,7 +167,7 @@ struct Evaluation {
 
 struct Options {
   std::string out_dir;
-  int threads = 0;                // 0: all cores
+  int threads = 0;                // per process; 0: the cores / the processes on this machine
   bool resume = false;
   int max_evaluations = 0;        // 0: the file's
   bool quiet = false;
@@ -165,11 +179,22 @@ struct Result {
   std::vector<Evaluation> history;  // ordered by start, then index
   double wall_time_s = 0.0;
   int evaluations_computed = 0;   // not served from a checkpoint
+  int rollouts_computed = 0;
+  int rollouts_stalled = 0;       // stopped early by the stall rule
+  int rollouts_bounded = 0;       // stopped early by the bound rule
+  double simulated_s = 0.0;       // simulated time of the computed rollouts
+  int processes = 1;              // MPI ranks (1 without mpirun)
 };
 
+// The MPI rank of this process and the number of ranks (0 and 1 without mpirun).
+int ProcessRank();
+int ProcessCount();
+
 // Writes DIR/scenario.yaml, history.csv, best.yaml, convergence.png (and .csv), summary.json
-// and keeps DIR/checkpoint.json current after every evaluation (all atomically).
-// progress(fraction, best_objective) is called from worker threads under a lock.
+// and keeps DIR/checkpoint.json current after every round of evaluations (all atomically).
+// Under mpirun every rank calls it with the same arguments: the ranks share the rollouts of
+// each round, every rank returns the same Result, and rank 0 alone writes DIR.
+// progress(fraction, best_objective) is called on the calling thread after each round.
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress = {});
 

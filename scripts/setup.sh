@@ -13,6 +13,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox ffmpeg
   clang-14 libclang-rt-14-dev  # libFuzzer and its sanitizers: the fuzz_scenario_loader test
+  libpagmo-dev                 # CMA-ES for climbsim optimise
+  libopenmpi-dev openmpi-bin   # mpirun -np N climbsim optimise|sweep (optional: CLIMBSIM_MPI)
 )
 
 missing=()

@@ -1,4 +1,5 @@
 // climbsim sweep SCENARIO... --key KEY --from A --to B --step S --out DIR
+// Under mpirun the runs are spread over the ranks; rank 0 writes DIR and prints.
 #include <cstdio>
 #include <filesystem>
 
@@ -29,6 +30,7 @@ void AddSweepCommand(CLI::App& app) {
       throw InputError("--to", 0, 0, "", "must not be below --from");
     }
     const auto rows = optimise::Sweep(files, o);
+    if (optimise::ProcessRank() != 0) return;  // under mpirun rank 0 writes and prints
     const std::string warning = optimise::WriteSweep(out_dir, files, o, rows);
     std::printf("%12s", o.key.c_str());
     for (const auto& f : files) {

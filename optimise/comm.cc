@@ -1,0 +1,98 @@
+#include "optimise/comm.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <thread>
+
+#ifdef CLIMBSIM_MPI
+#include <mpi.h>
+#endif
+
+namespace climbsim::optimise {
+
+int DefaultThreads() {
+  int local = 1;
+  for (const char* v : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"}) {
+    if (const char* s = std::getenv(v)) local = std::max(1, std::atoi(s));
+  }
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / local);
+}
+
+#ifdef CLIMBSIM_MPI
+namespace {
+
+bool LaunchedByMpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"}) {
+    if (std::getenv(v) != nullptr) return true;
+  }
+  return false;
+}
+
+void Finalize() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+}
+
+}  // namespace
+
+Comm& Comm::World() {
+  static Comm* world = [] {
+    Comm* c = new Comm;
+    if (LaunchedByMpi()) {
+      int initialized = 0;
+      MPI_Initialized(&initialized);
+      if (!initialized) {
+        // Worker threads never call MPI: only the thread that runs the rounds does.
+        int provided = 0;
+        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+        std::atexit(Finalize);
+      }
+      MPI_Comm_rank(MPI_COMM_WORLD, &c->rank_);
+      MPI_Comm_size(MPI_COMM_WORLD, &c->size_);
+    }
+    return c;
+  }();
+  return *world;
+}
+
+std::vector<std::string> Comm::AllGather(const std::string& mine) const {
+  if (size_ == 1) return {mine};
+  const int n = static_cast<int>(mine.size());
+  std::vector<int> counts(size_), offsets(size_);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  int total = 0;
+  for (int r = 0; r < size_; ++r) {
+    offsets[r] = total;
+    total += counts[r];
+  }
+  std::string all(static_cast<size_t>(total), '\0');
+  MPI_Allgatherv(mine.data(), n, MPI_CHAR, all.data(), counts.data(), offsets.data(), MPI_CHAR,
+                 MPI_COMM_WORLD);
+  std::vector<std::string> out(size_);
+  for (int r = 0; r < size_; ++r) out[r] = all.substr(offsets[r], counts[r]);
+  return out;
+}
+
+void Comm::Broadcast(std::string* text) const {
+  if (size_ == 1) return;
+  int n = static_cast<int>(text->size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  text->resize(static_cast<size_t>(n));
+  MPI_Bcast(text->data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
+}
+
+#else  // one process
+
+Comm& Comm::World() {
+  static Comm world;
+  return world;
+}
+
+std::vector<std::string> Comm::AllGather(const std::string& mine) const { return {mine}; }
+
+void Comm::Broadcast(std::string*) const {}
+
+#endif
+
+}  // namespace climbsim::optimise
