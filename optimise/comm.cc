@@ -19,6 +19,8 @@ int DefaultThreads() {
 }
 
 #ifdef CLIMBSIM_MPI
+bool BuiltWithMpi() { return true; }
+
 namespace {
 
 bool LaunchedByMpi() {
@@ -83,6 +85,8 @@ void Comm::Broadcast(std::string* text) const {
 }
 
 #else  // one process
+
+bool BuiltWithMpi() { return false; }
 
 Comm& Comm::World() {
   static Comm world;

@@ -189,6 +189,8 @@ struct Result {
 // The MPI rank of this process and the number of ranks (0 and 1 without mpirun).
 int ProcessRank();
 int ProcessCount();
+// Whether this build spreads work over MPI ranks (CMake option CLIMBSIM_MPI).
+bool BuiltWithMpi();
 
 // Writes DIR/scenario.yaml, history.csv, best.yaml, convergence.png (and .csv), summary.json
 // and keeps DIR/checkpoint.json current after every round of evaluations (all atomically).
