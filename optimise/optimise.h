@@ -1,11 +1,12 @@
-// climbsim's offline gait optimiser: NLopt tunes the parameters an `optimise:` block lists
-// (any numeric scenario key, by its dotted name) to minimise a documented cost over rollouts
-// of the scenario. Independent starts run side by side, one thread each, each with its own
-// model copy; the result does not depend on the number of threads. Every evaluation is
-// checkpointed atomically, so a killed run resumes to the same end.
+// climbsim's offline gait optimiser: NLopt or CMA-ES (pagmo2) tunes the parameters an
+// `optimise:` block lists (any numeric scenario key, by its dotted name) to minimise a
+// documented cost over rollouts of the scenario. Independent starts hand their candidates to
+// rounds whose rollouts run on threads and MPI ranks; the result does not depend on the number
+// of threads or processes. Every round is checkpointed atomically, so a killed run resumes to
+// the same end.
 //
 //   climbsim::optimise::Options o;  o.out_dir = "runs/opt";  o.threads = 2;
-//   climbsim::optimise::Result r = climbsim::optimise::Optimise("examples/gecko_wall_optimise.yaml", o);
+//   climbsim::optimise::Result r = climbsim::optimise::Optimise("examples/gecko_wall.yaml", o);
 #ifndef CLIMBSIM_OPTIMISE_OPTIMISE_H_
 #define CLIMBSIM_OPTIMISE_OPTIMISE_H_
 
