@@ -1,6 +1,7 @@
 #include "optimise/comm.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <thread>
 
@@ -58,30 +59,41 @@ Comm& Comm::World() {
   return *world;
 }
 
+namespace {
+
+// Waits for a non-blocking collective without spinning: a rank that finished its share early
+// sleeps instead of taking a core from the ranks still computing (on shared or oversubscribed
+// cores that matters; rollouts take seconds, so 1 ms of latency costs nothing).
+void WaitQuietly(MPI_Request* request) {
+  int done = 0;
+  MPI_Test(request, &done, MPI_STATUS_IGNORE);
+  while (!done) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    MPI_Test(request, &done, MPI_STATUS_IGNORE);
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> Comm::AllGather(const std::string& mine) const {
   if (size_ == 1) return {mine};
   const int n = static_cast<int>(mine.size());
   std::vector<int> counts(size_), offsets(size_);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  MPI_Request request;
+  MPI_Iallgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
+  WaitQuietly(&request);
   int total = 0;
   for (int r = 0; r < size_; ++r) {
     offsets[r] = total;
     total += counts[r];
   }
   std::string all(static_cast<size_t>(total), '\0');
-  MPI_Allgatherv(mine.data(), n, MPI_CHAR, all.data(), counts.data(), offsets.data(), MPI_CHAR,
-                 MPI_COMM_WORLD);
+  MPI_Iallgatherv(mine.data(), n, MPI_CHAR, all.data(), counts.data(), offsets.data(), MPI_CHAR,
+                  MPI_COMM_WORLD, &request);
+  WaitQuietly(&request);
   std::vector<std::string> out(size_);
   for (int r = 0; r < size_; ++r) out[r] = all.substr(offsets[r], counts[r]);
   return out;
-}
-
-void Comm::Broadcast(std::string* text) const {
-  if (size_ == 1) return;
-  int n = static_cast<int>(text->size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  text->resize(static_cast<size_t>(n));
-  MPI_Bcast(text->data(), n, MPI_CHAR, 0, MPI_COMM_WORLD);
 }
 
 #else  // one process
@@ -94,8 +106,6 @@ Comm& Comm::World() {
 }
 
 std::vector<std::string> Comm::AllGather(const std::string& mine) const { return {mine}; }
-
-void Comm::Broadcast(std::string*) const {}
 
 #endif
 

@@ -25,10 +25,9 @@ class Comm {
   int size() const { return size_; }
   bool root() const { return rank_ == 0; }
 
-  // Each rank's `mine`, in rank order, on every rank.
+  // Each rank's `mine`, in rank order, on every rank. A rank that arrives first sleeps
+  // (1 ms polls) rather than spinning on a core.
   std::vector<std::string> AllGather(const std::string& mine) const;
-  // Rank 0's `text` on every rank.
-  void Broadcast(std::string* text) const;
 
  private:
   Comm() = default;

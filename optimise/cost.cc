@@ -98,8 +98,8 @@ Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& o, double boun
       // Even at max_speed_mps from now on, with no penalty added, J stays above the bound.
       const double t = step * dt;
       const Cost now = CostOf(sim, d, o);
-      const double lower = -(d + o.max_speed_mps * (T - t)) / T + now.fall_penalty +
-                           now.overload_penalty;
+      const double lower =
+          -(d + o.max_speed_mps * (T - t)) / T + now.fall_penalty + now.overload_penalty;
       if (lower > bound_j) {
         rule = "bound";
         Cost c = now;
@@ -107,7 +107,8 @@ Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& o, double boun
         c.total = lower;
         c.early_stop = rule;
         c.stop_time_s = t;
-        c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        c.wall_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         return c;
       }
     }

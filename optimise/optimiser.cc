@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cmath>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -656,7 +656,9 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   rounds.Serve(std::ref(evaluate));
   for (auto& t : drivers) t.join();
   for (int s = 0; s < starts; ++s) {
-    if (!errors[s].empty()) throw std::runtime_error("start " + std::to_string(s) + ": " + errors[s]);
+    if (!errors[s].empty()) {
+      throw std::runtime_error("start " + std::to_string(s) + ": " + errors[s]);
+    }
   }
 
   Result result;

@@ -90,7 +90,9 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOp
   for (auto& th : pool) th.join();
   if (comm.size() > 1) {
     nlohmann::json local = nlohmann::json::array();
-    for (int t : mine) local.push_back({t, ToJson(rows[t / files.size()].results[t % files.size()])});
+    for (int t : mine) {
+      local.push_back({t, ToJson(rows[t / files.size()].results[t % files.size()])});
+    }
     for (const std::string& part : comm.AllGather(local.dump())) {
       for (const auto& entry : nlohmann::json::parse(part)) {
         const int t = entry[0].get<int>();

@@ -132,7 +132,8 @@ void AddBenchCommand(CLI::App& app) {
       "Example:\n  climbsim bench accuracy examples/gecko_wall.yaml --duration 5 --out runs/acc");
   accuracy->callback([] { Accuracy(file, duration_s, threads, out_dir); });
 
-  auto* opt = cmd->add_subcommand("optimise", "evaluations per second with 1 and 2 threads (and 1 and 2 MPI ranks)");
+  auto* opt = cmd->add_subcommand(
+      "optimise", "evaluations per second with 1 and 2 threads (and 1 and 2 MPI ranks)");
   opt->add_option("scenario", file, "scenario file with an optimise block")->required();
   opt->add_option("--evaluations", evaluations, "evaluations per run")->check(CLI::Range(2, 100000));
   opt->add_option("--out", out_dir, "folder for the two optimisation runs");

@@ -15,7 +15,8 @@ void AddOptimiseCommand(CLI::App& app) {
   static bool resume = false, quiet = false;
   cmd->add_option("scenario", scenario_path, "scenario file with an optimise: block")->required();
   cmd->add_option("--out", out_dir, "results folder")->required();
-  cmd->add_option("--threads", threads, "worker threads per process (default: the cores, shared by the MPI ranks on "
+  cmd->add_option("--threads", threads,
+                  "worker threads per process (default: the cores, shared by the MPI ranks on "
                   "the machine); the result does not depend on it")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--max-evaluations", max_evaluations,

@@ -130,16 +130,17 @@ const char* kCmaes =
 void KillResumeAndCompare(const std::vector<std::string>& prefix, const std::string& scenario,
                           const std::string& name, int total, int kill_after) {
   const std::string exe = std::string(CLIMBSIM_BINARY_DIR) + "/climbsim";
-  const std::string full = TempDir() + "/" + name + "_full", killed = TempDir() + "/" + name + "_killed";
+  const std::string full = TempDir() + "/" + name + "_full",
+                    killed = TempDir() + "/" + name + "_killed";
   std::filesystem::remove_all(full);
   std::filesystem::remove_all(killed);
   ASSERT_EQ(Wait(Spawn({exe, "optimise", scenario, "--out", full, "--quiet"})), 0);
 
   auto command = [&](bool resume) {
     std::vector<std::string> args = prefix;
-    for (const std::string& a : {exe, std::string("optimise"), scenario, std::string("--out"),
-                                 killed, std::string("--quiet"), std::string("--threads"),
-                                 std::string("1")}) {
+    for (const std::string& a :
+         {exe, std::string("optimise"), scenario, std::string("--out"), killed,
+          std::string("--quiet"), std::string("--threads"), std::string("1")}) {
       args.push_back(a);
     }
     if (resume) args.push_back("--resume");
@@ -194,8 +195,8 @@ TEST(OptimiseMpi, TwoRanksWriteTheSameBestAsOneProcess) {
   std::string robust = kCmaes;
   robust.replace(robust.find("max_evaluations: 16"), 19, "max_evaluations: 11");
   robust += "  objective: {runs: 2, aggregate: worst}\n";
-  const std::vector<std::pair<std::string, std::string>> cases = {
-      {"mpi_nlopt", kScenario}, {"mpi_cmaes", robust}};
+  const std::vector<std::pair<std::string, std::string>> cases = {{"mpi_nlopt", kScenario},
+                                                                  {"mpi_cmaes", robust}};
   for (const auto& [name, text] : cases) {
     const std::string scenario = WriteFile(name + ".yaml", text);
     const std::string one = TempDir() + "/" + name + "_1", two = TempDir() + "/" + name + "_2";
@@ -224,8 +225,8 @@ TEST(OptimiseMpi, SweepOverTwoRanksWritesTheSameTable) {
                                          "robot: gecko\nscene: floor\nduration_s: 0.5\n"
                                          "cpg:\n  gait: trot\n  frequency_hz: 1.0\n"
                                          "outputs:\n  trajectory_rate_hz: 0\n");
-  const std::vector<std::string> sweep = {exe,    "sweep", scenario, "--key", "cpg.frequency_hz",
-                                          "--from", "0.5", "--to",   "1.5",   "--step",
+  const std::vector<std::string> sweep = {exe,      "sweep", scenario, "--key", "cpg.frequency_hz",
+                                          "--from", "0.5",   "--to",   "1.5",   "--step",
                                           "0.5"};
   const std::string one = TempDir() + "/mpi_sweep_1", two = TempDir() + "/mpi_sweep_2";
   ASSERT_EQ(Wait(Spawn(Concat(sweep, {"--out", one}))), 0);

@@ -1,11 +1,12 @@
 // The optimiser's pieces: dotted keys, validation of the optimise block, the cost formula,
 // failed rollouts, thread-count independence and bit-exact replay of best.yaml.
+#include "optimise/optimise.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
-#include "optimise/optimise.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::optimise {
@@ -204,7 +205,7 @@ TEST(OptimiseEarlyStop, FallingGaitStopsAtTheFallWithTheFullRunsScore) {
     sim::Simulation early(s, *model);
     const Cost c = RunRollout(early, p.params().objective, bound);
     ASSERT_TRUE(early.result().fell);
-    EXPECT_EQ(c.early_stop, "");  // decided by the fall, not by a bound or a stall
+    EXPECT_EQ(c.early_stop, "");     // decided by the fall, not by a bound or a stall
     EXPECT_EQ(c.total, full.total);  // bit for bit
     EXPECT_EQ(c.speed_mps, full.speed_mps);
     EXPECT_EQ(c.fall_penalty, p.params().objective.fall_penalty_mps);
@@ -265,10 +266,10 @@ TEST(OptimiseEarlyStop, ABoundedRolloutScoresALowerBoundAboveTheBound) {
 // ---- CMA-ES ------------------------------------------------------------------------------
 
 TEST(OptimiseCmaes, GenerationsRunInParallelWithTheSameResultForAnyThreadCount) {
-  const std::string path = WriteFile(
-      "cmaes.yaml", kFloor + kBlock +
-                        "  algorithm: cmaes\n  population: 5\n  max_evaluations: 11\n"
-                        "  starts: 1\n");
+  const std::string path =
+      WriteFile("cmaes.yaml", kFloor + kBlock +
+                                  "  algorithm: cmaes\n  population: 5\n  max_evaluations: 11\n"
+                                  "  starts: 1\n");
   Options one, two;
   one.out_dir = TempDir() + "/cmaes1";
   one.threads = 1;
