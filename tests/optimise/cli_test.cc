@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "optimise/optimise.h"
@@ -56,6 +58,42 @@ std::string WithoutWallTime(const std::string& csv) {
   std::istringstream in(csv);
   while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
   return out;
+}
+
+// The parent of process `pid` from /proc (0 when it is gone).
+pid_t ParentOf(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat;
+  std::getline(in, stat);
+  const size_t close = stat.rfind(')');
+  if (close == std::string::npos) return 0;
+  std::istringstream rest(stat.substr(close + 2));
+  char state = 0;
+  pid_t parent = 0;
+  rest >> state >> parent;
+  return parent;
+}
+
+bool IsZombie(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat;
+  std::getline(in, stat);
+  const size_t close = stat.rfind(')');
+  return close == std::string::npos || stat.substr(close + 2, 1) == "Z";
+}
+
+// Every process below `root` (children, their children, ...).
+std::vector<pid_t> Descendants(pid_t root) {
+  std::vector<pid_t> found{root};
+  for (size_t i = 0; i < found.size(); ++i) {
+    for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+      const std::string name = entry.path().filename().string();
+      if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+      const pid_t p = std::stoi(name);
+      if (ParentOf(p) == found[i]) found.push_back(p);
+    }
+  }
+  return std::vector<pid_t>(found.begin() + 1, found.end());
 }
 
 int CheckpointEvaluations(const std::string& path) {
@@ -152,10 +190,18 @@ void KillResumeAndCompare(const std::vector<std::string>& prefix, const std::str
          std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  kill(-pid, SIGKILL);  // Spawn made the child a process-group leader
+  // SIGKILL reaches neither mpirun's ranks (they run in process groups of their own) nor
+  // lets mpirun stop them: kill the descendants first, by their ids, then the command.
+  const std::vector<pid_t> tree = Descendants(pid);
+  for (pid_t p : tree) kill(p, SIGKILL);
+  kill(pid, SIGKILL);
   const int status = Wait(pid);
   ASSERT_TRUE(WIFSIGNALED(status)) << "finished before the kill: make the run longer";
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // ranks gone
+  for (pid_t p : tree) {
+    while (kill(p, 0) == 0 && !IsZombie(p)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
   const int before = CheckpointEvaluations(killed + "/checkpoint.json");
   ASSERT_GE(before, kill_after);
   ASSERT_LT(before, total);
