@@ -93,6 +93,15 @@ void SetDottedKey(YAML::Node root, std::string_view key, double value) {
   if (n.IsDefined() && !n.IsNull() && !n.IsScalar()) {
     throw std::invalid_argument(std::string(key) + " is a list or a map, not a number");
   }
+  // A key the file gives as text (cpg.gait: trot) takes no number.
+  if (n.IsDefined() && n.IsScalar()) {
+    try {
+      n.as<double>();
+    } catch (const YAML::Exception&) {
+      throw std::invalid_argument(std::string(key) + " holds text ('" + n.Scalar() +
+                                  "'), not a number");
+    }
+  }
   n = sim::ExactNumber(value);
 }
 

@@ -155,6 +155,7 @@ struct Options {
   std::string out_dir;
   int threads = 0;                // 0: all cores
   bool resume = false;
+  bool force = false;             // replace an earlier climbsim folder at out_dir whole
   int max_evaluations = 0;        // 0: the file's
   bool quiet = false;
 };

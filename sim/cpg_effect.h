@@ -68,6 +68,18 @@ class CpgEffect final : public Effect {
   double period_s_ = 0.0;
   std::vector<double> feedback_;  // rad/s per oscillator, sized once
   std::vector<uint8_t> held_;     // oscillators held this tick
+
+  // What holds the gait (a stall when it lasts to the end of the run: Summarise).
+  enum class HoldCause : uint8_t { kNone, kReflexAll, kHoldPhase, kHoldStance, kWaitForSupport };
+  struct Hold {
+    HoldCause cause = HoldCause::kNone;
+    int leg = -1;          // the leg that holds: the one waited for, or the one asking
+    int waiting_leg = -1;  // wait_for_support: the leg that cannot swing
+    bool attached = false;
+    double bonded_fraction = 0.0;
+  };
+  double hold_since_s_ = -1.0;  // start of the current hold, -1 when none
+  Hold hold_;
 };
 
 }  // namespace climbsim::sim

@@ -1,5 +1,6 @@
 #include "sim/scenario.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -90,6 +91,24 @@ Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
     if (!s.scene.incline_deg) s.scene.incline_deg = 30.0;
   } else if (s.scene.incline_deg) {
     throw ScenarioError(s, "scene.incline_deg", "applies to the incline scene only");
+  }
+  // A run is bounded: 10^9 steps of 1 ns would run for days and write nothing.
+  if (const double steps = s.duration_s / s.physics.timestep_s; steps > kMaxScenarioSteps) {
+    throw ScenarioError(
+        s, "physics.timestep_s",
+        "duration_s / physics.timestep_s asks for " +
+            (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
+            " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
+            ": raise the time step or shorten the run");
+  }
+  // A push that starts after the end of the run would silently never happen.
+  for (size_t i = 0; i < s.perturbations.size(); ++i) {
+    if (s.perturbations[i].time_s >= s.duration_s) {
+      throw ScenarioError(s, "perturbations[" + std::to_string(i) + "].time_s",
+                          "must be before the end of the run (duration_s " +
+                              ExactNumber(s.duration_s) + " s), got " +
+                              ExactNumber(s.perturbations[i].time_s));
+    }
   }
   if (s.cpg && s.cpg->control_period_s) {
     const double ratio = *s.cpg->control_period_s / s.physics.timestep_s;

@@ -73,13 +73,16 @@ struct OutputParams {
 struct FallParams {
   double drop_m = 0.1;
   double turn_over_deg = 90.0;
-  bool stop = false;
+  bool stop = true;
 
   template <class A>
   void Serialize(A* a) {
     a->Visit({"drop_m", "m", "the robot has fallen when its base drops this far along gravity below the highest point it reached, or turns over", Range::Positive()}, &drop_m);
     a->Visit({"turn_over_deg", "deg", "the robot has turned over when its base normal is more than this from the normal it started with (a floor-to-wall climb turns it by 90 deg on purpose)", Range::OpenClosed(0, 180)}, &turn_over_deg);
-    a->Visit({"stop", "", "end the run at the fall (the optimiser does; simulate goes on by default)"}, &stop);
+    a->Visit({"stop", "",
+              "end the run at the fall (default); false simulates on to duration_s (distance_m "
+              "stays the distance up to the fall)"},
+             &stop);
   }
 };
 
@@ -119,6 +122,10 @@ struct Scenario {
     a->Visit({"optimise", "", "what `climbsim optimise` tunes and how (docs/optimise.md); simulate ignores it but reports the objective"}, &optimise);
   }
 };
+
+// The most steps a scenario may ask for (duration_s / physics.timestep_s); the same bound as
+// sim::kMaxSteps, checked at load with the key's place.
+inline constexpr double kMaxScenarioSteps = 1e8;
 
 // Parses a scenario from a YAML tree (file names the source in messages). Throws
 // InputError for any unknown key, wrong type or value out of range, with file:line:col.

@@ -11,6 +11,7 @@
 
 #include "sim/bench_speed.h"
 #include "sim/input_error.h"
+#include "sim/run_folder.h"
 #include "sim/scenario.h"
 #include "sim/simulation.h"
 #include "sim/world.h"

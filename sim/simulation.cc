@@ -1,13 +1,12 @@
 #include "sim/simulation.h"
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <unistd.h>
-
-#include <Eigen/Geometry>
+#include <mutex>
 
 #include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
@@ -47,7 +46,34 @@ Eigen::Vector3d BasePos(const mjData* d, const RobotInfo& r) {
   return {q[0], q[1], q[2]};
 }
 
+// MuJoCo's last warning on this thread: a fixed buffer, so the handler never allocates.
+thread_local char mujoco_warning[512] = "";
+
+void KeepMujocoWarning(const char* msg) {
+  std::strncpy(mujoco_warning, msg, sizeof(mujoco_warning) - 1);
+  mujoco_warning[sizeof(mujoco_warning) - 1] = '\0';
+}
+
+void PrintMujocoError(const char* msg) {
+  std::fprintf(stderr, "climbsim: MuJoCo error: %s\n", msg);
+  std::exit(1);
+}
+
 }  // namespace
+
+void InstallMujocoHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mju_user_warning = KeepMujocoWarning;
+    if (mju_user_error == nullptr) mju_user_error = PrintMujocoError;
+  });
+}
+
+std::string TakeMujocoWarning() {
+  std::string s = mujoco_warning;
+  mujoco_warning[0] = '\0';
+  return s;
+}
 
 MjcfAdditions EffectAdditions(const Scenario& scenario) {
   MjcfAdditions additions;
@@ -61,6 +87,7 @@ std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario) {
 
 Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
     : scenario_(scenario), world_(compiled, scenario_) {
+  InstallMujocoHandlers();
   const RobotInfo& robot = world_.robot();
   legs_.resize(robot.legs.size());
 
@@ -111,12 +138,22 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
     if (e->has_after_step()) after_.push_back(e.get());
   }
 
-  // Room for a few adhesion and reflex events per pad per stride at up to 10 strides a second.
-  const size_t capacity =
-      static_cast<size_t>(64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size()));
+  // Room for a few adhesion and reflex events per pad per stride at up to 10 strides a second,
+  // at most a million rows (a longer run counts the rest in events_dropped).
+  const size_t capacity = static_cast<size_t>(
+      std::min(1e6, 64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size())));
   events_.Configure(std::move(pad_names), capacity);
 
-  steps_total_ = std::lround(scenario_.duration_s / world_.model()->opt.timestep);
+  const double steps = scenario_.duration_s / world_.model()->opt.timestep;
+  if (steps > kMaxScenarioSteps) {
+    throw ScenarioError(
+        scenario_, "physics.timestep_s",
+        "duration_s / timestep_s asks for " +
+            (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
+            " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
+            ": raise the time step or shorten the run");
+  }
+  steps_total_ = std::lround(steps);
   Reset();
 }
 
@@ -190,6 +227,13 @@ bool Simulation::StepProfiled(Profile* p) {
   return ok;
 }
 
+double Simulation::Heading() const {
+  // The body's forward axis turned about the start surface normal.
+  const Eigen::Vector3d f = BaseAxis(world_.data(), world_.robot(), 0);
+  const Eigen::Vector3d side = up0_.cross(forward0_);
+  return std::atan2(f.dot(side), f.dot(forward0_)) * 180.0 / M_PI;
+}
+
 bool Simulation::Monitor() {
   const mjData* d = world_.data();
   const double t = ctx_.time_s + world_.model()->opt.timestep;
@@ -199,7 +243,10 @@ bool Simulation::Monitor() {
       std::snprintf(buf, sizeof(buf), "step %ld, t = %.6f s: %s at index %d", ctx_.step, t,
                     WarningName(w), d->warning[w].lastinfo);
       result_.stable = false;
-      result_.failure = buf;  // the run ends here; this one allocation is fine
+      result_.failure = buf;  // the run ends here; these allocations are fine
+      if (const std::string m = TakeMujocoWarning(); !m.empty()) {
+        result_.failure += " (MuJoCo: " + m + ")";
+      }
       return false;
     }
   }
@@ -227,6 +274,9 @@ bool Simulation::Monitor() {
     if (dropped || turned_over) {
       result_.fell = true;
       result_.fall_time_s = t;
+      result_.fall_cause = dropped ? "dropped" : "turned_over";
+      fall_pos_ = pos;
+      fall_heading_deg_ = Heading();
       if (scenario_.fall.stop) return false;
     }
   }
@@ -249,11 +299,11 @@ RunResult Simulation::Run(const std::function<void(double)>& progress) {
   result_.sim_time_s = ctx_.step * world_.model()->opt.timestep;
   result_.wall_time_s = wall.count();
   if (result_.stable) {
-    result_.distance_m = world_.scene().travel.dot(BasePos(d, r) - start_pos_);
-    // Heading: the body's forward axis turned about the start surface normal.
-    const Eigen::Vector3d f = BaseAxis(d, r, 0);
-    const Eigen::Vector3d side = up0_.cross(forward0_);
-    result_.heading_deg = std::atan2(f.dot(side), f.dot(forward0_)) * 180.0 / M_PI;
+    const Eigen::Vector3d& travel = world_.scene().travel;
+    result_.distance_at_end_m = travel.dot(BasePos(d, r) - start_pos_);
+    result_.distance_m =
+        result_.fell ? travel.dot(fall_pos_ - start_pos_) : result_.distance_at_end_m;
+    result_.heading_deg = result_.fell ? fall_heading_deg_ : Heading();
   }
   if (progress) progress(1.0);
   return result_;
@@ -273,10 +323,18 @@ nlohmann::json Simulation::Summary() const {
   j["stable"] = result_.stable;
   j["failure"] = result_.failure;
   j["distance_m"] = result_.distance_m;
-  j["mean_speed_mps"] = result_.sim_time_s > 0 ? result_.distance_m / result_.sim_time_s : 0.0;
+  j["mean_speed_mps"] = result_.mean_speed_mps();
   j["heading_deg"] = result_.heading_deg;
   j["fell"] = result_.fell;
   j["fall_time_s"] = result_.fell ? nlohmann::json(result_.fall_time_s) : nlohmann::json();
+  if (result_.fell) {
+    // How: the fall criterion that fired, and whether the run went on after it.
+    j["fall_cause"] = result_.fall_cause;
+    j["fall_stopped_run"] = scenario_.fall.stop;
+    if (!scenario_.fall.stop) j["distance_at_end_m"] = result_.distance_at_end_m;
+  }
+  // A gait that froze (CpgEffect::Summarise overwrites these when it did).
+  j["stalled"] = false;
   j["robot_mass_kg"] = world_.robot().mass_kg;
   j["actuator_work_j"] = result_.actuator_work_j;
   // Cost of transport: work per weight and distance (distance floored at 1 mm).
@@ -298,23 +356,14 @@ std::string Simulation::TrajectoryCsv() const {
 
 std::string Simulation::EventsCsv() const { return events_.ToCsv(world_.model()); }
 
-void WriteFileAtomic(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << content;
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(tmp);
-      throw std::runtime_error("cannot write " + path);
-    }
-  }
-  std::filesystem::rename(tmp, path);
+std::vector<std::string> ScenarioInputs(const Scenario& s) {
+  std::vector<std::string> inputs{s.source_file};
+  if (s.robot.find('/') != std::string::npos) inputs.push_back(RobotFile(s));
+  if (s.scene.name.find('/') != std::string::npos) inputs.push_back(SceneFile(s));
+  return inputs;
 }
 
-void WriteRunDirectory(const std::string& dir, const Simulation& sim,
-                       const nlohmann::json& extra) {
-  std::filesystem::create_directories(dir);
+void WriteRunFiles(const std::string& dir, const Simulation& sim, const nlohmann::json& extra) {
   WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
   WriteFileAtomic(dir + "/model.xml", sim.world().compiled().xml());
   const std::string traj = sim.TrajectoryCsv();
@@ -324,6 +373,14 @@ void WriteRunDirectory(const std::string& dir, const Simulation& sim,
   nlohmann::json summary = sim.Summary();
   summary.update(extra);
   WriteFileAtomic(dir + "/summary.json", summary.dump(2) + "\n");
+}
+
+void WriteRunDirectory(const std::string& dir, const Simulation& sim, const nlohmann::json& extra,
+                       bool force) {
+  RunFolder folder(
+      dir, {.made_by = "simulate", .force = force, .inputs = ScenarioInputs(sim.scenario())});
+  WriteRunFiles(folder.path(), sim, extra);
+  folder.Commit();
 }
 
 }  // namespace climbsim::sim

@@ -1,11 +1,14 @@
 #include "sim/world.h"
 
-#include "adhesion/adhesion.h"
-
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <sstream>
+
+#include "adhesion/adhesion.h"
 
 namespace climbsim::sim {
 namespace {
@@ -25,6 +28,71 @@ std::vector<std::string> LegNames(const mjModel* m) {
   return names;
 }
 
+// A path as an XML attribute value: & < > " and ' as entities (a folder may be named so).
+std::string XmlAttribute(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+// The value of `name="..."` in the first <compiler> element of an MJCF text, "" when none.
+std::string CompilerAttribute(const std::string& text, const std::string& name) {
+  for (size_t at = text.find("<compiler"); at != std::string::npos;
+       at = text.find("<compiler", at + 1)) {
+    const size_t end = text.find('>', at);
+    const std::string element = text.substr(at, end == std::string::npos ? end : end - at);
+    for (const char quote : {'"', '\''}) {
+      const size_t key = element.find(" " + name + "=" + quote);
+      if (key == std::string::npos) continue;
+      const size_t from = key + name.size() + 3;
+      const size_t to = element.find(quote, from);
+      if (to != std::string::npos) return element.substr(from, to - from);
+    }
+  }
+  return "";
+}
+
+// MuJoCo 2.2.2 resolves a relative meshdir and texturedir (and mesh files without one) against
+// the top file's folder, which for the composed model is the working folder. A robot file
+// outside the bundled folder gets them resolved against its own folder instead: a <compiler>
+// after its include (the last one wins), with absolute paths.
+std::string RobotAssetDirs(const std::string& robot_file) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(robot_file).parent_path();
+  std::error_code ec;
+  if (dir.empty() || fs::equivalent(dir, fs::path(MjcfDir()), ec)) return "";
+  std::ifstream in(robot_file, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string attributes;
+  for (const char* name : {"meshdir", "texturedir"}) {
+    const fs::path given = CompilerAttribute(text, name);
+    const fs::path resolved = given.is_absolute() ? given : (dir / given).lexically_normal();
+    std::string value = resolved.string();
+    if (!value.empty() && value.back() != '/') value += '/';
+    attributes += std::string(" ") + name + "=\"" + XmlAttribute(value) + "\"";
+  }
+  return "  <compiler" + attributes + "/>\n";
+}
 
 }  // namespace
 
@@ -38,8 +106,9 @@ bool CustomNumeric(const mjModel* m, const char* name, int size, double* out) {
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& add) {
   std::string xml = "<mujoco model=\"climbsim\">\n";
-  xml += "  <include file=\"" + scene_file + "\"/>\n";
-  xml += "  <include file=\"" + robot_file + "\"/>\n";
+  xml += "  <include file=\"" + XmlAttribute(scene_file) + "\"/>\n";
+  xml += "  <include file=\"" + XmlAttribute(robot_file) + "\"/>\n";
+  xml += RobotAssetDirs(robot_file);
   if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
   if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
   if (!add.actuator.empty()) xml += "  <actuator>\n" + add.actuator + "  </actuator>\n";

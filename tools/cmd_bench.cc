@@ -39,8 +39,13 @@ void Speed(const std::string& file, double duration_s, int repetitions) {
 }
 
 void Accuracy(const std::string& file, double duration_s, int threads, const std::string& out) {
+  // A run folder (docs/run-folders.md), checked before the runs; an earlier bench's replaced.
+  sim::RunFolder folder(out, {.made_by = "bench",
+                              .force = sim::RunFolderMadeBy(out) == "bench",
+                              .inputs = {file}});
   const optimise::AccuracyReport r = optimise::BenchAccuracy(file, duration_s, threads);
-  const std::string warning = optimise::WriteAccuracy(out, r);
+  const std::string warning = optimise::WriteAccuracy(folder.path(), r);
+  folder.Commit();
   std::printf("climbsim bench accuracy: %s, %.1f s simulated per run\n", file.c_str(),
               r.duration_s);
   std::printf("  reference (finest of every knob): %.4f m climbed in %.2f s wall%s\n",
@@ -64,6 +69,7 @@ void OptimiseSpeed(const std::string& file, int evaluations, const std::string& 
   for (int threads : {1, 2}) {
     optimise::Options o;
     o.out_dir = out + "/threads" + std::to_string(threads);
+    o.force = sim::RunFolderMadeBy(o.out_dir) == "optimise";  // an earlier bench's run
     o.threads = threads;
     o.max_evaluations = evaluations;
     const optimise::Result r = optimise::Optimise(file, o);
