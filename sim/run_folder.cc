@@ -220,14 +220,21 @@ RunFolder::RunFolder(const std::string& dir, RunFolderOptions options) {
   fs::create_directories(abs.parent_path(), ec);
   if (ec) throw Refuse(options_, Quoted(dir) + " cannot be made: " + ec.message());
   Lock();
-  CheckContent(dir, abs, options_, false);
-  RemoveStaleSiblings(abs);
-  staging_ = (abs.parent_path() /
-              ("." + abs.filename().string() + ".climbsim-new." + std::to_string(::getpid())))
-                 .string();
-  if (!fs::create_directory(staging_, ec) || ec) {
-    throw Refuse(options_, Quoted(dir) + " cannot be written: " +
-                               (ec ? ec.message() : "the staging folder exists"));
+  try {
+    CheckContent(dir, abs, options_, false);
+    RemoveStaleSiblings(abs);
+    const std::string staging =
+        (abs.parent_path() /
+         ("." + abs.filename().string() + ".climbsim-new." + std::to_string(::getpid())))
+            .string();
+    if (!fs::create_directory(staging, ec) || ec) {
+      throw Refuse(options_, Quoted(dir) + " cannot be written: " +
+                                 (ec ? ec.message() : "the staging folder exists"));
+    }
+    staging_ = staging;
+  } catch (...) {
+    ::close(lock_fd_);  // no destructor runs for a constructor that throws
+    throw;
   }
   write_path_ = staging_;
 }

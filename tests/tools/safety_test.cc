@@ -24,6 +24,10 @@ using climbsim::testing::Source;
 using climbsim::testing::TempDir;
 using climbsim::testing::WriteFile;
 
+// events.csv's header (inspect/inspect.h).
+const std::string kEventsHeader =
+    "time_s,pad,event,cause,surface,bonded_fraction,fn_n,fx_n,fy_n,mx_nm,my_nm\n";
+
 bool Has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
@@ -247,7 +251,7 @@ TEST(Stall, AFrozenGaitIsReportedWithItsTimeAndLeg) {
   EXPECT_TRUE(s["stall_leg"].is_string());
   EXPECT_TRUE(Has(s["stall_reason"].get<std::string>(), "cpg.wait_for_support")) << s.dump(2);
   EXPECT_TRUE(Has(r.out, "STALLED")) << r.out;
-  // The example as shipped does not stall.
+  // A walk that nothing holds does not stall.
   const std::string ok = SimulatedRun("no_stall");
   EXPECT_FALSE(Summary(ok)["stalled"].get<bool>());
 }
@@ -349,14 +353,12 @@ TEST(HostileInput, DamagedRunFilesGiveTheirPlace) {
 
   // time_s NaN in events.csv.
   dir = copy("nan_events");
-  std::string events = ReadFile(dir + "/events.csv");
-  ASSERT_NE(events.find('\n'), events.size() - 1) << "the run logged events";
-  events.replace(events.find('\n') + 1, events.find(',', events.find('\n')) - events.find('\n') - 1,
-                 "nan");
-  WriteFile(dir + "/events.csv", events);
+  WriteFile(dir + "/events.csv", std::string(kEventsHeader) +
+                                     "0.01,LF_pad,touchdown,,floor,0,0,0,0,0,0\n"
+                                     "nan,LF_pad,touchdown,,floor,0,0,0,0,0,0\n");
   r = RunClimbsim("inspect " + dir);
   EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(Has(r.err, "events.csv:2:1: time_s: expected a finite number")) << r.err;
+  EXPECT_TRUE(Has(r.err, "events.csv:3:1: time_s: expected a finite number, got 'nan'")) << r.err;
 
   // A number JSON cannot hold in summary.json.
   dir = copy("huge_summary");
@@ -383,6 +385,35 @@ TEST(HostileInput, SweepRefusesATinyStepAndNan) {
 }
 
 }  // namespace
+
+// ---- What inspect shows --------------------------------------------------------------------
+
+// A touchdown that neither attached nor was rejected is counted with its reason: the pad
+// touched again (it left inside the attach window), or the run ended during the touch.
+TEST(InspectTable, TouchdownsThatNeitherAttachedNorWereRejectedAreShownWithTheReason) {
+  const std::string dir = TempDir() + "/unanswered";
+  fs::copy(SimulatedRun("unanswered_src"), dir, fs::copy_options::recursive);
+  WriteFile(dir + "/events.csv", std::string(kEventsHeader) +
+                                     "0.01,LF_pad,touchdown,,floor,0,0,0,0,0,0\n"
+                                     "0.05,LF_pad,touchdown,,floor,0,0,0,0,0,0\n"
+                                     "0.08,LF_pad,attach,,floor,0.9,0,0,0,0,0\n"
+                                     "0.1,LF_pad,detach,peel,floor,0,0,0,0,0,0\n"
+                                     "0.12,LF_pad,touchdown,,floor,0,0,0,0,0,0\n"
+                                     "0.15,LF_pad,attach_rejected,contacts=1,floor,0,0,0,0,0,0\n"
+                                     "0.18,LF_pad,touchdown,,floor,0,0,0,0,0,0\n");
+  CliResult r = RunClimbsim("inspect " + dir + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json lf = nlohmann::json::parse(r.out)["legs"][0];
+  EXPECT_EQ(lf["touchdowns"], 4);
+  EXPECT_EQ(lf["attachments"], 1);
+  EXPECT_EQ(lf["rejected"], 1);
+  EXPECT_EQ(lf["unanswered_touchdowns"], 2);
+  EXPECT_EQ(lf["unanswered_by"],
+            nlohmann::json({{"left_within_attach_window", 1}, {"run_ended_during_touch", 1}}));
+  r = RunClimbsim("inspect " + dir);
+  EXPECT_TRUE(Has(r.out, "touchdowns unanswered              2")) << r.out;
+  EXPECT_TRUE(Has(r.out, "  left_within_attach_window        1")) << r.out;
+}
 
 // ---- Custom robot files ----------------------------------------------------------------------
 
