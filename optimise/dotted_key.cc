@@ -89,11 +89,8 @@ YAML::Node Walk(YAML::Node root, std::string_view key, bool create) {
 }  // namespace
 
 void SetDottedKey(YAML::Node root, std::string_view key, double value) {
-  YAML::Node n = Walk(root, key, /*create=*/true);
-  if (n.IsDefined() && !n.IsNull() && !n.IsScalar()) {
-    throw std::invalid_argument(std::string(key) + " is a list or a map, not a number");
-  }
   // A key the file gives as text (cpg.gait: trot) takes no number.
+  const YAML::Node n = Walk(root, key, /*create=*/true);
   if (n.IsDefined() && n.IsScalar()) {
     try {
       n.as<double>();
@@ -102,7 +99,15 @@ void SetDottedKey(YAML::Node root, std::string_view key, double value) {
                                   "'), not a number");
     }
   }
-  n = sim::ExactNumber(value);
+  SetDottedKeyText(root, key, sim::ExactNumber(value));
+}
+
+void SetDottedKeyText(YAML::Node root, std::string_view key, const std::string& text) {
+  YAML::Node n = Walk(root, key, /*create=*/true);
+  if (n.IsDefined() && !n.IsNull() && !n.IsScalar()) {
+    throw std::invalid_argument(std::string(key) + " is a list or a map, not a value");
+  }
+  n = text;
 }
 
 double GetDottedKey(const YAML::Node& root, std::string_view key) {

@@ -14,6 +14,9 @@
 //             legs in swing go on, so the legs being waited for can land. A leg holding its
 //             phase (hold_phase, a peel) pauses in swing too.
 // Reflex offsets (LegSignals::offset_rad) are added to the targets.
+// A stall: a hold that lasts to the end of the run, at least two strides (2 / frequency_hz)
+// and 1 s long. Summarise then sets summary.json's stalled, stall_time_s (the hold's start),
+// stall_leg (the leg that holds: the one waited for) and stall_reason.
 #ifndef CLIMBSIM_SIM_CPG_EFFECT_H_
 #define CLIMBSIM_SIM_CPG_EFFECT_H_
 

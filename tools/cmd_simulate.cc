@@ -27,10 +27,10 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
   if (s["fell"].get<bool>()) {
     std::printf("  fell            yes, at %.3f s (%s)%s\n", s["fall_time_s"].get<double>(),
                 s["fall_cause"].get<std::string>() == "dropped"
-                    ? "dropped fall.drop_m below its highest point"
-                    : "turned over past fall.turn_over_deg",
+                    ? "its base dropped fall.drop_m below the highest point it reached"
+                    : "its base turned over past fall.turn_over_deg",
                 s["fall_stopped_run"].get<bool>() ? "; the run ended there" : "");
-    std::printf("                  distance and speed are up to the fall\n");
+    std::printf("                  (distance, speed and heading are those up to the fall)\n");
   } else {
     std::printf("  fell            no\n");
   }
