@@ -129,6 +129,9 @@ struct Scenario {
 // The most steps a scenario may ask for (duration_s / physics.timestep_s); the same bound as
 // sim::kMaxSteps, checked at load with the key's place.
 inline constexpr double kMaxScenarioSteps = 1e8;
+// The most rows trajectory.csv may get (duration_s times outputs.trajectory_rate_hz, at most
+// one per step): 2·10^6, 5.5 h at 100 Hz, about 0.6 GB in memory for the spider.
+inline constexpr double kMaxTrajectoryRows = 2e6;
 
 // Parses a scenario from a YAML tree (file names the source in messages). Throws
 // InputError for any unknown key, wrong type or value out of range, with file:line:col.

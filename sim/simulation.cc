@@ -88,6 +88,27 @@ std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario) {
 Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
     : scenario_(scenario), world_(compiled, scenario_) {
   InstallMujocoHandlers();
+  // Bounds before anything is sized for the run: steps, and rows of trajectory.csv.
+  const double steps = scenario_.duration_s / world_.model()->opt.timestep;
+  if (steps > kMaxScenarioSteps) {
+    throw ScenarioError(
+        scenario_, "physics.timestep_s",
+        "duration_s / timestep_s asks for " +
+            (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
+            " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
+            ": raise the time step or shorten the run");
+  }
+  const double rate_hz = scenario_.outputs.trajectory_rate_hz;
+  if (rate_hz > 0) {
+    const double every = std::max(1.0, std::round(1.0 / (rate_hz * world_.model()->opt.timestep)));
+    if (const double rows = steps / every; rows > kMaxTrajectoryRows) {
+      throw ScenarioError(scenario_, "outputs.trajectory_rate_hz",
+                          "would record " + std::to_string(std::llround(rows)) +
+                              " rows of trajectory.csv; at most " +
+                              std::to_string(std::llround(kMaxTrajectoryRows)) +
+                              ": lower the rate (0 records none) or shorten the run");
+    }
+  }
   const RobotInfo& robot = world_.robot();
   legs_.resize(robot.legs.size());
   // scenario.yaml records every physics option the run used, the scene's included.
@@ -156,15 +177,6 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
       std::min(1e6, 64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size())));
   events_.Configure(std::move(pad_names), capacity);
 
-  const double steps = scenario_.duration_s / world_.model()->opt.timestep;
-  if (steps > kMaxScenarioSteps) {
-    throw ScenarioError(
-        scenario_, "physics.timestep_s",
-        "duration_s / timestep_s asks for " +
-            (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
-            " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
-            ": raise the time step or shorten the run");
-  }
   steps_total_ = std::lround(steps);
   Reset();
 }
