@@ -296,13 +296,15 @@ TEST(HostileInput, ATimestepOfANanosecondIsRefusedAtLoad) {
 // Without physics.timestep_s the scene's step (1 ms) applies: a million seconds is 10^9 steps.
 // A trajectory of more than 2·10^6 rows is refused too (it would be reserved in memory).
 TEST(HostileInput, RunsTooLongForMemoryAreRefusedBeforeRunning) {
-  CliResult r = Simulate(WriteFile("million_s.yaml", "robot: gecko\nscene: floor\n"
-                                                     "duration_s: 1000000\n"),
+  CliResult r = Simulate(WriteFile("million_s.yaml",
+                                   "robot: gecko\nscene: floor\n"
+                                   "duration_s: 1000000\n"),
                          "million_s");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(Has(r.err, "asks for 1000000000 steps; climbsim runs at most 100000000")) << r.err;
-  r = Simulate(WriteFile("rows.yaml", "robot: gecko\nscene: floor\nduration_s: 30000\n"
-                                      "physics: {timestep_s: 0.01}\n"),
+  r = Simulate(WriteFile("rows.yaml",
+                         "robot: gecko\nscene: floor\nduration_s: 30000\n"
+                         "physics: {timestep_s: 0.01}\n"),
                "rows");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(Has(r.err, "outputs.trajectory_rate_hz: would record 3000000 rows")) << r.err;
