@@ -13,6 +13,7 @@
 #include "sim/input_error.h"
 #include "sim/scenario.h"
 #include "sim/simulation.h"
+#include "sim/surface.h"
 #include "sim/world.h"
 
 #endif  // CLIMBSIM_SIM_SIM_H_

@@ -13,6 +13,7 @@
 #include "sim/cpg_effect.h"
 #include "sim/perturbation_effect.h"
 #include "sim/reflex_effect.h"
+#include "sim/surface.h"
 #include "sim/trajectory.h"
 
 namespace climbsim::sim {
@@ -52,6 +53,7 @@ Eigen::Vector3d BasePos(const mjData* d, const RobotInfo& r) {
 MjcfAdditions EffectAdditions(const Scenario& scenario) {
   MjcfAdditions additions;
   if (scenario.adhesion) AddAdhesionMjcf(scenario, *scenario.adhesion, &additions);
+  additions.worldbody += RoughnessMjcf(scenario);
   return additions;
 }
 

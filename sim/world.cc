@@ -40,6 +40,7 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
   std::string xml = "<mujoco model=\"climbsim\">\n";
   xml += "  <include file=\"" + scene_file + "\"/>\n";
   xml += "  <include file=\"" + robot_file + "\"/>\n";
+  if (!add.worldbody.empty()) xml += "  <worldbody>\n" + add.worldbody + "  </worldbody>\n";
   if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
   if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
   if (!add.actuator.empty()) xml += "  <actuator>\n" + add.actuator + "  </actuator>\n";
@@ -149,7 +150,16 @@ World::World(const CompiledModel& compiled, const Scenario& s)
     mju_mulQuat(rotated, yaw_quat, q + 3);
     mju_copy4(q + 3, rotated);
   }
+  // Payload: on the base body, spread like its own mass.
+  const int base = compiled.robot().base_body;
+  const bool payload = s.payload_kg > 0.0 && base >= 0;
+  if (payload) {
+    const double k = (m->body_mass[base] + s.payload_kg) / m->body_mass[base];
+    m->body_mass[base] *= k;
+    for (int i = 0; i < 3; ++i) m->body_inertia[3 * base + i] *= k;
+  }
   data_ = mj_makeData(m);
+  if (payload) mj_setConst(m, data_);
 }
 
 World::~World() {
