@@ -162,7 +162,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 // Families (magnitude, unit, range):
 //   push_off    10 ms push along the surface normal, away from it      N s   0.005 .. 1
 //   push_down   10 ms push down the slope (gravity along the surface)  N s   0.005 .. 1
-//   push_side   10 ms push across the slope                            N s   0.005 .. 1
+//   push_side   10 ms push across the slope (normal x down: -y on the wall) N s   0.005 .. 1
 //   payload     payload_kg on the base                                 kg    2 % .. 400 % of the robot's mass
 //   pad_failure adhesion.pad_failure_probability                       -     0.01 .. 1
 //   weak_patch  1 − scene.weak_patches.fraction (σ_T lost on a patch; 5 cm cells, 30 % weak)

@@ -241,7 +241,7 @@ TEST(Disturbance, KeysAreCheckedWithTheirPlace) {
   EXPECT_EQ(ErrorOf("rough_bad.yaml",
                     "robot: gecko\nscene:\n  name: wall\n  roughness: {height_m: 0.002, "
                     "spacing_m: 0.01, size_m: 0.02}\nduration_s: 1\n"),
-            "rough_bad.yaml:4:14: scene.roughness.size_m: must be <= spacing_m");
+            "rough_bad.yaml:4:57: scene.roughness.size_m: must be <= spacing_m");
   EXPECT_EQ(ErrorOf("rough_scene.yaml",
                     "robot: gecko\nscene:\n  name: floor_to_wall\n  roughness: {height_m: 0.002}\n"
                     "duration_s: 1\n"),
