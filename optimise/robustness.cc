@@ -1,4 +1,5 @@
 // climbsim bench robustness (optimise/optimise.h states what is searched and how).
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -7,8 +8,6 @@
 #include <limits>
 #include <mutex>
 #include <thread>
-
-#include <Eigen/Geometry>
 
 #include "optimise/optimise.h"
 #include "sim/gnuplot.h"
@@ -105,7 +104,9 @@ sim::Scenario MakeCase(const Setup& u, const std::string& family, double magnitu
   }
   if (family.empty() || magnitude <= 0) return s;
   if (family.rfind("push_", 0) == 0) {
-    const Eigen::Vector3d dir = family == "push_off" ? u.off : family == "push_down" ? u.down : u.side;
+    const Eigen::Vector3d dir = family == "push_off"    ? u.off
+                                : family == "push_down" ? u.down
+                                                        : u.side;
     sim::PushParams p;
     p.time_s = u.push_time_s + phase / (u.options.phases * u.frequency_hz);
     p.body = "base";
@@ -164,8 +165,9 @@ void ParallelFor(int n, int threads, F work) {
     ModelCache cache;
     for (int t = next++; t < n; t = next++) work(t, &cache);
   };
-  const int k = std::min(n, std::max(1, threads > 0 ? threads
-                                                    : static_cast<int>(std::thread::hardware_concurrency())));
+  const int k = std::min(
+      n,
+      std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())));
   std::vector<std::thread> pool;
   for (int i = 1; i < k; ++i) pool.emplace_back(worker);
   worker();
@@ -240,7 +242,8 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
   std::mutex mu;
   const int push_cases = options.seeds * options.phases;
   auto budget = [&](const RobustnessFamily& f) {
-    const double steps = std::ceil(std::log2(std::log(f.hi / f.lo) / std::log1p(options.tolerance)));
+    const double steps =
+        std::ceil(std::log2(std::log(f.hi / f.lo) / std::log1p(options.tolerance)));
     return (2 + std::max(0, static_cast<int>(steps))) *
            (f.name.rfind("push_", 0) == 0 ? push_cases : options.seeds);
   };
@@ -291,7 +294,8 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
           if (!Survives(MakeCase(u, f.name, m, mode, seed, phase), report.baseline_m[mode][seed],
                         cache, &how)) {
             ok = false;
-            fail_case = "seed " + std::to_string(seed) + (push ? " phase " + std::to_string(phase) : "");
+            fail_case =
+                "seed " + std::to_string(seed) + (push ? " phase " + std::to_string(phase) : "");
             fail_how = how;
           }
         }
@@ -350,17 +354,21 @@ std::string RobustnessTable(const RobustnessReport& r) {
   char buf[512];
   std::snprintf(buf, sizeof(buf),
                 "climbsim bench robustness: %s, %.1f s per run, %d seeds, %d push phases\n",
-                r.scenario_file.c_str(),
-                r.options.duration_s, r.options.seeds, r.options.phases);
+                r.scenario_file.c_str(), r.options.duration_s, r.options.seeds, r.options.phases);
   out += buf;
   std::string base0, base1;
-  for (double d : r.baseline_m[0]) base0 += (base0.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
-  for (double d : r.baseline_m[1]) base1 += (base1.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
-  out += "  undisturbed distance [m] per seed: reflexes " + base0 + "; spindle+GTO off " + base1 + "\n";
-  out += "  survived = largest magnitude every case survives (no fall, >= half the undisturbed "
-         "distance); fails = the next one tried\n";
+  for (double d : r.baseline_m[0])
+    base0 += (base0.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
+  for (double d : r.baseline_m[1])
+    base1 += (base1.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
+  out += "  undisturbed distance [m] per seed: reflexes " + base0 + "; spindle+GTO off " + base1 +
+         "\n";
+  out +=
+      "  survived = largest magnitude every case survives (no fall, >= half the undisturbed "
+      "distance); fails = the next one tried\n";
   std::snprintf(buf, sizeof(buf), "  %-12s %-5s %12s %12s %12s %12s %7s  %s\n", "family", "unit",
-                "reflexes", "fails at", "sp+GTO off", "fails at", "ratio", "first failure (reflexes)");
+                "reflexes", "fails at", "sp+GTO off", "fails at", "ratio",
+                "first failure (reflexes)");
   out += buf;
   auto fmt = [](double v) {
     char b[32];
@@ -374,9 +382,9 @@ std::string RobustnessTable(const RobustnessReport& r) {
     const std::string s_on = (std::isinf(on.failed) ? ">=" : "") + fmt(on.survived);
     const std::string s_off = (std::isinf(off.failed) ? ">=" : "") + fmt(off.survived);
     const std::string ratio = off.survived > 0 ? fmt(on.survived / off.survived) : "-";
-    std::snprintf(buf, sizeof(buf), "  %-12s %-5s %12s %12s %12s %12s %7s  %s\n",
-                  on.family.c_str(), on.unit.empty() ? "-" : on.unit.c_str(), s_on.c_str(),
-                  fmt(on.failed).c_str(), s_off.c_str(), fmt(off.failed).c_str(), ratio.c_str(),
+    std::snprintf(buf, sizeof(buf), "  %-12s %-5s %12s %12s %12s %12s %7s  %s\n", on.family.c_str(),
+                  on.unit.empty() ? "-" : on.unit.c_str(), s_on.c_str(), fmt(on.failed).c_str(),
+                  s_off.c_str(), fmt(off.failed).c_str(), ratio.c_str(),
                   on.failing_case.empty() ? "" : (on.failing_case + ": " + on.failing_how).c_str());
     out += buf;
   }
@@ -400,8 +408,8 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
     csv += row.family + "," + row.unit + "," + row.mode + "," + Num(row.survived) + "," +
            (std::isinf(row.failed) ? std::string("inf") : Num(row.failed)) + "," + Num(row.lo) +
            "," + Num(row.hi) + "," + std::to_string(row.evaluations) + "," +
-           std::to_string(row.runs) + "," + quote(row.failing_case) + "," +
-           quote(row.failing_how) + "," + (row.same_as_reflexes ? "1" : "0") + "\n";
+           std::to_string(row.runs) + "," + quote(row.failing_case) + "," + quote(row.failing_how) +
+           "," + (row.same_as_reflexes ? "1" : "0") + "\n";
   }
   sim::WriteFileAtomic(dir + "/robustness.csv", csv);
 
@@ -418,25 +426,29 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
   sim::WriteFileAtomic(dir + "/robustness.dat", data);
   if (n == 0) return "no family to plot";
   // Two lines: gnuplot's "\n" inside a double-quoted string.
-  std::string title = sim::GnuplotQuote(
-      "robustness of " + std::filesystem::path(r.scenario_file).filename().string() +
-      ": largest magnitude survived");
+  std::string title = sim::GnuplotQuote("robustness of " +
+                                        std::filesystem::path(r.scenario_file).filename().string() +
+                                        ": largest magnitude survived");
   title.pop_back();
   title += "\\n(a bar at the bottom: not even the smallest; at the top: the largest tried)\"";
   std::string script =
       "set terminal pngcairo size " + std::to_string(std::max(600, 260 * n)) +
       ",420 noenhanced\nset output OUTPUT(0)\n"
-      "data = " + sim::GnuplotQuote(dir + "/robustness.dat") + "\n"
+      "data = " +
+      sim::GnuplotQuote(dir + "/robustness.dat") +
+      "\n"
       "set style fill solid 0.8\nset boxwidth 0.6\nset grid ytics\nset logscale y\n"
       "set xrange [-0.6:1.6]\nset xtics rotate by -20 font ',9'\nunset key\n"
-      "set multiplot layout 1," + std::to_string(n) + " title " + title +
-      " font ',10'\n";
+      "set multiplot layout 1," +
+      std::to_string(n) + " title " + title + " font ',10'\n";
   for (int i = 0; i < n; ++i) {
     const RobustnessRow& on = r.rows[2 * i];
     script += "set title " + sim::GnuplotQuote(on.family) + "\nset ylabel " +
               sim::GnuplotQuote(on.unit.empty() ? "magnitude" : "magnitude [" + on.unit + "]") +
-              "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) + "]\n"
-              "plot data index " + std::to_string(i) +
+              "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
+              "]\n"
+              "plot data index " +
+              std::to_string(i) +
               " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
   }
   script += "unset multiplot\n";

@@ -25,7 +25,8 @@ std::array<double, 4> Footprint(World& world) {
   mj_kinematics(m, d);
   const int root = world.robot().base_body;
   std::array<double, 4> box{std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
-                            std::numeric_limits<double>::max(), -std::numeric_limits<double>::max()};
+                            std::numeric_limits<double>::max(),
+                            -std::numeric_limits<double>::max()};
   for (int g = 0; g < m->ngeom; ++g) {
     const int b = m->geom_bodyid[g];
     if (b == 0 || m->body_rootid[b] != m->body_rootid[root]) continue;
@@ -64,7 +65,7 @@ double PatchStrength(const WeakPatchParams& p, int seed, double x_m, double y_m)
   const auto i = static_cast<int64_t>(std::floor(x_m / p.size_m));
   const auto j = static_cast<int64_t>(std::floor(y_m / p.size_m));
   return UnitDraw(static_cast<uint64_t>(seed), kStreamWeakPatch, i, j) < p.coverage ? p.fraction
-                                                                                     : 1.0;
+                                                                                    : 1.0;
 }
 
 std::string RoughnessMjcf(const Scenario& s) {

@@ -86,17 +86,17 @@ TEST(Robustness, HelpExampleRunsAndEachMagnitudeIsTheBisectionsEdge) {
     EXPECT_LE(failed, hi);
     EXPECT_GT(failed, survived);
     EXPECT_LE(failed, survived * 1.1 * (1 + 1e-12)) << family;  // bisection to 10 %
-    if (mode == 1 && rows[i][11] == "1") continue;  // one search serves both modes
+    if (mode == 1 && rows[i][11] == "1") continue;              // one search serves both modes
     sim::Simulation calm(RobustnessCase(base, o, "", 0, mode, 0, 0),
                          *sim::CompileScenario(RobustnessCase(base, o, "", 0, mode, 0, 0)));
     const double baseline = calm.Run().distance_m;
     ASSERT_GT(baseline, 0);
     std::string how;
-    EXPECT_TRUE(RobustnessSurvives(RobustnessCase(base, o, family, survived, mode, 0, 0), baseline,
-                                   &how))
+    EXPECT_TRUE(
+        RobustnessSurvives(RobustnessCase(base, o, family, survived, mode, 0, 0), baseline, &how))
         << family << " at " << survived << ": " << how;
-    EXPECT_FALSE(RobustnessSurvives(RobustnessCase(base, o, family, failed, mode, 0, 0), baseline,
-                                    &how))
+    EXPECT_FALSE(
+        RobustnessSurvives(RobustnessCase(base, o, family, failed, mode, 0, 0), baseline, &how))
         << family << " at " << failed;
     EXPECT_EQ(how, rows[i][10]) << family;  // the same failure as reported
   }
@@ -115,7 +115,8 @@ TEST(Robustness, PushesPointOffDownAndAcrossTheWall) {
   for (const auto& c : cases) {
     const sim::Scenario s = RobustnessCase(base, o, c.family, 0.2, 0, 0, 3);
     ASSERT_EQ(s.perturbations.size(), 1u);
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(s.perturbations[0].impulse_ns[k], 0.2 * c.dir[k], 1e-15);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(s.perturbations[0].impulse_ns[k], 0.2 * c.dir[k], 1e-15);
     EXPECT_DOUBLE_EQ(s.perturbations[0].duration_s, 0.01);
     EXPECT_DOUBLE_EQ(s.perturbations[0].time_s, 2.0 + 3 / (4 * f));  // a third of 6 s, phase 3/4
     EXPECT_TRUE(s.fall.stop);

@@ -42,7 +42,8 @@ std::string GeckoWall(double duration_s, const std::string& extra_adhesion = "",
   return "robot: gecko\nscene: " + scene + "\nduration_s: " + std::to_string(duration_s) +
          "\noutputs: {trajectory_rate_hz: 0}\n"
          "adhesion:\n  start_attached: true\n  initial_fraction: 0.9\n  buildup_time_s: 0.05\n"
-         "  mu: 1.0\n" + extra_adhesion +
+         "  mu: 1.0\n" +
+         extra_adhesion +
          "cpg:\n  gait: lateral_sequence\n  frequency_hz: 0.6\n  start_amplitude: 1\n"
          "  stride_m: 0.03\n  lift_m: 0.012\n  press_m: 0.002\n  lift_share: 0.25\n"
          "  wait_for_support: true\n  support_bond_fraction: 0.85\n"
@@ -99,8 +100,8 @@ TEST(Disturbance, PayloadAddsExactlyItsMassAtTheBaseCentreOfMass) {
 
 TEST(Disturbance, PadFailureProbabilityOneFailsEveryAttachmentAndZeroNone) {
   const double window = 0.2;
-  const Scenario always =
-      Load("fail1.yaml", GeckoWall(1.0, "  pad_failure_probability: 1\n  pad_failure_window_s: 0.2\n"));
+  const Scenario always = Load(
+      "fail1.yaml", GeckoWall(1.0, "  pad_failure_probability: 1\n  pad_failure_window_s: 0.2\n"));
   auto model = CompileScenario(always);
   Simulation sim(always, *model);
   sim.Run();
@@ -152,8 +153,10 @@ TEST(Disturbance, WeakPatchScalesSigmaTExactly) {
   // weak patch at fraction 1/4 under σ_T = 4 S is the same surface: the same detaches at the
   // same times. Without the patches, 4 S holds.
   auto hang = [](double sigma, const std::string& scene) {
-    return "robot: gecko\nscene: " + scene + "\nduration_s: 1\noutputs: {trajectory_rate_hz: 0}\n"
-           "adhesion:\n  start_attached: true\n  sigma_t_pa: " + std::to_string(sigma) + "\n";
+    return "robot: gecko\nscene: " + scene +
+           "\nduration_s: 1\noutputs: {trajectory_rate_hz: 0}\n"
+           "adhesion:\n  start_attached: true\n  sigma_t_pa: " +
+           std::to_string(sigma) + "\n";
   };
   const std::string weak_all =
       "{name: ceiling, weak_patches: {fraction: 0.25, size_m: 0.05, coverage: 1}}";
@@ -251,9 +254,9 @@ TEST(Disturbance, KeysAreCheckedWithTheirPlace) {
                     "robot: gecko\nscene: wall\nduration_s: 1\nadhesion:\n"
                     "  pad_failure_probability: 1.5\n"),
             "fail_bad.yaml:5:28: adhesion.pad_failure_probability: must be in [0, 1], got 1.5");
-  EXPECT_EQ(ErrorOf("payload_bad.yaml",
-                    "robot: gecko\nscene: wall\nduration_s: 1\npayload_kg: -1\n"),
-            "payload_bad.yaml:4:13: payload_kg: must be in [0, 1000], got -1");
+  EXPECT_EQ(
+      ErrorOf("payload_bad.yaml", "robot: gecko\nscene: wall\nduration_s: 1\npayload_kg: -1\n"),
+      "payload_bad.yaml:4:13: payload_kg: must be in [0, 1000], got -1");
 }
 
 }  // namespace
