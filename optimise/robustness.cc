@@ -425,6 +425,7 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
   }
   sim::WriteFileAtomic(dir + "/robustness.dat", data);
   if (n == 0) return "no family to plot";
+  const int cols = std::min(n, 4), rows = (n + cols - 1) / cols;
   // Two lines: gnuplot's "\n" inside a double-quoted string.
   std::string title = sim::GnuplotQuote("robustness of " +
                                         std::filesystem::path(r.scenario_file).filename().string() +
@@ -432,19 +433,25 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
   title.pop_back();
   title += "\\n(a bar at the bottom: not even the smallest; at the top: the largest tried)\"";
   std::string script =
-      "set terminal pngcairo size " + std::to_string(std::max(600, 260 * n)) +
-      ",420 noenhanced\nset output OUTPUT(0)\n"
+      "set terminal pngcairo size " + std::to_string(330 * cols) + "," +
+      std::to_string(60 + 360 * rows) +
+      " noenhanced\nset output OUTPUT(0)\n"
       "data = " +
       sim::GnuplotQuote(dir + "/robustness.dat") +
       "\n"
       "set style fill solid 0.8\nset boxwidth 0.6\nset grid ytics\nset logscale y\n"
+      "set lmargin 11\nset rmargin 2\nset bmargin 4\n"
       "set xrange [-0.6:1.6]\nset xtics rotate by -20 font ',9'\nunset key\n"
-      "set multiplot layout 1," +
-      std::to_string(n) + " title " + title + " font ',10'\n";
+      "set multiplot layout " +
+      std::to_string(rows) + "," + std::to_string(cols) + " title " + title + " font ',10'\n";
   for (int i = 0; i < n; ++i) {
     const RobustnessRow& on = r.rows[2 * i];
     script += "set title " + sim::GnuplotQuote(on.family) + "\nset ylabel " +
-              sim::GnuplotQuote(on.unit.empty() ? "magnitude" : "magnitude [" + on.unit + "]") +
+              sim::GnuplotQuote(on.family == "pad_failure"  ? "failure probability per attachment"
+                                : on.family == "weak_patch" ? "share of sigma_T lost on a patch"
+                                : on.family == "payload"    ? "payload [kg]"
+                                : on.family == "roughness"  ? "bump height [m]"
+                                                           : "impulse in 10 ms [" + on.unit + "]") +
               "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
               "]\n"
               "plot data index " +
