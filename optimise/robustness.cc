@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <mutex>
@@ -157,13 +158,28 @@ bool Survives(const sim::Scenario& s, double baseline_m, ModelCache* cache, std:
 
 std::string Num(double v) { return sim::ExactNumber(v); }
 
-// Runs `work(i)` for i in [0, n) on up to `threads` threads.
+// Runs `work(i)` for i in [0, n) on up to `threads` threads. An exception (bad input met
+// only when a case is built) is rethrown after every thread has stopped: the one of the lowest
+// i, whatever the threads.
 template <class F>
 void ParallelFor(int n, int threads, F work) {
   std::atomic<int> next{0};
+  std::mutex mu;
+  int error_at = n;
+  std::exception_ptr error;
   auto worker = [&] {
     ModelCache cache;
-    for (int t = next++; t < n; t = next++) work(t, &cache);
+    for (int t = next++; t < n; t = next++) {
+      try {
+        work(t, &cache);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mu);
+        if (t < error_at) {
+          error_at = t;
+          error = std::current_exception();
+        }
+      }
+    }
   };
   const int k = std::min(
       n,
@@ -172,6 +188,7 @@ void ParallelFor(int n, int threads, F work) {
   for (int i = 1; i < k; ++i) pool.emplace_back(worker);
   worker();
   for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace
@@ -222,10 +239,12 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
                             options.families.end();
     if (wanted && Applicable(u, f.name)) families.push_back(f);
   }
-  // Every case scenario must be valid before anything long runs.
-  for (const auto& f : families) {
-    for (int mode = 0; mode < 2; ++mode) {
-      (void)MakeCase(u, f.name, f.hi, mode, std::max(0, options.seeds - 1), 0);
+  // Every family's largest case must build before anything long runs (bad input: exit 2).
+  {
+    ModelCache cache;
+    for (const auto& f : families) {
+      const sim::Scenario s = MakeCase(u, f.name, f.hi, 0, std::max(0, options.seeds - 1), 0);
+      sim::Simulation check(s, cache.For(s));
     }
   }
   // Spindle and GTO already off (or no reflexes): mode 1 is mode 0, searched once.
