@@ -80,14 +80,19 @@ class CompiledModel {
   double spawn_offset_[3] = {0, 0, 0};
 };
 
+// The options a model steps with, as scenario keys, every one set: what a run records in
+// its resolved scenario.yaml.
+PhysicsParams PhysicsOf(const mjModel* model);
+
 // One run's model copy and data.
 class World {
  public:
-  // Copies the model and sets the scenario's physics options, gravity and initial pose. A
-  // payload (payload_kg) scales the base body's mass and inertia by (m_base + payload)/m_base
-  // (the payload spread like the base's own mass: same centre of mass, same radii of
-  // gyration), then mj_setConst recomputes what depends on masses (subtree masses, the
-  // constraint solver's inverse weights).
+  // Copies the model and sets the scenario's physics options (those it gives; the others stay
+  // as the scene file has them), gravity and initial pose. A payload (payload_kg) scales the
+  // base body's mass and inertia by (m_base + payload)/m_base (the payload spread like the
+  // base's own mass: same centre of mass, same radii of gyration), then mj_setConst
+  // recomputes what depends on masses (subtree masses, the constraint solver's inverse
+  // weights).
   World(const CompiledModel& compiled, const Scenario& scenario);
   ~World();
   World(const World&) = delete;
