@@ -14,6 +14,7 @@
 #include "sim/run_folder.h"
 #include "sim/scenario.h"
 #include "sim/simulation.h"
+#include "sim/surface.h"
 #include "sim/world.h"
 
 #endif  // CLIMBSIM_SIM_SIM_H_

@@ -12,6 +12,7 @@
 #include "sim/cpg_effect.h"
 #include "sim/perturbation_effect.h"
 #include "sim/reflex_effect.h"
+#include "sim/surface.h"
 #include "sim/trajectory.h"
 
 namespace climbsim::sim {
@@ -78,6 +79,7 @@ std::string TakeMujocoWarning() {
 MjcfAdditions EffectAdditions(const Scenario& scenario) {
   MjcfAdditions additions;
   if (scenario.adhesion) AddAdhesionMjcf(scenario, *scenario.adhesion, &additions);
+  additions.worldbody += RoughnessMjcf(scenario);
   return additions;
 }
 

@@ -109,6 +109,7 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
   xml += "  <include file=\"" + XmlAttribute(scene_file) + "\"/>\n";
   xml += "  <include file=\"" + XmlAttribute(robot_file) + "\"/>\n";
   xml += RobotAssetDirs(robot_file);
+  if (!add.worldbody.empty()) xml += "  <worldbody>\n" + add.worldbody + "  </worldbody>\n";
   if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
   if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
   if (!add.actuator.empty()) xml += "  <actuator>\n" + add.actuator + "  </actuator>\n";
@@ -235,7 +236,16 @@ World::World(const CompiledModel& compiled, const Scenario& s)
     mju_mulQuat(rotated, yaw_quat, q + 3);
     mju_copy4(q + 3, rotated);
   }
+  // Payload: on the base body, spread like its own mass.
+  const int base = compiled.robot().base_body;
+  const bool payload = s.payload_kg > 0.0 && base >= 0;
+  if (payload) {
+    const double k = (m->body_mass[base] + s.payload_kg) / m->body_mass[base];
+    m->body_mass[base] *= k;
+    for (int i = 0; i < 3; ++i) m->body_inertia[3 * base + i] *= k;
+  }
   data_ = mj_makeData(m);
+  if (payload) mj_setConst(m, data_);
 }
 
 World::~World() {

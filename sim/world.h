@@ -3,7 +3,7 @@
 // mjcf/README.md (legs, joints, pads). It depends only on the scenario's structure (robot,
 // scene, which effects), is compiled once and never changes. Each run owns a World: its own
 // mj_copyModel, on which the scenario's values (physics options, incline gravity, initial
-// pose) are set, and its mjData. Runs never share a model: MuJoCo 2.2.2 keeps run-time
+// pose, payload) are set, and its mjData. Runs never share a model: MuJoCo 2.2.2 keeps run-time
 // switches such as eq_active in mjModel.
 #ifndef CLIMBSIM_SIM_WORLD_H_
 #define CLIMBSIM_SIM_WORLD_H_
@@ -26,6 +26,7 @@ struct MjcfAdditions {
   std::string sensor;
   std::string actuator;
   std::string contact;
+  std::string worldbody;  // geoms of the world body (scene.roughness's bumps)
 };
 
 // One leg of the robot contract: ids resolved once so the step never looks up a name.
@@ -87,7 +88,11 @@ PhysicsParams PhysicsOf(const mjModel* model);
 class World {
  public:
   // Copies the model and sets the scenario's physics options (those it gives; the others stay
-  // as the scene file has them), gravity and initial pose.
+  // as the scene file has them), gravity and initial pose. A payload (payload_kg) scales the
+  // base body's mass and inertia by (m_base + payload)/m_base (the payload spread like the
+  // base's own mass: same centre of mass, same radii of gyration), then mj_setConst
+  // recomputes what depends on masses (subtree masses, the constraint solver's inverse
+  // weights).
   World(const CompiledModel& compiled, const Scenario& scenario);
   ~World();
   World(const World&) = delete;
