@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox ffmpeg
   clang-14 libclang-rt-14-dev  # libFuzzer and its sanitizers: the fuzz_scenario_loader test
+  libmujoco-samples  # mujoco-simulate and mujoco-compile: open a robot or a run's model.xml
 )
 
 missing=()

@@ -135,6 +135,7 @@ void Simulation::Reset() {
   for (auto& e : effects_) e->InitialPose(world_, ctx_);
   mj_kinematics(m, d);
   for (auto& e : effects_) e->Reset(world_, ctx_);
+  world_.MarkStart();
 
   for (int w = 0; w < mjNWARNING; ++w) warnings_seen_[w] = d->warning[w].number;
   const RobotInfo& r = world_.robot();
@@ -316,7 +317,7 @@ void WriteRunDirectory(const std::string& dir, const Simulation& sim,
                        const nlohmann::json& extra) {
   std::filesystem::create_directories(dir);
   WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
-  WriteFileAtomic(dir + "/model.xml", sim.world().compiled().xml());
+  WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
   const std::string traj = sim.TrajectoryCsv();
   if (!traj.empty()) WriteFileAtomic(dir + "/trajectory.csv", traj);
   WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());

@@ -2,9 +2,15 @@
 
 #include "adhesion/adhesion.h"
 
+#include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <regex>
 #include <sstream>
 
 namespace climbsim::sim {
@@ -26,7 +32,75 @@ std::vector<std::string> LegNames(const mjModel* m) {
 }
 
 
+std::string ReadMjcfFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Index just past the comments, processing instructions and blanks before position i.
+size_t SkipProlog(const std::string& xml, size_t i) {
+  while (i < xml.size()) {
+    if (std::isspace(static_cast<unsigned char>(xml[i]))) {
+      ++i;
+    } else if (xml.compare(i, 4, "<!--") == 0) {
+      const size_t end = xml.find("-->", i + 4);
+      i = end == std::string::npos ? xml.size() : end + 3;
+    } else if (xml.compare(i, 2, "<?") == 0) {
+      const size_t end = xml.find("?>", i + 2);
+      i = end == std::string::npos ? xml.size() : end + 2;
+    } else {
+      break;
+    }
+  }
+  return i;
+}
+
+// The children of an MJCF file's <mujoco> root, with its own includes expanded in turn
+// (MuJoCo splices an included file's root children in place of the <include>).
+std::string IncludedChildren(const std::string& path, int depth) {
+  if (depth > 16) throw std::runtime_error("includes nested too deep at " + path);
+  const std::string xml = ReadMjcfFile(path);
+  const size_t open = SkipProlog(xml, 0);
+  if (xml.compare(open, 7, "<mujoco") != 0) {
+    throw std::runtime_error(path + ": the root element is not <mujoco>");
+  }
+  const size_t open_end = xml.find('>', open);
+  if (open_end == std::string::npos) throw std::runtime_error(path + ": unterminated <mujoco>");
+  if (xml[open_end - 1] == '/') return "";  // <mujoco/>
+  const size_t close = xml.rfind("</mujoco>");
+  if (close == std::string::npos || close < open_end) {
+    throw std::runtime_error(path + ": no </mujoco>");
+  }
+  return ExpandIncludes(xml.substr(open_end + 1, close - open_end - 1),
+                        std::filesystem::path(path).parent_path().string(), depth + 1);
+}
+
 }  // namespace
+
+std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth) {
+  static const std::regex include(R"re(<include\s+file\s*=\s*"([^"]*)"\s*/>)re");
+  std::string out;
+  auto begin = std::sregex_iterator(xml.begin(), xml.end(), include);
+  size_t last = 0;
+  for (auto it = begin; it != std::sregex_iterator(); ++it) {
+    const std::smatch& m = *it;
+    out.append(xml, last, m.position(0) - last);
+    std::filesystem::path file = m[1].str();
+    if (file.is_relative() && !base_dir.empty()) file = std::filesystem::path(base_dir) / file;
+    const std::string name = file.lexically_normal().string();
+    // The markers name the file only: model.xml holds no path of the machine it ran on.
+    const std::string base = std::filesystem::path(name).filename().string();
+    out += "<!-- climbsim: begin of " + base + " -->";
+    out += IncludedChildren(name, depth);
+    out += "<!-- climbsim: end of " + base + " -->";
+    last = m.position(0) + m.length(0);
+  }
+  out.append(xml, last, std::string::npos);
+  return out;
+}
 
 bool CustomNumeric(const mjModel* m, const char* name, int size, double* out) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, name);
@@ -56,8 +130,13 @@ mjModel* CompileMjcf(const std::string& xml, std::string* error) {
 std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
                                                     const MjcfAdditions& additions) {
   std::unique_ptr<CompiledModel> c(new CompiledModel());
-  c->xml_ = ComposeMjcf(RobotFile(s), SceneFile(s), additions);
   std::string error;
+  try {
+    // Self-contained: what is compiled here is what the run folder's model.xml holds.
+    c->xml_ = ExpandIncludes(ComposeMjcf(RobotFile(s), SceneFile(s), additions), "");
+  } catch (const std::exception& e) {
+    throw ScenarioError(s, "robot", e.what());
+  }
   c->model_ = CompileMjcf(c->xml_, &error);
   if (c->model_ == nullptr) {
     throw ScenarioError(s, "robot", "MuJoCo cannot load the model: " + error);
@@ -150,6 +229,43 @@ World::World(const CompiledModel& compiled, const Scenario& s)
     mju_copy4(q + 3, rotated);
   }
   data_ = mj_makeData(m);
+}
+
+void World::MarkStart() {
+  start_qpos_.assign(data_->qpos, data_->qpos + model_->nq);  // sized once: no allocation after
+}
+
+std::string World::Xml() const {
+  const mjModel* m = model_;
+  auto numbers = [](const double* v, int n) {
+    std::string s;
+    char buf[32];
+    for (int i = 0; i < n; ++i) {
+      if (i) s += ' ';
+      // Shortest text that reads back as the same double.
+      s.append(buf, std::to_chars(buf, buf + sizeof(buf), v[i]).ptr);
+    }
+    return s;
+  };
+  const char* integrator = m->opt.integrator == mjINT_EULER ? "Euler"
+                           : m->opt.integrator == mjINT_RK4 ? "RK4"
+                                                            : "implicit";
+  std::string run = "  <!-- climbsim: this run's values (the scenario's physics options win over the files';\n"
+                    "       key climbsim_start is the state the run started from) -->\n";
+  run += "  <option timestep=\"" + numbers(&m->opt.timestep, 1) + "\" gravity=\"" +
+         numbers(m->opt.gravity, 3) + "\" integrator=\"" + integrator + "\" iterations=\"" +
+         std::to_string(m->opt.iterations) + "\" tolerance=\"" + numbers(&m->opt.tolerance, 1) +
+         "\" noslip_iterations=\"" + std::to_string(m->opt.noslip_iterations) + "\" cone=\"" +
+         (m->opt.cone == mjCONE_ELLIPTIC ? "elliptic" : "pyramidal") + "\" impratio=\"" +
+         numbers(&m->opt.impratio, 1) + "\"/>\n";
+  const std::vector<double>& q =
+      start_qpos_.empty() ? std::vector<double>(m->qpos0, m->qpos0 + m->nq) : start_qpos_;
+  run += "  <keyframe>\n    <key name=\"climbsim_start\" qpos=\"" +
+         numbers(q.data(), m->nq) + "\"/>\n  </keyframe>\n";
+  std::string xml = compiled_.xml();
+  const size_t close = xml.rfind("</mujoco>");
+  xml.insert(close == std::string::npos ? xml.size() : close, run);
+  return xml;
 }
 
 World::~World() {
