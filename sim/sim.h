@@ -10,6 +10,7 @@
 #define CLIMBSIM_SIM_SIM_H_
 
 #include "sim/bench_speed.h"
+#include "sim/controller.h"
 #include "sim/input_error.h"
 #include "sim/scenario.h"
 #include "sim/simulation.h"
