@@ -16,4 +16,13 @@
 #include "sim/simulation.h"
 #include "sim/world.h"
 
+#ifdef CLIMBSIM_PACKAGE_MJCF_DIR
+// Set by climbsimConfig.cmake for programs built against an installed climbsim: the bundled
+// models are found in the package (PREFIX/share/climbsim/mjcf) before the program starts.
+namespace climbsim::sim::detail {
+inline const bool kPackageMjcfDirRegistered =
+    (SetPackageMjcfDir(CLIMBSIM_PACKAGE_MJCF_DIR), true);
+}  // namespace climbsim::sim::detail
+#endif
+
 #endif  // CLIMBSIM_SIM_SIM_H_
