@@ -169,8 +169,9 @@ PYBIND11_MODULE(_core, m) {
       .def_readwrite("duration_s", &sim::Scenario::duration_s)
       .def_readwrite("robot", &sim::Scenario::robot)
       .def_readonly("source_file", &sim::Scenario::source_file)
-      .def("to_yaml", [](const sim::Scenario& s) { return sim::ScenarioToYamlText(s); },
-           "The resolved scenario (every key, defaults filled in) as YAML text.");
+      .def(
+          "to_yaml", [](const sim::Scenario& s) { return sim::ScenarioToYamlText(s); },
+          "The resolved scenario (every key, defaults filled in) as YAML text.");
 
   m.def("load_scenario", &sim::LoadScenario, py::arg("path"),
         "A scenario file (raises climbsim.InputError with file:line:col on bad input).");
@@ -208,8 +209,8 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("joint_angle_rad",
                              [](py::object self) {
                                auto& o = self.cast<const Observation&>();
-                               return View(o.joint_angle_rad.data(), o.joint_angle_rad.size(),
-                                           self, false);
+                               return View(o.joint_angle_rad.data(), o.joint_angle_rad.size(), self,
+                                           false);
                              })
       .def_property_readonly("joint_velocity_rad_s",
                              [](py::object self) {
@@ -248,14 +249,17 @@ PYBIND11_MODULE(_core, m) {
                                auto& o = self.cast<const Observation&>();
                                return View(o.cpg_stance.data(), o.cpg_stance.size(), self, false);
                              })
-      .def_property_readonly("pads", [](const Observation& o) {
-        return std::vector<sim::PadSense>(o.pads.begin(), o.pads.end());
-      })
-      .def_property_readonly("bonded_fraction", [](const Observation& o) {
-        py::array_t<double> a(static_cast<py::ssize_t>(o.pads.size()));
-        for (size_t i = 0; i < o.pads.size(); ++i) a.mutable_at(i) = o.pads[i].bonded_fraction;
-        return a;
-      })
+      .def_property_readonly("pads",
+                             [](const Observation& o) {
+                               return std::vector<sim::PadSense>(o.pads.begin(), o.pads.end());
+                             })
+      .def_property_readonly("bonded_fraction",
+                             [](const Observation& o) {
+                               py::array_t<double> a(static_cast<py::ssize_t>(o.pads.size()));
+                               for (size_t i = 0; i < o.pads.size(); ++i)
+                                 a.mutable_at(i) = o.pads[i].bonded_fraction;
+                               return a;
+                             })
       .def_property_readonly("attached", [](const Observation& o) {
         py::array_t<bool> a(static_cast<py::ssize_t>(o.pads.size()));
         for (size_t i = 0; i < o.pads.size(); ++i) a.mutable_at(i) = o.pads[i].attached;
@@ -282,8 +286,8 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("joint_angle_rad",
                              [](py::object self) {
                                auto& p = self.cast<StartPose&>();
-                               return View(p.joint_angle_rad.data(), p.joint_angle_rad.size(),
-                                           self, true);
+                               return View(p.joint_angle_rad.data(), p.joint_angle_rad.size(), self,
+                                           true);
                              })
       .def_property_readonly("base_pos_m", [](py::object self) {
         auto& p = self.cast<StartPose&>();
@@ -306,15 +310,16 @@ held since the last tick.)doc")
   py::class_<SineOffsetController, Controller, std::shared_ptr<SineOffsetController>>(
       m, "SineOffsetController",
       "C++ reference controller: offset a·sin(2πft) on every hip_pitch (for benchmarks).")
-      .def(py::init<double, double, double>(), py::arg("amplitude_rad"),
-           py::arg("frequency_hz"), py::arg("period_s") = 0.0);
+      .def(py::init<double, double, double>(), py::arg("amplitude_rad"), py::arg("frequency_hz"),
+           py::arg("period_s") = 0.0);
 
   py::class_<PySimulation>(m, "Simulation")
       .def(py::init<const sim::Scenario&, std::shared_ptr<Controller>>(), py::arg("scenario"),
            py::arg("controller") = nullptr, py::keep_alive<1, 3>())
       .def("reset", [](PySimulation& s) { s.get().Reset(); })
-      .def("step", [](PySimulation& s) { return s.get().Step(); },
-           "One physics step; False when the run must stop (unstable, or fallen with stop).")
+      .def(
+          "step", [](PySimulation& s) { return s.get().Step(); },
+          "One physics step; False when the run must stop (unstable, or fallen with stop).")
       .def(
           "run",
           [](PySimulation& s) {
@@ -332,8 +337,8 @@ held since the last tick.)doc")
             sim::WriteRunDirectory(dir, s.get_const());
           },
           py::arg("dir"), "Writes the run folder (scenario.yaml, model.xml, trajectory.csv, ...).")
-      .def_property_readonly("time_s",
-                             [](const PySimulation& s) { return s.get_const().world().data()->time; })
+      .def_property_readonly(
+          "time_s", [](const PySimulation& s) { return s.get_const().world().data()->time; })
       .def_property_readonly("steps_total",
                              [](const PySimulation& s) { return s.get_const().steps_total(); })
       .def_property_readonly("qpos",
@@ -381,7 +386,8 @@ held since the last tick.)doc")
         d["start_objective"] = r.start_objective;
         d["evaluations"] = r.history.size();
         py::array_t<double> history(static_cast<py::ssize_t>(r.history.size()));
-        for (size_t i = 0; i < r.history.size(); ++i) history.mutable_at(i) = r.history[i].objective;
+        for (size_t i = 0; i < r.history.size(); ++i)
+          history.mutable_at(i) = r.history[i].objective;
         d["history_objective"] = history;
         d["wall_time_s"] = r.wall_time_s;
         return d;
@@ -392,8 +398,8 @@ held since the last tick.)doc")
 
   m.def(
       "pulloff",
-      [](double angle_deg, const std::string& model, double width_m, double length_m,
-         int grid, double sigma_t_pa, double mu, double arm_m, double ramp_time_s) {
+      [](double angle_deg, const std::string& model, double width_m, double length_m, int grid,
+         double sigma_t_pa, double mu, double arm_m, double ramp_time_s) {
         adhesion::PulloffRigParams p;
         p.pad.width_m = width_m;
         p.pad.length_m = length_m > 0 ? length_m : width_m;

@@ -53,8 +53,8 @@ void CpgReflexController::Summarise(nlohmann::json* summary) const {
 // --- ControllerEffect ---
 
 ControllerEffect::ControllerEffect(const World& world,
-                                   std::vector<std::shared_ptr<Controller>> chain,
-                                   int period_steps, AdhesionEffect* adhesion, bool has_cpg)
+                                   std::vector<std::shared_ptr<Controller>> chain, int period_steps,
+                                   AdhesionEffect* adhesion, bool has_cpg)
     : chain_(std::move(chain)),
       period_steps_(std::max(1, period_steps)),
       adhesion_(adhesion),

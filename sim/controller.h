@@ -23,11 +23,10 @@
 #ifndef CLIMBSIM_SIM_CONTROLLER_H_
 #define CLIMBSIM_SIM_CONTROLLER_H_
 
-#include <nlohmann/json.hpp>
-
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,28 +41,28 @@ class ReflexEffect;
 
 // One leg's pad as the adhesion effect sees it (all false / 0 without an adhesion block).
 struct PadSense {
-  bool touching = false;        // in contact with the surface
-  bool attached = false;        // bonded (weld or adhesion actuator on)
-  double bonded_fraction = 0.0; // bonded share of the pad's area, 0..1
-  double normal_load_n = 0.0;   // load along the pad normal, + pulls the pad off (N)
-  double preload_n = 0.0;       // compressive contact force on the pad (N)
-  double utilisation = 0.0;     // peak bond stress / strength, ≥ 1 breaks (0 when not bonded)
+  bool touching = false;         // in contact with the surface
+  bool attached = false;         // bonded (weld or adhesion actuator on)
+  double bonded_fraction = 0.0;  // bonded share of the pad's area, 0..1
+  double normal_load_n = 0.0;    // load along the pad normal, + pulls the pad off (N)
+  double preload_n = 0.0;        // compressive contact force on the pad (N)
+  double utilisation = 0.0;      // peak bond stress / strength, ≥ 1 breaks (0 when not bonded)
 };
 
 // What a controller reads at a control tick. Spans stay valid for the whole run.
 struct Observation {
-  long step = 0;                       // physics steps done
-  double time_s = 0.0;                 // simulated time
+  long step = 0;        // physics steps done
+  double time_s = 0.0;  // simulated time
   int legs = 0;
   std::span<const double> joint_angle_rad;       // legs × 3
   std::span<const double> joint_velocity_rad_s;  // legs × 3
   std::array<double, 3> base_pos_m{};
-  std::array<double, 4> base_quat{1, 0, 0, 0};   // w, x, y, z
-  std::array<double, 3> base_linvel_m_s{};       // world frame
-  std::array<double, 3> base_angvel_rad_s{};     // base frame
-  std::span<const PadSense> pads;                // one per leg
-  std::span<const double> cpg_phase_rad;         // one per leg; empty when no CPG runs
-  std::span<const uint8_t> cpg_stance;           // 1 when the CPG has the leg in stance
+  std::array<double, 4> base_quat{1, 0, 0, 0};  // w, x, y, z
+  std::array<double, 3> base_linvel_m_s{};      // world frame
+  std::array<double, 3> base_angvel_rad_s{};    // base frame
+  std::span<const PadSense> pads;               // one per leg
+  std::span<const double> cpg_phase_rad;        // one per leg; empty when no CPG runs
+  std::span<const uint8_t> cpg_stance;          // 1 when the CPG has the leg in stance
 };
 
 // What a controller writes. On entry: the previous controller's command in the chain (the

@@ -7,13 +7,13 @@
 //
 //   bang_bang_gecko [duration_s] [run_dir]
 // prints the distance walked; writes a run folder when run_dir is given.
+#include <yaml-cpp/yaml.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
-
-#include <yaml-cpp/yaml.h>
 
 #include "sim/sim.h"
 
@@ -34,7 +34,7 @@ class BangBangTrot final : public Controller {
     const double u = std::fmod(obs.time_s / period_s_, 1.0);
     const int part = static_cast<int>(u * 6.0);  // 0..5
     for (int leg = 0; leg < obs.legs; ++leg) {
-      const bool pair_a = leg == 0 || leg == 3;  // LF, RH (leg order LF RF LH RH)
+      const bool pair_a = leg == 0 || leg == 3;      // LF, RH (leg order LF RF LH RH)
       const int p = pair_a ? part : (part + 3) % 6;  // pair B runs half a cycle later
       // This leg's part: 0 lift, 1 swing forward, 2 land, 3 wait, 4 push back, 5 wait.
       const double yaw = p >= 1 && p <= 3 ? yaw_ : -yaw_;

@@ -28,8 +28,8 @@ std::string MovedRun() {
                                         std::regex("duration_s: [0-9.]+"), "duration_s: 1.5"));
   auto r = RunClimbsim("simulate " + scenario + " --quiet --out " + run);
   EXPECT_EQ(r.code, 0) << r.err;
-  const fs::path elsewhere = fs::temp_directory_path() / ("climbsim_travel_" +
-                                                          std::to_string(::getpid()));
+  const fs::path elsewhere =
+      fs::temp_directory_path() / ("climbsim_travel_" + std::to_string(::getpid()));
   fs::remove_all(elsewhere);
   fs::create_directories(elsewhere);
   const std::string moved = (elsewhere / "run").string();
@@ -77,7 +77,8 @@ TEST(RunFolder, AMovedRunInspectsPlotsRendersAndCompiles) {
   auto plots = RunClimbsim("inspect " + run + " --plots");
   EXPECT_EQ(plots.code, 0) << plots.err;
   int pngs = 0;
-  for (const auto& e : fs::recursive_directory_iterator(run)) pngs += e.path().extension() == ".png";
+  for (const auto& e : fs::recursive_directory_iterator(run))
+    pngs += e.path().extension() == ".png";
   EXPECT_GT(pngs, 0);
 
   const std::string still = run + "/still.png";
@@ -90,8 +91,8 @@ TEST(RunFolder, AMovedRunInspectsPlotsRendersAndCompiles) {
     GTEST_SKIP() << "mujoco-compile not installed (scripts/setup.sh installs libmujoco-samples)";
   }
   const std::string mjb = TempDir() + "/travel.mjb";
-  const std::string cmd = "cd " + fs::temp_directory_path().string() + " && mujoco-compile " +
-                          run + "/model.xml " + mjb + " > " + TempDir() + "/compile.log 2>&1";
+  const std::string cmd = "cd " + fs::temp_directory_path().string() + " && mujoco-compile " + run +
+                          "/model.xml " + mjb + " > " + TempDir() + "/compile.log 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << ReadFile(TempDir() + "/compile.log");
   EXPECT_GT(fs::file_size(mjb), 1000u);
 }

@@ -150,9 +150,9 @@ class ReleaseLeg0 final : public Controller {
 };
 
 TEST(Controller, ReleaseLetsThePadGo) {
-  const Scenario s = Load(
-      "ctl_hold.yaml",
-      "robot: gecko\nscene: wall\nduration_s: 0.3\nadhesion:\n  start_attached: true\n");
+  const Scenario s =
+      Load("ctl_hold.yaml",
+           "robot: gecko\nscene: wall\nduration_s: 0.3\nadhesion:\n  start_attached: true\n");
   auto model = CompileScenario(s);
   auto c = std::make_shared<ReleaseLeg0>();
   Simulation sim(s, *model, c);
