@@ -59,7 +59,11 @@ ControllerEffect::ControllerEffect(const World& world,
       period_steps_(std::max(1, period_steps)),
       adhesion_(adhesion),
       has_cpg_(has_cpg) {
-  for (const auto& c : chain_) name_ += (name_.empty() ? "" : "+") + std::string(c->name());
+  for (const auto& c : chain_) {
+    name_ += (name_.empty() ? "" : "+") + std::string(c->name());
+    // The built-in controller reads the world itself: the default pipeline skips observing.
+    observe_ |= dynamic_cast<const CpgReflexController*>(c.get()) == nullptr;
+  }
   const size_t n = world.robot().legs.size();
   q_.assign(3 * n, 0.0);
   qd_.assign(3 * n, 0.0);
@@ -114,7 +118,7 @@ void ControllerEffect::Reset(World& world, RunContext& ctx) {
   }
   std::fill(offset_.begin(), offset_.end(), 0.0);
   std::fill(release_.begin(), release_.end(), 0);
-  Observe(world, ctx);
+  if (observe_) Observe(world, ctx);
 }
 
 void ControllerEffect::ObservePhases(const RunContext& ctx) {
@@ -162,7 +166,7 @@ void ControllerEffect::Observe(const World& world, const RunContext& ctx) {
 
 void ControllerEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
-  Observe(world, ctx);
+  if (observe_) Observe(world, ctx);
   // Targets held from the last tick; offsets and releases fresh.
   std::fill(offset_.begin(), offset_.end(), 0.0);
   std::fill(release_.begin(), release_.end(), 0);

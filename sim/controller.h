@@ -140,7 +140,8 @@ class ControllerEffect final : public Effect {
   void Summarise(const World& world, nlohmann::json* summary) const override;
 
   int period_steps() const { return period_steps_; }
-  // The last command applied (after every controller of the chain), and what was observed.
+  // The last command applied (after every controller of the chain), and what was observed
+  // (filled only when a user's controller runs: the built-in one reads the world itself).
   const Command& command() const { return command_; }
   const Observation& observation() const { return obs_; }
   long ticks() const { return ticks_; }
@@ -154,6 +155,7 @@ class ControllerEffect final : public Effect {
   int period_steps_;
   AdhesionEffect* adhesion_;
   bool has_cpg_;
+  bool observe_ = false;  // some controller of the chain reads the Observation
   long ticks_ = 0;
   std::vector<double> q_, qd_, phase_, target_, offset_;
   std::vector<uint8_t> stance_, release_;
