@@ -40,6 +40,26 @@ std::string ReadMjcfFile(const std::string& path) {
   return text.str();
 }
 
+// An attribute value with XML's five entities decoded (a folder may hold & or quotes).
+std::string XmlUnescape(const std::string& text) {
+  static const std::pair<const char*, char> kEntities[] = {
+      {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
+  std::string out;
+  for (size_t i = 0; i < text.size();) {
+    bool done = false;
+    for (const auto& [entity, c] : kEntities) {
+      if (text.compare(i, std::strlen(entity), entity) == 0) {
+        out += c;
+        i += std::strlen(entity);
+        done = true;
+        break;
+      }
+    }
+    if (!done) out += text[i++];
+  }
+  return out;
+}
+
 // Index just past the comments, processing instructions and blanks before position i.
 size_t SkipProlog(const std::string& xml, size_t i) {
   while (i < xml.size()) {
@@ -81,14 +101,15 @@ std::string IncludedChildren(const std::string& path, int depth) {
 }  // namespace
 
 std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth) {
-  static const std::regex include(R"re(<include\s+file\s*=\s*"([^"]*)"\s*/>)re");
+  static const std::regex include(
+      R"re(<include\s+file\s*=\s*(?:"([^"]*)"|'([^']*)')\s*/>)re");
   std::string out;
   auto begin = std::sregex_iterator(xml.begin(), xml.end(), include);
   size_t last = 0;
   for (auto it = begin; it != std::sregex_iterator(); ++it) {
     const std::smatch& m = *it;
     out.append(xml, last, m.position(0) - last);
-    std::filesystem::path file = m[1].str();
+    std::filesystem::path file = XmlUnescape(m[1].matched ? m[1].str() : m[2].str());
     if (file.is_relative() && !base_dir.empty()) file = std::filesystem::path(base_dir) / file;
     const std::string name = file.lexically_normal().string();
     // The markers name the file only: model.xml holds no path of the machine it ran on.

@@ -65,6 +65,37 @@ TEST(RunFolder, ModelXmlIsSelfContainedAndTheModelThatRan) {
   mj_deleteModel(m);
 }
 
+// Includes are expanded recursively (a nested one resolves against its own file's folder),
+// with either quote, XML entities in the path, and a prolog before <mujoco>.
+TEST(RunFolder, IncludesExpandRecursivelyWithEntitiesAndQuotes) {
+  const std::string dir = TempDir() + "/a&b";
+  climbsim::testing::WriteFile(
+      dir + "/robot.xml",
+      "<?xml version=\"1.0\"?>\n<!-- a <mujoco> in a comment -->\n<mujoco model=\"r\">\n"
+      "  <include file='parts/body.xml'/>\n</mujoco>\n");
+  climbsim::testing::WriteFile(dir + "/parts/body.xml",
+                               "<mujoco><worldbody><body name=\"base\"><freejoint name=\"root\"/>"
+                               "<geom type=\"sphere\" size=\"0.1\"/></body></worldbody></mujoco>");
+  const std::string top = "<mujoco model=\"t\">\n  <include file=\"" + TempDir() +
+                          "/a&amp;b/robot.xml\"/>\n</mujoco>\n";
+  const std::string xml = sim::ExpandIncludes(top, "");
+  EXPECT_EQ(xml.find("<include"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("begin of robot.xml"), std::string::npos);
+  EXPECT_NE(xml.find("begin of body.xml"), std::string::npos);
+  EXPECT_EQ(xml.find("<?xml"), std::string::npos);
+  std::string error;
+  mjModel* m = sim::CompileMjcf(xml, &error);
+  ASSERT_NE(m, nullptr) << error;
+  EXPECT_EQ(m->nbody, 2);
+  mj_deleteModel(m);
+  try {
+    sim::ExpandIncludes("<mujoco><include file=\"missing.xml\"/></mujoco>", dir);
+    ADD_FAILURE() << "a missing include must throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(dir + "/missing.xml"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RunFolder, AMovedRunInspectsPlotsRendersAndCompiles) {
   const std::string run = MovedRun();
   EXPECT_EQ(ReadFile(run + "/model.xml").find(CLIMBSIM_SOURCE_DIR), std::string::npos)
