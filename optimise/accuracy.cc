@@ -20,25 +20,6 @@ struct Setting {
   std::vector<std::pair<std::string, std::string>> keys;  // dotted key → YAML value text
 };
 
-// "physics.integrator" = "rk4" on a tree (maps made as needed).
-void SetText(YAML::Node root, const std::string& key, const std::string& value) {
-  YAML::Node cur;
-  cur.reset(root);
-  size_t start = 0;
-  while (true) {
-    const size_t dot = key.find('.', start);
-    const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
-    if (dot == std::string::npos) {
-      cur[part] = value;
-      return;
-    }
-    if (!cur[part] || !cur[part].IsMap()) cur[part] = YAML::Node(YAML::NodeType::Map);
-    YAML::Node next = cur[part];
-    cur.reset(next);
-    start = dot + 1;
-  }
-}
-
 // The settings: the reference (finest of every knob at once), then each knob swept with
 // the others as the scenario has them.
 std::vector<Setting> Settings(const sim::Scenario& s) {
@@ -61,6 +42,10 @@ std::vector<Setting> Settings(const sim::Scenario& s) {
   }
   for (const char* in : {"euler", "implicit", "rk4"}) {
     out.push_back({"integrator", in, {{"physics.integrator", in}}});
+  }
+  // The cone is a friction model, not a discretisation: the reference keeps the scene's.
+  for (const char* c : {"elliptic", "pyramidal"}) {
+    out.push_back({"friction cone", c, {{"physics.cone", c}}});
   }
   for (const char* it : {"5", "20", "100", "300"}) {
     out.push_back({"solver iterations", it, {{"physics.solver_iterations", it}}});
@@ -109,7 +94,7 @@ AccuracyRun Measure(const sim::Scenario& s, ModelCache* cache) {
     p.pad.mu = s.adhesion->mu;
     p.pad.grid_x = s.adhesion->grid_x;
     p.pad.grid_y = s.adhesion->grid_y;
-    p.timestep_s = s.physics.timestep_s;
+    p.timestep_s = run.world().model()->opt.timestep;
     adhesion::PulloffRig rig(adhesion::AdhesionModel::kBonds, p);
     r.pulloff_n = rig.Run(M_PI / 4).force_n;
   }
@@ -126,8 +111,8 @@ AccuracyReport BenchAccuracy(const std::string& file, double duration_s, int thr
   std::vector<sim::Scenario> scenarios;
   for (const Setting& set : settings) {
     YAML::Node tree = YAML::Clone(root);
-    SetText(tree, "duration_s", sim::ExactNumber(duration_s));
-    for (const auto& [key, value] : set.keys) SetText(tree, key, value);
+    SetDottedKeyText(tree, "duration_s", sim::ExactNumber(duration_s));
+    for (const auto& [key, value] : set.keys) SetDottedKeyText(tree, key, value);
     scenarios.push_back(sim::ParseScenario(tree, file));
   }
   std::vector<AccuracyRun> runs(settings.size());

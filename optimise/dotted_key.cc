@@ -89,11 +89,15 @@ YAML::Node Walk(YAML::Node root, std::string_view key, bool create) {
 }  // namespace
 
 void SetDottedKey(YAML::Node root, std::string_view key, double value) {
+  SetDottedKeyText(root, key, sim::ExactNumber(value));
+}
+
+void SetDottedKeyText(YAML::Node root, std::string_view key, const std::string& text) {
   YAML::Node n = Walk(root, key, /*create=*/true);
   if (n.IsDefined() && !n.IsNull() && !n.IsScalar()) {
-    throw std::invalid_argument(std::string(key) + " is a list or a map, not a number");
+    throw std::invalid_argument(std::string(key) + " is a list or a map, not a value");
   }
-  n = sim::ExactNumber(value);
+  n = text;
 }
 
 double GetDottedKey(const YAML::Node& root, std::string_view key) {

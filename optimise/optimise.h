@@ -28,6 +28,8 @@ namespace climbsim::optimise {
 // Set creates a missing map key; a list element must exist. Both throw std::invalid_argument
 // with a message naming the part of the key that does not fit.
 void SetDottedKey(YAML::Node root, std::string_view key, double value);
+// The same for any scalar given as its YAML text ("physics.integrator" = "euler").
+void SetDottedKeyText(YAML::Node root, std::string_view key, const std::string& text);
 double GetDottedKey(const YAML::Node& root, std::string_view key);
 
 // ---- Cost of a rollout ------------------------------------------------------------------

@@ -82,6 +82,21 @@ class YamlReadArchive {
       *v = map_.Double(f.key, 0.0, f.range);
     }
   }
+  void Visit(const Field& f, std::optional<int>* v) {
+    Place(f);
+    if (const YAML::Node n = map_.Raw(f.key); n.IsDefined() && !n.IsNull()) {
+      int value = 0;
+      Visit(f, &value);
+      *v = value;
+    }
+  }
+  void Choice(const Field& f, std::optional<std::string>* v,
+              const std::vector<std::string>& allowed) {
+    Place(f);
+    if (const YAML::Node n = map_.Raw(f.key); n.IsDefined() && !n.IsNull()) {
+      *v = map_.Choice(f.key, allowed.front(), allowed);
+    }
+  }
   void Visit(const Field& f, int* v) {
     Place(f);
     if (f.required && !map_.Has(f.key)) throw map_.Error(f.key, "is required");
@@ -224,6 +239,12 @@ class YamlWriteArchive {
     if (v->has_value()) node_[std::string(f.key)] = ExactNumber(**v);
   }
   void Visit(const Field& f, int* v) { node_[std::string(f.key)] = *v; }
+  void Visit(const Field& f, std::optional<int>* v) {
+    if (v->has_value()) node_[std::string(f.key)] = **v;
+  }
+  void Choice(const Field& f, std::optional<std::string>* v, const std::vector<std::string>&) {
+    if (v->has_value()) node_[std::string(f.key)] = **v;
+  }
   void Visit(const Field& f, bool* v) { node_[std::string(f.key)] = *v; }
   void Visit(const Field& f, std::string* v) { node_[std::string(f.key)] = *v; }
   void Choice(const Field& f, std::string* v, const std::vector<std::string>&) {
@@ -307,6 +328,12 @@ struct DocArchive {
   void Visit(const Field& f, double* v) { Add(f, f.required ? "(none)" : Num(*v)); }
   void Visit(const Field& f, std::optional<double>*) { Add(f, "(see meaning)"); }
   void Visit(const Field& f, int* v) { Add(f, std::to_string(*v)); }
+  void Visit(const Field& f, std::optional<int>*) { Add(f, "(see meaning)"); }
+  void Choice(const Field& f, std::optional<std::string>*, const std::vector<std::string>& allowed) {
+    std::string a;
+    for (const auto& x : allowed) a += (a.empty() ? "" : ", ") + x;
+    Add(f, "(see meaning)", a);
+  }
   void Visit(const Field& f, bool* v) { Add(f, *v ? "true" : "false"); }
   void Visit(const Field& f, std::string* v) {
     Add(f, v->empty() || f.required ? "(none)" : *v);

@@ -3,13 +3,22 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include "sim/simulation.h"
 
 namespace climbsim::sim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+// CPU time of the calling thread: on an idle machine the same as wall time, and on a busy
+// one it does not count the time other processes hold the core, so ratios stay comparable.
+struct ThreadClock {
+  static double Now() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+};
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -66,18 +75,18 @@ SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions)
       World world(*model, base);
       mj_resetData(world.model(), world.data());
       const long steps = std::lround(duration_s / world.model()->opt.timestep);
-      const auto t0 = Clock::now();
+      const double t0 = ThreadClock::Now();
       for (long i = 0; i < steps; ++i) mj_step(world.model(), world.data());
-      const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double dt = ThreadClock::Now() - t0;
       report.variants[0].steps_per_s.push_back(steps / dt);
       report.steps = steps;
     }
     for (size_t k = 0; k < variants.size(); ++k) {
       Simulation sim(variants[k].second, *model);
-      const auto t0 = Clock::now();
+      const double t0 = ThreadClock::Now();
       const long steps = sim.steps_total();
       for (long i = 0; i < steps; ++i) sim.Step();
-      const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double dt = ThreadClock::Now() - t0;
       report.variants[k + 1].steps_per_s.push_back(steps / dt);
     }
   }
@@ -96,6 +105,34 @@ SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions)
     report.effect_s.push_back({sim.effects()[i]->name(), p.effect_s[i]});
   }
   return report;
+}
+
+SpeedComparison BenchSpeedCompare(const Scenario& a_in, const Scenario& b_in, double duration_s,
+                                  int repetitions) {
+  Scenario a = a_in, b = b_in;
+  a.duration_s = b.duration_s = duration_s;
+  const auto model_a = CompileScenario(a);
+  const auto model_b = CompileScenario(b);
+  SpeedComparison c;
+  auto run = [](const Scenario& s, const CompiledModel& model, SpeedComparison::Side* side) {
+    Simulation sim(s, model);
+    const double t0 = ThreadClock::Now();
+    const RunResult r = sim.Run();
+    const double dt = ThreadClock::Now() - t0;
+    side->steps_per_s.push_back(r.steps / dt);
+    side->steps = r.steps;
+    side->distance_m = r.distance_m;
+    side->fell = r.fell;
+    side->stable = r.stable;
+  };
+  for (int rep = 0; rep < repetitions; ++rep) {
+    run(a, *model_a, &c.a);
+    run(b, *model_b, &c.b);
+  }
+  c.a.median_steps_per_s = Median(c.a.steps_per_s);
+  c.b.median_steps_per_s = Median(c.b.steps_per_s);
+  c.ratio = c.a.median_steps_per_s / c.b.median_steps_per_s;
+  return c;
 }
 
 }  // namespace climbsim::sim

@@ -6,6 +6,9 @@
 //   no effects   a Simulation with no effect: the step loop and its monitor only
 //   +adhesion, +cpg, +reflex, +perturbation, +trajectory   the effects of the scenario added
 //                in pipeline order (each variant keeps the ones before it)
+// Steps per second count the CPU time of the thread that steps (clock_gettime with
+// CLOCK_THREAD_CPUTIME_ID): equal to wall time on an idle machine, and not inflated by other
+// processes on a busy one.
 // A variant's physics can differ from bare (a robot that climbs touches more than one that
 // hangs), so the full variant is also profiled: time in mj_step against time in each effect's
 // hooks within the same run, which the physics cannot blur.
@@ -37,6 +40,25 @@ struct SpeedReport {
 };
 
 SpeedReport BenchSpeed(const Scenario& scenario, double duration_s, int repetitions);
+
+// Two settings of the same scenario (e.g. two physics options), every effect on, run
+// alternately A, B, A, B, ... in one process so that the load of the machine falls on both
+// alike. `ratio` = median steps/s of A over that of B: A is that many times faster.
+struct SpeedComparison {
+  struct Side {
+    std::vector<double> steps_per_s;  // one per repetition
+    double median_steps_per_s = 0.0;
+    long steps = 0;
+    double distance_m = 0.0;          // of the last repetition (all are the same run)
+    bool fell = false;
+    bool stable = true;
+  };
+  Side a, b;
+  double ratio = 0.0;
+};
+
+SpeedComparison BenchSpeedCompare(const Scenario& a, const Scenario& b, double duration_s,
+                                  int repetitions);
 
 }  // namespace climbsim::sim
 

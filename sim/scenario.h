@@ -29,24 +29,27 @@ struct SceneParams {
   }
 };
 
+// MuJoCo's options. Each scene file owns its <option> (docs/performance.md says which values
+// and why); a key given here overrides the scene's value for this run, and the resolved
+// scenario.yaml records every value the run used.
 struct PhysicsParams {
-  double timestep_s = 0.001;
-  std::string integrator = "implicit";
-  int solver_iterations = 100;
-  double solver_tolerance = 1e-8;
-  int noslip_iterations = 0;
-  std::string cone = "elliptic";
-  double impratio = 10.0;
+  std::optional<double> timestep_s;
+  std::optional<std::string> integrator;
+  std::optional<int> solver_iterations;
+  std::optional<double> solver_tolerance;
+  std::optional<int> noslip_iterations;
+  std::optional<std::string> cone;
+  std::optional<double> impratio;
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"timestep_s", "s", "physics time step", Range::OpenClosed(0, 0.05)}, &timestep_s);
-    a->Choice({"integrator", "", "MuJoCo integrator"}, &integrator, {"euler", "rk4", "implicit"});
-    a->Visit({"solver_iterations", "", "constraint solver iterations per step", Range::Closed(1, 10000)}, &solver_iterations);
-    a->Visit({"solver_tolerance", "", "constraint solver tolerance", Range::Positive()}, &solver_tolerance);
-    a->Visit({"noslip_iterations", "", "MuJoCo no-slip solver iterations (stops friction creep on walls)", Range::Closed(0, 1000)}, &noslip_iterations);
-    a->Choice({"cone", "", "friction cone; elliptic with impratio 10 stops the creep of soft friction on slopes (mjcf/README.md)"}, &cone, {"pyramidal", "elliptic"});
-    a->Visit({"impratio", "", "ratio of frictional to normal constraint impedance", Range::Closed(1, 1000)}, &impratio);
+    a->Visit({"timestep_s", "s", "physics time step; absent: the scene's (0.001 in every bundled scene)", Range::OpenClosed(0, 0.05)}, &timestep_s);
+    a->Choice({"integrator", "", "MuJoCo integrator; absent: the scene's (euler in every bundled scene: as accurate as implicit here and 1.5-2x faster)"}, &integrator, {"euler", "rk4", "implicit"});
+    a->Visit({"solver_iterations", "", "constraint solver iterations per step; absent: the scene's (100)", Range::Closed(1, 10000)}, &solver_iterations);
+    a->Visit({"solver_tolerance", "", "constraint solver tolerance; absent: the scene's (1e-8)", Range::Positive()}, &solver_tolerance);
+    a->Visit({"noslip_iterations", "", "MuJoCo no-slip solver iterations (stops friction creep on walls); absent: the scene's (0)", Range::Closed(0, 1000)}, &noslip_iterations);
+    a->Choice({"cone", "", "friction cone; absent: the scene's (elliptic with impratio 10 on walls, ceilings and slopes, where it stops the creep of soft friction; pyramidal on the floor)"}, &cone, {"pyramidal", "elliptic"});
+    a->Visit({"impratio", "", "ratio of frictional to normal constraint impedance (elliptic cones); absent: the scene's", Range::Closed(1, 1000)}, &impratio);
   }
 };
 

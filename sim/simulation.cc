@@ -65,6 +65,18 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
     : scenario_(scenario), world_(compiled, scenario_) {
   const RobotInfo& robot = world_.robot();
   legs_.resize(robot.legs.size());
+  // scenario.yaml records every physics option the run used, the scene's included.
+  const bool timestep_given = scenario_.physics.timestep_s.has_value();
+  scenario_.physics = PhysicsOf(world_.model());
+  if (scenario_.cpg && scenario_.cpg->control_period_s) {
+    const double ratio = *scenario_.cpg->control_period_s / world_.model()->opt.timestep;
+    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
+      throw ScenarioError(scenario_, "cpg.control_period_s",
+                          "must be a whole multiple of physics.timestep_s (" +
+                              ExactNumber(world_.model()->opt.timestep) + " s, " +
+                              (timestep_given ? "given" : "the scene's") + ")");
+    }
+  }
 
   // Effects in pipeline order; only those the scenario names.
   if (scenario_.adhesion) {

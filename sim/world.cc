@@ -243,19 +243,36 @@ CompiledModel::~CompiledModel() {
   if (model_ != nullptr) mj_deleteModel(model_);
 }
 
+PhysicsParams PhysicsOf(const mjModel* m) {
+  PhysicsParams p;
+  p.timestep_s = m->opt.timestep;
+  p.integrator = m->opt.integrator == mjINT_EULER ? "euler"
+                 : m->opt.integrator == mjINT_RK4 ? "rk4"
+                                                  : "implicit";
+  p.solver_iterations = m->opt.iterations;
+  p.solver_tolerance = m->opt.tolerance;
+  p.noslip_iterations = m->opt.noslip_iterations;
+  p.cone = m->opt.cone == mjCONE_ELLIPTIC ? "elliptic" : "pyramidal";
+  p.impratio = m->opt.impratio;
+  return p;
+}
+
 World::World(const CompiledModel& compiled, const Scenario& s)
     : compiled_(compiled), model_(mj_copyModel(nullptr, compiled.model())) {
   mjModel* m = model_;
-  // Physics options: the scenario wins over the files.
-  m->opt.timestep = s.physics.timestep_s;
-  m->opt.integrator = s.physics.integrator == "euler" ? mjINT_EULER
-                      : s.physics.integrator == "rk4" ? mjINT_RK4
-                                                      : mjINT_IMPLICIT;
-  m->opt.iterations = s.physics.solver_iterations;
-  m->opt.tolerance = s.physics.solver_tolerance;
-  m->opt.noslip_iterations = s.physics.noslip_iterations;
-  m->opt.cone = s.physics.cone == "elliptic" ? mjCONE_ELLIPTIC : mjCONE_PYRAMIDAL;
-  m->opt.impratio = s.physics.impratio;
+  // Physics options: a key the scenario gives wins over the scene file's <option>.
+  const PhysicsParams& p = s.physics;
+  if (p.timestep_s) m->opt.timestep = *p.timestep_s;
+  if (p.integrator) {
+    m->opt.integrator = *p.integrator == "euler" ? mjINT_EULER
+                        : *p.integrator == "rk4" ? mjINT_RK4
+                                                 : mjINT_IMPLICIT;
+  }
+  if (p.solver_iterations) m->opt.iterations = *p.solver_iterations;
+  if (p.solver_tolerance) m->opt.tolerance = *p.solver_tolerance;
+  if (p.noslip_iterations) m->opt.noslip_iterations = *p.noslip_iterations;
+  if (p.cone) m->opt.cone = *p.cone == "elliptic" ? mjCONE_ELLIPTIC : mjCONE_PYRAMIDAL;
+  if (p.impratio) m->opt.impratio = *p.impratio;
 
   // Incline: rotate the scene's gravity about y so that uphill stays +x.
   gravity_ = compiled.scene().gravity;

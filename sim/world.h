@@ -80,10 +80,15 @@ class CompiledModel {
   double spawn_offset_[3] = {0, 0, 0};
 };
 
+// The options a model steps with, as scenario keys, every one set: what a run records in
+// its resolved scenario.yaml.
+PhysicsParams PhysicsOf(const mjModel* model);
+
 // One run's model copy and data.
 class World {
  public:
-  // Copies the model and sets the scenario's physics options, gravity and initial pose.
+  // Copies the model and sets the scenario's physics options (those it gives; the others stay
+  // as the scene file has them), gravity and initial pose.
   World(const CompiledModel& compiled, const Scenario& scenario);
   ~World();
   World(const World&) = delete;

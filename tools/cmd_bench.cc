@@ -38,6 +38,44 @@ void Speed(const std::string& file, double duration_s, int repetitions) {
               100 * effects / r.mj_step_s);
 }
 
+// `--versus KEY=VALUE ...`: the scenario as written (A) against the same scenario with those
+// keys changed (B), every effect on, interleaved.
+void SpeedVersus(const std::string& file, const std::vector<std::string>& versus,
+                 double duration_s, int repetitions) {
+  const sim::Scenario a = sim::LoadScenario(file);
+  YAML::Node tree = sim::LoadYamlFile(file);
+  std::string label;
+  for (const std::string& kv : versus) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw InputError("--versus", 0, 0, kv, "expected KEY=VALUE, e.g. physics.integrator=implicit");
+    }
+    try {
+      optimise::SetDottedKeyText(tree, kv.substr(0, eq), kv.substr(eq + 1));
+    } catch (const std::invalid_argument& e) {
+      throw InputError("--versus", 0, 0, kv, e.what());
+    }
+    label += (label.empty() ? "" : " ") + kv;
+  }
+  const sim::Scenario b = sim::ParseScenario(tree, file + " with --versus " + label);
+  const sim::SpeedComparison c = sim::BenchSpeedCompare(a, b, duration_s, repetitions);
+  std::printf("climbsim bench speed: %s, every effect on, %d repetitions, interleaved A B A B\n",
+              file.c_str(), repetitions);
+  std::printf("  %-3s %-44s %12s %10s %s\n", "", "setting", "steps/s", "distance", "(each run)");
+  auto side = [](const char* name, const std::string& what, const sim::SpeedComparison::Side& s) {
+    std::printf("  %-3s %-44s %12.0f %9.4fm%s (", name, what.c_str(), s.median_steps_per_s,
+                s.distance_m, s.fell ? " fell" : (s.stable ? "" : " unstable"));
+    for (size_t k = 0; k < s.steps_per_s.size(); ++k) {
+      std::printf("%s%.0f", k ? " " : "", s.steps_per_s[k]);
+    }
+    std::printf(")\n");
+  };
+  side("A", "as written", c.a);
+  side("B", label, c.b);
+  std::printf("  A runs %.2fx the steps/s of B (%ld vs %ld steps per run)\n", c.ratio, c.a.steps,
+              c.b.steps);
+}
+
 void Accuracy(const std::string& file, double duration_s, int threads, const std::string& out) {
   const optimise::AccuracyReport r = optimise::BenchAccuracy(file, duration_s, threads);
   const std::string warning = optimise::WriteAccuracy(out, r);
@@ -84,14 +122,27 @@ void AddBenchCommand(CLI::App& app) {
   static std::string file, out_dir = "runs/bench";
   static double duration_s = 10.0;
   static int repetitions = 5, threads = 0, evaluations = 8;
+  static std::vector<std::string> versus;
 
   auto* speed = cmd->add_subcommand("speed", "steps per second: bare mj_step against each effect");
   speed->add_option("scenario", file, "scenario file")->required();
   speed->add_option("--duration", duration_s, "simulated seconds per run")->check(CLI::PositiveNumber);
   speed->add_option("--repetitions", repetitions, "runs per variant, interleaved")
       ->check(CLI::Range(1, 1000));
-  speed->footer("Example:\n  climbsim bench speed examples/gecko_wall.yaml --duration 5");
-  speed->callback([] { Speed(file, duration_s, repetitions); });
+  speed->add_option("--versus", versus,
+                    "KEY=VALUE (repeatable): instead of the effect variants, compare the "
+                    "scenario as written with the same scenario with these keys changed");
+  speed->footer(
+      "Examples:\n  climbsim bench speed examples/gecko_wall.yaml --duration 5\n"
+      "  climbsim bench speed examples/gecko_wall.yaml --duration 5 --versus "
+      "physics.integrator=implicit");
+  speed->callback([] {
+    if (versus.empty()) {
+      Speed(file, duration_s, repetitions);
+    } else {
+      SpeedVersus(file, versus, duration_s, repetitions);
+    }
+  });
 
   auto* accuracy = cmd->add_subcommand("accuracy", "error of the observables against wall time, per knob");
   accuracy->add_option("scenario", file, "scenario file")->required();

@@ -65,4 +65,22 @@ TEST(Cli, SimulatePrintsTheSummaryAndWritesTheRun) {
   EXPECT_EQ(summary["effects"], nlohmann::json::array({"cpg", "trajectory"}));
 }
 
+
+TEST(Cli, BenchSpeedVersusComparesTwoSettingsAndRejectsABadKey) {
+  const std::string scenario = climbsim::testing::Source("examples/gecko_floor.yaml");
+  const CliResult r = RunClimbsim("bench speed " + scenario +
+                                  " --duration 0.1 --repetitions 1 --versus physics.integrator=implicit");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("B   physics.integrator=implicit"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("A runs "), std::string::npos) << r.out;
+  const CliResult bad = RunClimbsim("bench speed " + scenario + " --versus physics.integrator");
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("expected KEY=VALUE"), std::string::npos) << bad.err;
+  const CliResult wrong =
+      RunClimbsim("bench speed " + scenario + " --versus physics.integrator=verlet");
+  EXPECT_EQ(wrong.code, 2) << wrong.err;
+  EXPECT_NE(wrong.err.find("physics.integrator: must be one of"), std::string::npos)
+      << wrong.err;
+}
+
 }  // namespace

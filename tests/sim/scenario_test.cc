@@ -35,10 +35,40 @@ TEST(Scenario, MinimalFileLoadsWithDefaults) {
   EXPECT_EQ(s.robot, "gecko");
   EXPECT_EQ(s.scene.name, "floor");
   EXPECT_DOUBLE_EQ(s.duration_s, 0.01);
-  EXPECT_DOUBLE_EQ(s.physics.timestep_s, 0.001);
-  EXPECT_EQ(s.physics.integrator, "implicit");
+  EXPECT_FALSE(s.physics.timestep_s.has_value());  // absent: the scene's <option>
   EXPECT_FALSE(s.cpg.has_value());  // absent block: effect not constructed
   EXPECT_EQ(ErrorOf("good2.yaml", kGood), "");
+}
+
+// The scene files own the physics options; a run records what it used; a key wins.
+TEST(Scenario, PhysicsComesFromTheSceneUnlessTheScenarioGivesIt) {
+  const auto resolved = [](const std::string& text) {
+    const Scenario s = LoadScenario(WriteFile("physics.yaml", text));
+    const auto model = CompileScenario(s);
+    return Simulation(s, *model).scenario().physics;
+  };
+  const PhysicsParams floor = resolved(kGood);
+  EXPECT_EQ(*floor.timestep_s, 0.001);
+  EXPECT_EQ(*floor.integrator, "euler");
+  EXPECT_EQ(*floor.cone, "pyramidal");
+  EXPECT_EQ(*floor.solver_iterations, 100);
+  const PhysicsParams wall = resolved("robot: gecko\nscene: wall\nduration_s: 0.01\n");
+  EXPECT_EQ(*wall.integrator, "euler");
+  EXPECT_EQ(*wall.cone, "elliptic");
+  EXPECT_EQ(*wall.impratio, 10.0);
+  const PhysicsParams given = resolved(std::string(kGood) +
+                                       "physics:\n  integrator: implicit\n  cone: elliptic\n"
+                                       "  timestep_s: 0.0005\n");
+  EXPECT_EQ(*given.integrator, "implicit");
+  EXPECT_EQ(*given.cone, "elliptic");
+  EXPECT_EQ(*given.timestep_s, 0.0005);
+  // The resolved file names every option and reads back to the same run.
+  const std::string text = ScenarioToYamlText(
+      Simulation(LoadScenario(WriteFile("p2.yaml", kGood)),
+                 *CompileScenario(LoadScenario(WriteFile("p2.yaml", kGood))))
+          .scenario());
+  EXPECT_NE(text.find("integrator: euler"), std::string::npos) << text;
+  EXPECT_NE(text.find("cone: pyramidal"), std::string::npos) << text;
 }
 
 TEST(Scenario, UnknownKeyNamesItsPlaceAndTheKnownKeys) {
@@ -135,7 +165,7 @@ TEST(Scenario, TwoGaitsAtOnce) {
 TEST(Scenario, ControlPeriodNotAMultipleOfTheTimeStep) {
   EXPECT_EQ(ErrorOf("period.yaml", std::string(kGood) + "cpg:\n  control_period_s: 0.0015\n"),
             "period.yaml:5:21: cpg.control_period_s: must be a whole multiple of "
-            "physics.timestep_s");
+            "physics.timestep_s (0.001 s, the scene's)");
 }
 
 TEST(Scenario, EmptyFile) {
