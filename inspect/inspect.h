@@ -99,7 +99,7 @@ const char* RunKindName(RunKind kind);  // "simulation", "optimise", "pulloff"
 struct Run {
   std::string dir;
   nlohmann::json summary;         // summary.json
-  std::string model_xml;          // model.xml: the composed top file, absolute includes
+  std::string model_xml;          // model.xml: the model that ran, self-contained
   std::vector<std::string> legs;  // the robot's legs in its order ("LF", ...) from model.xml
   std::vector<std::string> pads;  // pad body of each leg, "<leg>_pad" (mjcf/README.md contract)
   std::vector<EventRow> events;   // file order (time order)

@@ -35,9 +35,28 @@ const std::vector<std::string>& BuiltinScenes() {
 
 }  // namespace
 
+namespace {
+std::string& PackageMjcfDir() {
+  static std::string dir;
+  return dir;
+}
+}  // namespace
+
+void SetPackageMjcfDir(const char* dir) { PackageMjcfDir() = dir; }
+
 std::string MjcfDir() {
   if (const char* env = std::getenv("CLIMBSIM_MJCF_DIR"); env != nullptr && *env != '\0') {
     return env;
+  }
+  // An installed package: the folder its climbsimConfig.cmake registered.
+  if (!PackageMjcfDir().empty()) return PackageMjcfDir();
+  std::error_code ec;
+  if (std::filesystem::is_directory(CLIMBSIM_DEFAULT_MJCF_DIR, ec)) return CLIMBSIM_DEFAULT_MJCF_DIR;
+  // An installed climbsim tool: PREFIX/bin/climbsim → PREFIX/share/climbsim/mjcf.
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share/climbsim/mjcf";
+    if (std::filesystem::is_directory(installed, ec)) return installed.string();
   }
   return CLIMBSIM_DEFAULT_MJCF_DIR;
 }

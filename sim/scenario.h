@@ -209,8 +209,12 @@ std::string ScenarioToYamlText(const Scenario& scenario);
 std::vector<DocArchive::Row> ScenarioKeys();
 std::string ScenarioKeysMarkdown();
 
-// The folder of the bundled MJCF models: $CLIMBSIM_MJCF_DIR, else the source tree's mjcf/.
+// The folder of the bundled MJCF models: $CLIMBSIM_MJCF_DIR; else an installed package's
+// (registered by sim/sim.h in a program built against it, SetPackageMjcfDir); else the
+// source tree's mjcf/ when it exists; else PREFIX/share/climbsim/mjcf beside an installed
+// PREFIX/bin/climbsim.
 std::string MjcfDir();
+void SetPackageMjcfDir(const char* dir);
 // "gecko" → <MjcfDir>/gecko.xml, "wall" → <MjcfDir>/scenes/wall.xml; a path is returned as
 // given (already made absolute by ParseScenario).
 std::string RobotFile(const Scenario& scenario);

@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "sim/adhesion_effect.h"
+#include "sim/controller.h"
 #include "sim/cpg_effect.h"
 #include "sim/perturbation_effect.h"
 #include "sim/reflex_effect.h"
@@ -87,7 +88,8 @@ std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario) {
   return CompiledModel::Build(scenario, EffectAdditions(scenario));
 }
 
-Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
+Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
+                       std::shared_ptr<Controller> controller)
     : scenario_(scenario), world_(compiled, scenario_) {
   InstallMujocoHandlers();
   // Bounds before anything is sized for the run: steps, and rows of trajectory.csv.
@@ -147,15 +149,31 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
   if (scenario_.reflex && !scenario_.cpg) {
     throw ScenarioError(scenario_, "reflex", "needs the cpg block: reflexes act on its gait");
   }
+  // The controllers: the built-in CPG + reflexes when the scenario has a cpg block, then the
+  // user's; one effect runs the chain at the control period (sim/controller.h).
+  std::vector<std::shared_ptr<Controller>> chain;
+  double period_s = controller ? controller->control_period_s() : 0.0;
   if (scenario_.cpg) {
     auto cpg = std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_);
     scenario_.cpg = cpg->resolved();  // scenario.yaml shows the gait and defaults used
+    std::unique_ptr<ReflexEffect> reflex;
     if (scenario_.reflex) {
       // Before the CPG: its offsets and holds act at the same control tick.
-      effects_.push_back(std::make_unique<ReflexEffect>(scenario_, *scenario_.reflex, world_,
-                                                        *cpg, adhesion, leg_event_pad));
+      reflex = std::make_unique<ReflexEffect>(scenario_, *scenario_.reflex, world_, *cpg,
+                                              adhesion, leg_event_pad);
     }
-    effects_.push_back(std::move(cpg));
+    period_s = cpg->control_period_s();
+    chain.push_back(std::make_shared<CpgReflexController>(world_, ctx_, std::move(cpg),
+                                                          std::move(reflex)));
+  }
+  if (controller) chain.push_back(std::move(controller));
+  if (!chain.empty()) {
+    const int period_steps =
+        std::max(1, static_cast<int>(std::lround(period_s / world_.model()->opt.timestep)));
+    auto effect = std::make_unique<ControllerEffect>(world_, std::move(chain), period_steps,
+                                                     adhesion, scenario_.cpg.has_value());
+    controller_ = effect.get();
+    effects_.push_back(std::move(effect));
   }
   if (!scenario_.perturbations.empty()) {
     effects_.push_back(std::make_unique<PerturbationEffect>(scenario_, world_));
@@ -198,6 +216,7 @@ void Simulation::Reset() {
   for (auto& e : effects_) e->InitialPose(world_, ctx_);
   mj_kinematics(m, d);
   for (auto& e : effects_) e->Reset(world_, ctx_);
+  world_.MarkStart();
 
   for (int w = 0; w < mjNWARNING; ++w) warnings_seen_[w] = d->warning[w].number;
   const RobotInfo& r = world_.robot();
@@ -391,7 +410,7 @@ std::vector<std::string> ScenarioInputs(const Scenario& s) {
 
 void WriteRunFiles(const std::string& dir, const Simulation& sim, const nlohmann::json& extra) {
   WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
-  WriteFileAtomic(dir + "/model.xml", sim.world().compiled().xml());
+  WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
   const std::string traj = sim.TrajectoryCsv();
   if (!traj.empty()) WriteFileAtomic(dir + "/trajectory.csv", traj);
   WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/controller.h"
 #include "sim/effect.h"
 #include "sim/events.h"
 #include "sim/run_folder.h"
@@ -54,7 +55,11 @@ struct RunResult {
 
 class Simulation {
  public:
-  Simulation(const Scenario& scenario, const CompiledModel& compiled);
+  // `controller` (optional) is the user's controller (sim/controller.h): it runs at each
+  // control tick after the built-in CPG + reflexes (when the scenario has a cpg block) and
+  // may change their command; without a cpg block it alone drives the servos.
+  Simulation(const Scenario& scenario, const CompiledModel& compiled,
+             std::shared_ptr<Controller> controller = nullptr);
   ~Simulation();
 
   // Back to t = 0 (mj_resetData, then each effect's Reset). The constructor calls it.
@@ -84,6 +89,10 @@ class Simulation {
   const Scenario& scenario() const { return scenario_; }
   const std::vector<std::unique_ptr<Effect>>& effects() const { return effects_; }
   const EventLog& events() const { return events_; }
+  // The effect that runs the controllers; null when the scenario has none.
+  const ControllerEffect* controller() const { return controller_; }
+  // The trajectory recorder; null when the trajectory is not recorded.
+  const TrajectoryRecorder* trajectory() const { return trajectory_; }
   std::vector<LegSignals>& legs() { return legs_; }
 
   // Outputs of the run so far.
@@ -100,6 +109,7 @@ class Simulation {
   std::vector<std::unique_ptr<Effect>> effects_;
   std::vector<Effect*> before_, after_;
   TrajectoryRecorder* trajectory_ = nullptr;
+  ControllerEffect* controller_ = nullptr;
   std::vector<LegSignals> legs_;
   EventLog events_;
   RunContext ctx_;

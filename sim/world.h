@@ -67,7 +67,8 @@ class CompiledModel {
   CompiledModel& operator=(const CompiledModel&) = delete;
 
   const mjModel* model() const { return model_; }
-  const std::string& xml() const { return xml_; }  // the composed top file
+  // The composed model, self-contained (includes expanded): the text MuJoCo compiled.
+  const std::string& xml() const { return xml_; }
   const RobotInfo& robot() const { return robot_; }
   const SceneInfo& scene() const { return scene_; }
 
@@ -107,12 +108,21 @@ class World {
   // Gravity of this run (the scene's, rotated for an incline).
   const Eigen::Vector3d& gravity() const { return gravity_; }
   const CompiledModel& compiled() const { return compiled_; }
+  // Records the state the run starts from (Simulation::Reset calls it after the initial pose).
+  void MarkStart();
+  // This run's model as one self-contained MJCF file (the run folder's model.xml): the
+  // compiled text (every include expanded, climbsim's welds, sensors and actuators) plus an
+  // <option> with this run's physics values (timestep, gravity after an incline's rotation,
+  // solver) and a keyframe "climbsim_start" with the starting qpos (spawn and initial pose).
+  // `mujoco-compile model.xml` compiles it from any folder; no file outside it is read.
+  std::string Xml() const;
 
  private:
   const CompiledModel& compiled_;
   mjModel* model_;
   mjData* data_ = nullptr;
   Eigen::Vector3d gravity_;
+  std::vector<double> start_qpos_;
 };
 
 // A model's custom numeric `name` with at least `size` numbers into out; false when absent.
@@ -121,6 +131,13 @@ bool CustomNumeric(const mjModel* model, const char* name, int size, double* out
 // The composed top-level MJCF for a robot and a scene file (absolute paths).
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& additions);
+
+// `xml` with every <include file="..."/> replaced by the included file's root children (its
+// own includes expanded in turn; relative names resolve against base_dir, or against the
+// including file's folder inside an included file), each between "climbsim: begin of NAME"
+// and "end of NAME" comments (the file name only). Throws std::runtime_error when a file cannot be read. Asset files
+// (meshes, textures from files) are not copied: the bundled models use none.
+std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth = 0);
 
 // Compiles MJCF text through MuJoCo's VFS (no temporary files), with
 // adhesion::CompileMjcfString: the one loader of the program, serialised because MuJoCo's XML
