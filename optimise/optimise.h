@@ -1,11 +1,12 @@
-// climbsim's offline gait optimiser: NLopt tunes the parameters an `optimise:` block lists
-// (any numeric scenario key, by its dotted name) to minimise a documented cost over rollouts
-// of the scenario. Independent starts run side by side, one thread each, each with its own
-// model copy; the result does not depend on the number of threads. Every evaluation is
-// checkpointed atomically, so a killed run resumes to the same end.
+// climbsim's offline gait optimiser: NLopt or CMA-ES (pagmo2) tunes the parameters an
+// `optimise:` block lists (any numeric scenario key, by its dotted name) to minimise a
+// documented cost over rollouts of the scenario. Independent starts hand their candidates to
+// rounds whose rollouts run on threads and MPI ranks; the result does not depend on the number
+// of threads or processes. Every round is checkpointed atomically, so a killed run resumes to
+// the same end.
 //
 //   climbsim::optimise::Options o;  o.out_dir = "runs/opt";  o.threads = 2;
-//   climbsim::optimise::Result r = climbsim::optimise::Optimise("examples/gecko_wall_optimise.yaml", o);
+//   climbsim::optimise::Result r = climbsim::optimise::Optimise("examples/gecko_wall.yaml", o);
 #ifndef CLIMBSIM_OPTIMISE_OPTIMISE_H_
 #define CLIMBSIM_OPTIMISE_OPTIMISE_H_
 
@@ -45,10 +46,24 @@ struct Cost {
   double energy_penalty = 0.0;
   bool failed = false;
   std::string failure;            // why, when failed
+  std::string early_stop;         // "" ran to its end (or fell), "stalled", "bound"
+  double stop_time_s = 0.0;       // simulated time at which the rollout ended
+  double wall_time_s = 0.0;
 };
 
 // The cost of a finished run of `sim` (its scenario's duration_s is T).
 Cost RolloutCost(const sim::Simulation& sim, const sim::ObjectiveParams& objective);
+
+// Runs a fresh `sim` (its scenario with fall.stop set, as Problem::ScenarioFor makes it) and
+// stops it as soon as its outcome is decided (docs/optimise.md, "Early stopping"):
+//  - fell or numerically bad: Step() says stop; J is exactly the finished run's;
+//  - stalled: less than objective.stall_distance_m climbed in the last stall_window_s; J as
+//    if it stayed where it is (early_stop = "stalled");
+//  - bound: even at objective.max_speed_mps for the rest of the run, with no penalty added,
+//    J would stay above `bound_j` (the cost a rollout must beat to matter); J is that lower
+//    bound, which is above bound_j (early_stop = "bound"). bound_j = +inf: rule off.
+// A rollout that reaches duration_s gets exactly RolloutCost's J.
+Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& objective, double bound_j);
 
 // ---- The problem ------------------------------------------------------------------------
 // A scenario file with an optimise block. Parameter vectors are in the parameters' own units.
@@ -239,7 +254,7 @@ struct Evaluation {
 
 struct Options {
   std::string out_dir;
-  int threads = 0;                // 0: all cores
+  int threads = 0;                // per process; 0: the cores / the processes on this machine
   bool resume = false;
   bool force = false;             // replace an earlier climbsim folder at out_dir whole
   int max_evaluations = 0;        // 0: the file's
@@ -252,11 +267,24 @@ struct Result {
   std::vector<Evaluation> history;  // ordered by start, then index
   double wall_time_s = 0.0;
   int evaluations_computed = 0;   // not served from a checkpoint
+  int rollouts_computed = 0;
+  int rollouts_stalled = 0;       // stopped early by the stall rule
+  int rollouts_bounded = 0;       // stopped early by the bound rule
+  double simulated_s = 0.0;       // simulated time of the computed rollouts
+  int processes = 1;              // MPI ranks (1 without mpirun)
 };
 
+// The MPI rank of this process and the number of ranks (0 and 1 without mpirun).
+int ProcessRank();
+int ProcessCount();
+// Whether this build spreads work over MPI ranks (CMake option CLIMBSIM_MPI).
+bool BuiltWithMpi();
+
 // Writes DIR/scenario.yaml, history.csv, best.yaml, convergence.png (and .csv), summary.json
-// and keeps DIR/checkpoint.json current after every evaluation (all atomically).
-// progress(fraction, best_objective) is called from worker threads under a lock.
+// and keeps DIR/checkpoint.json current after every round of evaluations (all atomically).
+// Under mpirun every rank calls it with the same arguments: the ranks share the rollouts of
+// each round, every rank returns the same Result, and rank 0 alone writes DIR.
+// progress(fraction, best_objective) is called on the calling thread after each round.
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress = {});
 

@@ -4,10 +4,34 @@
 #include <cmath>
 #include <thread>
 
+#include "optimise/comm.h"
 #include "optimise/optimise.h"
 #include "sim/gnuplot.h"
 
 namespace climbsim::optimise {
+namespace {
+
+nlohmann::json ToJson(const sim::RunResult& r) {
+  return {r.stable, r.failure, r.steps, r.sim_time_s, r.wall_time_s, r.fell,
+          r.fall_time_s, r.distance_m, r.heading_deg, r.actuator_work_j};
+}
+
+sim::RunResult FromJson(const nlohmann::json& j) {
+  sim::RunResult r;
+  r.stable = j[0].get<bool>();
+  r.failure = j[1].get<std::string>();
+  r.steps = j[2].get<long>();
+  r.sim_time_s = j[3].get<double>();
+  r.wall_time_s = j[4].get<double>();
+  r.fell = j[5].get<bool>();
+  r.fall_time_s = j[6].get<double>();
+  r.distance_m = j[7].get<double>();
+  r.heading_deg = j[8].get<double>();
+  r.actuator_work_j = j[9].get<double>();
+  return r;
+}
+
+}  // namespace
 
 std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOptions& o) {
   std::vector<double> values;
@@ -42,23 +66,40 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOp
     rows[i].results.resize(files.size());
   }
   // Tasks in a fixed order, each writing its own slot: results do not depend on threads.
-  const int tasks = static_cast<int>(values.size() * files.size());
+  // Under mpirun, task t runs on rank t mod N and the ranks exchange their results.
+  const Comm& comm = Comm::World();
+  const int all = static_cast<int>(values.size() * files.size());
+  std::vector<int> mine;
+  for (int t = comm.rank(); t < all; t += comm.size()) mine.push_back(t);
+  const int tasks = static_cast<int>(mine.size());
   std::atomic<int> next{0};
   auto worker = [&] {
     ModelCache cache;
-    for (int t = next++; t < tasks; t = next++) {
+    for (int m = next++; m < tasks; m = next++) {
+      const int t = mine[m];
       const size_t f = t % files.size(), i = t / files.size();
       sim::Simulation run(scenarios[f][i], cache.For(scenarios[f][i]));
       rows[i].results[f] = run.Run();
     }
   };
-  const int threads = std::max(
-      1, std::min(tasks, o.threads > 0 ? o.threads
-                                       : static_cast<int>(std::thread::hardware_concurrency())));
+  const int threads =
+      std::max(1, std::min(tasks, o.threads > 0 ? o.threads : DefaultThreads()));
   std::vector<std::thread> pool;
   for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
   worker();
   for (auto& th : pool) th.join();
+  if (comm.size() > 1) {
+    nlohmann::json local = nlohmann::json::array();
+    for (int t : mine) {
+      local.push_back({t, ToJson(rows[t / files.size()].results[t % files.size()])});
+    }
+    for (const std::string& part : comm.AllGather(local.dump())) {
+      for (const auto& entry : nlohmann::json::parse(part)) {
+        const int t = entry[0].get<int>();
+        rows[t / files.size()].results[t % files.size()] = FromJson(entry[1]);
+      }
+    }
+  }
   return rows;
 }
 

@@ -15,6 +15,8 @@ packages=(
   clang-14 libclang-rt-14-dev  # libFuzzer and its sanitizers: the fuzz_scenario_loader test
   libmujoco-samples  # mujoco-simulate and mujoco-compile: open a robot or a run's model.xml
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest  # import climbsim
+  libpagmo-dev                 # CMA-ES for climbsim optimise
+  libopenmpi-dev openmpi-bin   # mpirun -np N climbsim optimise|sweep (optional: CLIMBSIM_MPI)
 )
 
 missing=()

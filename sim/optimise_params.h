@@ -47,6 +47,11 @@ struct ObjectiveParams {
   double pose_noise_m = 0.002;
   double yaw_noise_deg = 2.0;
   double sigma_t_spread = 0.1;
+  // Early stopping (optimise/rollout.cc, docs/optimise.md): a rollout ends as soon as its
+  // outcome is decided.
+  double stall_window_s = 4.0;
+  double stall_distance_m = 0.005;
+  double max_speed_mps = 0.5;
 
   template <class A>
   void Serialize(A* a) {
@@ -58,6 +63,9 @@ struct ObjectiveParams {
     a->Visit({"pose_noise_m", "m", "standard deviation of the initial x and y offset of perturbed runs", Range::NonNegative()}, &pose_noise_m);
     a->Visit({"yaw_noise_deg", "deg", "standard deviation of the initial heading of perturbed runs", Range::NonNegative()}, &yaw_noise_deg);
     a->Visit({"sigma_t_spread", "", "relative standard deviation of adhesion.sigma_t_pa in perturbed runs", Range::Closed(0, 0.9)}, &sigma_t_spread);
+    a->Visit({"stall_window_s", "s", "a rollout that climbs less than stall_distance_m in this long stops (scored as if it stayed put), 0 = off", Range::NonNegative()}, &stall_window_s);
+    a->Visit({"stall_distance_m", "m", "progress below which a rollout counts as stalled over stall_window_s", Range::NonNegative()}, &stall_distance_m);
+    a->Visit({"max_speed_mps", "m/s", "speed no gait exceeds: a rollout that could not beat the start's J even at this speed for the rest of the run stops, 0 = off", Range::NonNegative()}, &max_speed_mps);
   }
 };
 
@@ -74,13 +82,15 @@ struct OptimiseParams {
   double initial_step = 0.1;
   int starts = 2;
   int seed = 1;
+  int population = 0;
+  double sigma0 = 0.3;
 
   template <class A>
   void Serialize(A* a) {
     a->Visit({"parameters", "", "the tuned parameters (key, start, min, max)"}, &parameters);
     a->Visit({"objective", "", "the cost each evaluation minimises"}, &objective);
-    a->Choice({"algorithm", "", "NLopt algorithm; chain = GN_CRS2_LM, then local_algorithm from its best"}, &algorithm,
-              {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA", "GN_CRS2_LM", "GN_ISRES", "GN_ESCH", "chain"});
+    a->Choice({"algorithm", "", "NLopt algorithm; chain = GN_CRS2_LM, then local_algorithm from its best; cmaes = CMA-ES (pagmo), its population evaluated in parallel"}, &algorithm,
+              {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA", "GN_CRS2_LM", "GN_ISRES", "GN_ESCH", "chain", "cmaes"});
     a->Choice({"local_algorithm", "", "the local stage of chain"}, &local_algorithm,
               {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA"});
     a->Visit({"global_share", "", "share of each start's evaluations spent in chain's global stage", Range::OpenClosed(0, 1)}, &global_share);
@@ -91,6 +101,8 @@ struct OptimiseParams {
     a->Visit({"initial_step", "", "first step of local algorithms, as a share of each parameter's range", Range::OpenClosed(0, 1)}, &initial_step);
     a->Visit({"starts", "", "independent starts (start 0 at the given start values, the others drawn in the bounds); run side by side", Range::Closed(1, 1000)}, &starts);
     a->Visit({"seed", "", "seed of NLopt's random numbers and of the random starts", Range::Closed(0, 2147483647)}, &seed);
+    a->Visit({"population", "", "cmaes: candidates per generation, 0 = 4 + 3 ln(parameters) (at least 5)", Range::Closed(0, 10000)}, &population);
+    a->Visit({"sigma0", "", "cmaes: first step size, as a share of each parameter's range", Range::OpenClosed(0, 1)}, &sigma0);
   }
   void Validate(const Checker& c) const {
     if (parameters.empty()) c.Fail("parameters", "list at least one parameter to tune");

@@ -1,7 +1,9 @@
 // climbsim bench speed|accuracy|optimise|robustness SCENARIO
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "optimise/optimise.h"
 #include "sim/sim.h"
@@ -101,7 +103,8 @@ void Accuracy(const std::string& file, double duration_s, int threads, const std
               warning.empty() ? "" : "  plot: ", warning.c_str());
 }
 
-// Evaluations per second of `climbsim optimise` with 1 and 2 threads on a short budget.
+// Evaluations per second of `climbsim optimise` with 1 and 2 threads on a short budget, and
+// with 1 and 2 MPI ranks when built with MPI and mpirun is on the PATH.
 void OptimiseSpeed(const std::string& file, int evaluations, const std::string& out) {
   std::printf("climbsim bench optimise: %s, %d evaluations\n", file.c_str(), evaluations);
   double rate[2] = {0, 0};
@@ -117,6 +120,32 @@ void OptimiseSpeed(const std::string& file, int evaluations, const std::string& 
                 rate[threads - 1], r.evaluations_computed, r.wall_time_s, r.best.objective);
   }
   std::printf("  speed-up with 2 threads: %.2fx\n", rate[1] / rate[0]);
+  if (optimise::BuiltWithMpi() && std::system("command -v mpirun >/dev/null 2>&1") == 0) {
+    // The same optimisation as 1 and 2 MPI ranks of one thread each (mpirun from PATH).
+    double mpi_rate[2] = {0, 0};
+    for (int ranks : {1, 2}) {
+      const std::string dir = out + "/mpi" + std::to_string(ranks);
+      const std::string cmd = "mpirun -np " + std::to_string(ranks) +
+                              " --oversubscribe climbsim_self optimise '" + file + "' --out '" +
+                              dir + "' --max-evaluations " + std::to_string(evaluations) +
+                              " --threads 1 --quiet";
+      const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+      std::string line = cmd;
+      line.replace(line.find("climbsim_self"), 13, "'" + self + "'");
+      std::filesystem::remove(dir + "/summary.json");
+      if (std::system(line.c_str()) != 0) {
+        std::printf("  mpirun -np %d failed: %s\n", ranks, line.c_str());
+        return;
+      }
+      std::ifstream in(dir + "/summary.json");
+      const nlohmann::json j = nlohmann::json::parse(in);
+      mpi_rate[ranks - 1] = j["evaluations_per_s"].get<double>();
+      std::printf("  mpirun -np %d --threads 1: %.2f evaluations/s (%d in %.1f s), best J %.6f\n",
+                  ranks, mpi_rate[ranks - 1], j["evaluations_computed"].get<int>(),
+                  j["wall_time_s"].get<double>(), j["best_objective"].get<double>());
+    }
+    std::printf("  speed-up with 2 MPI ranks: %.2fx\n", mpi_rate[1] / mpi_rate[0]);
+  }
 }
 
 // The largest disturbance of each family the robot survives, reflexes on and spindle + GTO off.
@@ -180,7 +209,8 @@ void AddBenchCommand(CLI::App& app) {
       "Example:\n  climbsim bench accuracy examples/gecko_wall.yaml --duration 5 --out runs/acc");
   accuracy->callback([] { Accuracy(file, duration_s, threads, out_dir); });
 
-  auto* opt = cmd->add_subcommand("optimise", "evaluations per second with 1 and 2 threads");
+  auto* opt = cmd->add_subcommand(
+      "optimise", "evaluations per second with 1 and 2 threads (and 1 and 2 MPI ranks)");
   opt->add_option("scenario", file, "scenario file with an optimise block")->required();
   opt->add_option("--evaluations", evaluations, "evaluations per run")->check(CLI::Range(2, 100000));
   opt->add_option("--out", out_dir, "folder for the two optimisation runs");

@@ -1,4 +1,5 @@
 // climbsim optimise SCENARIO --out DIR [--threads N] [--resume]
+// Under mpirun every rank runs this command; rank 0 writes DIR and the terminal output.
 #include <cstdio>
 
 #include "optimise/optimise.h"
@@ -19,7 +20,9 @@ void AddOptimiseCommand(CLI::App& app) {
                   "(docs/run-folders.md)")
       ->required();
   cmd->add_flag("--force", force, "replace the earlier climbsim folder at --out whole");
-  cmd->add_option("--threads", threads, "worker threads (default: all cores); the result does not depend on it")
+  cmd->add_option("--threads", threads,
+                  "worker threads per process (default: the cores, shared by the MPI ranks on "
+                  "the machine); the result does not depend on it")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--max-evaluations", max_evaluations,
                   "override optimise.max_evaluations (evaluations in all, at least 1)")
@@ -29,8 +32,10 @@ void AddOptimiseCommand(CLI::App& app) {
                 "uninterrupted run)");
   cmd->add_flag("--quiet", quiet, "no progress and no summary on the terminal");
   cmd->footer(
-      "Example:\n  climbsim optimise examples/gecko_wall_optimise.yaml --out runs/gecko_opt "
-      "--max-evaluations 20");
+      "Examples:\n  climbsim optimise examples/gecko_wall.yaml --out runs/gecko_opt "
+      "--max-evaluations 20\n"
+      "  mpirun -np 4 climbsim optimise examples/gecko_wall.yaml --out runs/gecko_opt   "
+      "(the same best.yaml)");
   cmd->callback([] {
     optimise::Options o;
     o.out_dir = out_dir;
@@ -43,15 +48,19 @@ void AddOptimiseCommand(CLI::App& app) {
     }
     o.max_evaluations = max_evaluations;
     o.quiet = quiet;
-    Progress progress("optimise", !quiet);
+    const bool root = optimise::ProcessRank() == 0;
+    Progress progress("optimise", !quiet && root);
     char note[96];
     const optimise::Result r = optimise::Optimise(scenario_path, o, [&](double f, double best) {
       std::snprintf(note, sizeof(note), "best J %.5f m/s", best);
       progress.Update(f, note);
     });
-    if (quiet) return;
-    std::printf("climbsim optimise: %zu evaluations (%d computed) in %.1f s\n",
-                r.history.size(), r.evaluations_computed, r.wall_time_s);
+    if (quiet || !root) return;
+    std::printf("climbsim optimise: %zu evaluations (%d computed) in %.1f s, %d process%s\n",
+                r.history.size(), r.evaluations_computed, r.wall_time_s, r.processes,
+                r.processes == 1 ? "" : "es");
+    std::printf("  rollouts %d computed, stopped early: %d stalled, %d bound (%.0f s simulated)\n",
+                r.rollouts_computed, r.rollouts_stalled, r.rollouts_bounded, r.simulated_s);
     std::printf("  start  J %.6f m/s, speed %.4f m/s\n", r.start_objective,
                 r.history.front().nominal.speed_mps);
     std::printf("  best   J %.6f m/s, speed %.4f m/s (start %d, evaluation %d)\n",

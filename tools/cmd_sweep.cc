@@ -1,7 +1,9 @@
 // climbsim sweep SCENARIO... --key KEY --from A --to B --step S --out DIR
+// Under mpirun the runs are spread over the ranks; rank 0 writes DIR and prints.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "optimise/optimise.h"
 #include "sim/sim.h"
@@ -49,11 +51,16 @@ void AddSweepCommand(CLI::App& app) {
                               std::to_string(kMaxSweepValues) + " are allowed");
     }
     // The output folder is checked and locked before anything runs; it appears whole.
+    // Under mpirun rank 0 alone owns it.
     std::vector<std::string> inputs = files;
-    sim::RunFolder folder(out_dir, {.made_by = "sweep", .force = force, .inputs = inputs});
+    std::optional<sim::RunFolder> folder;
+    if (optimise::ProcessRank() == 0) {
+      folder.emplace(out_dir, sim::RunFolderOptions{.made_by = "sweep", .force = force, .inputs = inputs});
+    }
     const auto rows = optimise::Sweep(files, o);
-    const std::string warning = optimise::WriteSweep(folder.path(), files, o, rows);
-    folder.Commit();
+    if (optimise::ProcessRank() != 0) return;  // under mpirun rank 0 writes and prints
+    const std::string warning = optimise::WriteSweep(folder->path(), files, o, rows);
+    folder->Commit();
     std::printf("%12s", o.key.c_str());
     for (const auto& f : files) {
       std::printf("  %26s", std::filesystem::path(f).stem().string().c_str());

@@ -1,10 +1,12 @@
 // The optimiser's pieces: dotted keys, validation of the optimise block, the cost formula,
 // failed rollouts, thread-count independence and bit-exact replay of best.yaml.
+#include "optimise/optimise.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
-#include "optimise/optimise.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::optimise {
@@ -176,6 +178,116 @@ TEST(Optimise, GeckoWallShortBudgetClimbsFasterAndBestReplays) {
   sim::Simulation replay(best, *model);
   replay.Run();
   EXPECT_EQ(NominalCost(replay).total, r.best.objective);
+}
+
+// ---- Early stopping -------------------------------------------------------------------
+
+// The gecko on the wall without adhesion: it falls within a fraction of a second.
+const std::string kFallingWall =
+    "robot: gecko\nscene: wall\nduration_s: 3\n"
+    "cpg:\n  gait: lateral_sequence\n  frequency_hz: 0.6\n"
+    "outputs:\n  trajectory_rate_hz: 0\n"
+    "optimise:\n  parameters:\n    - {key: cpg.frequency_hz, start: 0.6, min: 0.3, max: 1.0}\n";
+
+Cost FullRunCost(const Problem& p, const sim::Scenario& s) {
+  auto model = sim::CompileScenario(s);
+  sim::Simulation full(s, *model);
+  full.Run();
+  return RolloutCost(full, p.params().objective);
+}
+
+TEST(OptimiseEarlyStop, FallingGaitStopsAtTheFallWithTheFullRunsScore) {
+  const Problem p(WriteFile("falling.yaml", kFallingWall));
+  const sim::Scenario s = p.ScenarioFor(p.start(), 0);
+  const Cost full = FullRunCost(p, s);
+  auto model = sim::CompileScenario(s);
+  for (double bound : {std::numeric_limits<double>::infinity(), 1.0}) {
+    sim::Simulation early(s, *model);
+    const Cost c = RunRollout(early, p.params().objective, bound);
+    ASSERT_TRUE(early.result().fell);
+    EXPECT_EQ(c.early_stop, "");     // decided by the fall, not by a bound or a stall
+    EXPECT_EQ(c.total, full.total);  // bit for bit
+    EXPECT_EQ(c.speed_mps, full.speed_mps);
+    EXPECT_EQ(c.fall_penalty, p.params().objective.fall_penalty_mps);
+    EXPECT_LT(c.stop_time_s, 0.5 * s.duration_s);
+    EXPECT_NEAR(c.stop_time_s, early.result().fall_time_s, 1e-9);
+  }
+}
+
+TEST(OptimiseEarlyStop, ARolloutThatRunsToTheEndScoresExactlyAsRolloutCost) {
+  const Problem p(WriteFile("to_end.yaml", kFloor + kBlock));
+  const sim::Scenario s = p.ScenarioFor(p.start(), 0);
+  const Cost full = FullRunCost(p, s);
+  auto model = sim::CompileScenario(s);
+  sim::Simulation early(s, *model);
+  const Cost c = RunRollout(early, p.params().objective, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(c.early_stop, "");
+  EXPECT_EQ(c.total, full.total);
+  EXPECT_NEAR(c.stop_time_s, s.duration_s, 1e-9);
+}
+
+TEST(OptimiseEarlyStop, AStalledGaitStopsAfterTheWindowAndKeepsItsDistance) {
+  const std::string text =
+      "robot: gecko\nscene: floor\nduration_s: 3\n"
+      "cpg:\n  gait: trot\n  frequency_hz: 1.0\n  stride_rad: [0.0, 0.0, 0.0]\n"
+      "  lift_rad: [0.0, 0.0, 0.0]\n"
+      "outputs:\n  trajectory_rate_hz: 0\n" +
+      kBlock + "  objective: {stall_window_s: 1.0, stall_distance_m: 0.005}\n";
+  const Problem p(WriteFile("stalled.yaml", text));
+  const sim::Scenario s = p.ScenarioFor(p.start(), 0);
+  auto model = sim::CompileScenario(s);
+  sim::Simulation early(s, *model);
+  const Cost c = RunRollout(early, p.params().objective, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(c.early_stop, "stalled");
+  EXPECT_GE(c.stop_time_s, 1.0);
+  EXPECT_LE(c.stop_time_s, 1.1);  // the first check after a full window
+  EXPECT_LT(std::abs(c.speed_mps), 0.005 / 1.0);
+  EXPECT_EQ(c.total, -c.speed_mps + c.overload_penalty);  // as if it stayed put
+}
+
+// The bound rule stops a rollout that cannot beat the bound even at max_speed_mps; its
+// score is a lower bound of the full run's, above the bound.
+TEST(OptimiseEarlyStop, ABoundedRolloutScoresALowerBoundAboveTheBound) {
+  const Problem p(
+      WriteFile("bounded.yaml", kFloor + kBlock + "  objective: {max_speed_mps: 0.2}\n"));
+  const sim::Scenario s = p.ScenarioFor(p.start(), 0);
+  const Cost full = FullRunCost(p, s);
+  const double bound = -0.15;
+  ASSERT_GT(full.total, bound);  // the gait is slower than 0.15 m/s
+  auto model = sim::CompileScenario(s);
+  sim::Simulation early(s, *model);
+  const Cost c = RunRollout(early, p.params().objective, bound);
+  EXPECT_EQ(c.early_stop, "bound");
+  EXPECT_GT(c.total, bound);
+  EXPECT_LE(c.total, full.total);
+  EXPECT_LT(c.stop_time_s, s.duration_s);
+}
+
+// ---- CMA-ES ------------------------------------------------------------------------------
+
+TEST(OptimiseCmaes, GenerationsRunInParallelWithTheSameResultForAnyThreadCount) {
+  const std::string path =
+      WriteFile("cmaes.yaml", kFloor + kBlock +
+                                  "  algorithm: cmaes\n  population: 5\n  max_evaluations: 11\n"
+                                  "  starts: 1\n");
+  Options one, two;
+  one.out_dir = TempDir() + "/cmaes1";
+  one.threads = 1;
+  two.out_dir = TempDir() + "/cmaes2";
+  two.threads = 2;
+  const Result r1 = Optimise(path, one), r2 = Optimise(path, two);
+  ASSERT_EQ(r1.history.size(), 11u);  // the start, then two generations of 5
+  ASSERT_EQ(r2.history.size(), 11u);
+  for (size_t i = 0; i < r1.history.size(); ++i) {
+    EXPECT_EQ(r1.history[i].x, r2.history[i].x) << i;
+    EXPECT_EQ(r1.history[i].objective, r2.history[i].objective) << i;
+    EXPECT_GE(r1.history[i].x[0], 0.5);
+    EXPECT_LE(r1.history[i].x[0], 2.5);
+  }
+  // The candidates of a generation differ (sampled, not copies of the start).
+  EXPECT_NE(r1.history[1].x, r1.history[2].x);
+  EXPECT_EQ(ReadFile(one.out_dir + "/best.yaml"), ReadFile(two.out_dir + "/best.yaml"));
+  EXPECT_LE(r1.best.objective, r1.start_objective);
 }
 
 }  // namespace

@@ -1,0 +1,40 @@
+// Internal to optimise/: the processes of an MPI run (mpirun -np N climbsim ...). Every rank
+// runs the same optimisation in lockstep and evaluates its share of each batch of rollouts;
+// the shares are then exchanged, so every rank holds every result and takes the same next
+// step. Built without CLIMBSIM_MPI, or started without mpirun, it is one process of one rank
+// and does nothing. Only the thread that called World() first may call the collectives.
+#ifndef CLIMBSIM_OPTIMISE_COMM_H_
+#define CLIMBSIM_OPTIMISE_COMM_H_
+
+#include <string>
+#include <vector>
+
+namespace climbsim::optimise {
+
+// Threads per process by default: this machine's cores shared by the ranks it runs.
+int DefaultThreads();
+
+class Comm {
+ public:
+  // The processes of this run. Initialises MPI on first use when the process was started
+  // by an MPI launcher (it looks for OMPI_COMM_WORLD_SIZE, PMIX_RANK or PMI_SIZE), and
+  // finalises it at exit.
+  static Comm& World();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool root() const { return rank_ == 0; }
+
+  // Each rank's `mine`, in rank order, on every rank. A rank that arrives first sleeps
+  // (1 ms polls) rather than spinning on a core.
+  std::vector<std::string> AllGather(const std::string& mine) const;
+
+ private:
+  Comm() = default;
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+}  // namespace climbsim::optimise
+
+#endif  // CLIMBSIM_OPTIMISE_COMM_H_
