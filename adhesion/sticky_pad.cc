@@ -105,6 +105,7 @@ void StickyPad::Reset(mjModel* m, mjData* d) {
   blind_ = false;
   buildup_ = 0.0;
   lost_since_attach_ = 0;
+  strength_scale_ = 1.0;
   counts_ = PadCounts{};
 }
 
@@ -239,7 +240,12 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
   load_ = PadLoadFromSurfaceWrench(frame.rot.transpose() * w.force_n,
                                    frame.rot.transpose() * w.torque_nm);
   load_known_ = true;
-  const BondGrid::UpdateResult r = grid_.Update(load_);
+  PadLoad scaled = load_;
+  if (strength_scale_ != 1.0) {
+    const double k = 1.0 / strength_scale_;
+    scaled = {load_.fn_n * k, load_.fx_n * k, load_.fy_n * k, load_.mx_nm * k, load_.my_nm * k};
+  }
+  const BondGrid::UpdateResult r = grid_.Update(scaled);
   if (r.broken > 0) {
     bonds_lost_ = true;
     ++counts_.bonds_lost;
@@ -258,12 +264,22 @@ bool StickyPad::Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink
   return true;
 }
 
+bool StickyPad::Fail(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {
+  if (!attached_) return false;
+  bonds_lost_ = true;
+  ++counts_.bonds_lost;
+  Emit(sink, time_s, PadEventKind::kBondsLost, kCauseFractionLost, bonded_fraction(), true);
+  Detach(m, d, time_s, kCauseFailure, sink);
+  return true;
+}
+
 void StickyPad::Detach(mjModel* m, mjData* d, double time_s, const char* cause,
                        PadEventSink* sink) {
   if (cause == kCausePeel) ++counts_.detach_peel;
   if (cause == kCauseOverload) ++counts_.detach_overload;
   if (cause == kCauseReleased) ++counts_.detach_released;
   if (cause == kCauseContactLost) ++counts_.detach_contact_lost;
+  if (cause == kCauseFailure) ++counts_.detach_failure;
   // The event carries the load and the bonds that ended the pad, before they are cleared.
   Emit(sink, time_s, PadEventKind::kDetach, cause, 0.0, false);
   if (params_.model == AdhesionModel::kBonds) {

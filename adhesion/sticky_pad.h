@@ -119,6 +119,7 @@ inline constexpr const char* kCausePeel = "peel";
 inline constexpr const char* kCauseOverload = "overload";
 inline constexpr const char* kCauseReleased = "released";
 inline constexpr const char* kCauseContactLost = "contact_lost";
+inline constexpr const char* kCauseFailure = "failure";  // Fail(): every bond broken at once
 
 struct PadEvent {
   double time_s = 0.0;
@@ -150,6 +151,7 @@ struct PadCounts {
   long detach_overload = 0;
   long detach_released = 0;
   long detach_contact_lost = 0;
+  long detach_failure = 0;
 };
 
 class StickyPad {
@@ -179,6 +181,16 @@ class StickyPad {
   void SetPeeling(bool peeling) { peeling_ = peeling; }
   // Detaches with cause "released". False (and nothing happens) when not attached.
   bool Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
+  // A pad that fails (a defect, dirt; a disturbance of `climbsim bench robustness`): every
+  // bond breaks now, event bonds_lost (the whole bonded fraction) then detach with cause
+  // "failure". False (and nothing happens) when not attached.
+  bool Fail(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
+  // σ_T of this pad's bonds times `scale` (> 0) until changed (a weak patch of the surface
+  // under it). Applied by giving the bond grid the load divided by `scale`: with
+  // σ_vM ≥ σ_T and √3·τ ≥ σ_T − μσ both sides scale alike, so this is exact. load() stays the
+  // real load. 1 (the default, and after Reset) is the material's own σ_T. kBonds only.
+  void SetStrengthScale(double scale) { strength_scale_ = scale; }
+  double strength_scale() const { return strength_scale_; }
 
   // --- State ---
   int index() const { return index_; }
@@ -202,6 +214,7 @@ class StickyPad {
 
  private:
   bool peeling_ = false;
+  double strength_scale_ = 1.0;
   enum class Episode : uint8_t { kNone, kPending, kClosed };
 
   void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,

@@ -99,7 +99,7 @@ const char* RunKindName(RunKind kind);  // "simulation", "optimise", "pulloff"
 struct Run {
   std::string dir;
   nlohmann::json summary;         // summary.json
-  std::string model_xml;          // model.xml: the composed top file, absolute includes
+  std::string model_xml;          // model.xml: the model that ran, self-contained
   std::vector<std::string> legs;  // the robot's legs in its order ("LF", ...) from model.xml
   std::vector<std::string> pads;  // pad body of each leg, "<leg>_pad" (mjcf/README.md contract)
   std::vector<EventRow> events;   // file order (time order)
@@ -166,6 +166,11 @@ struct LegReport {
   int attachments = 0;
   int rejected = 0;
   std::map<std::string, int> rejected_by;  // by condition: approach_speed_mps, contacts, ...
+  // Touchdowns that neither attached nor were rejected, by reason: left_within_attach_window
+  // (the pad touched again before any decision: it left the surface before its contacts and
+  // preload met the attach conditions), run_ended_during_touch.
+  int unanswered_touchdowns = 0;
+  std::map<std::string, int> unanswered_by;
   int detaches = 0;
   std::map<std::string, int> detached_by;  // peel, overload, released, contact_lost
   int bonds_lost_steps = 0;

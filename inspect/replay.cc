@@ -20,10 +20,15 @@ std::string ReplayBest(const std::string& results_dir, bool* replayed,
   }
   // Same as `climbsim simulate best.yaml --out DIR/best_run`: the optimiser's best, bit for bit.
   const sim::Scenario scenario = sim::LoadScenario(best.string());
+  // best_run is climbsim's own: replaced whole (and refused if something else is there).
+  sim::RunFolder folder(
+      out.string(),
+      {.made_by = "simulate", .force = true, .inputs = sim::ScenarioInputs(scenario)});
   const auto model = sim::CompileScenario(scenario);
   sim::Simulation run(scenario, *model);
   run.Run(progress);
-  sim::WriteRunDirectory(out.string(), run);
+  sim::WriteRunFiles(folder.path(), run);
+  folder.Commit();
   *replayed = true;
   return out.string();
 }

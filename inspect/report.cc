@@ -100,11 +100,23 @@ Report Analyse(const Run& run, const Window& window) {
         if (e->time_s < detach_time) Min(&r.lowest_bonded_fraction, e->bonded_fraction);
       }
     };
+    // A touchdown in the window that neither attached nor was rejected, and why: the pad
+    // touched again (it left the surface inside the attach window, before its contacts and
+    // preload met the attach conditions), or the run ended during the touch.
+    bool pending_touchdown = false;
+    auto unanswered = [&](const char* why) {
+      ++r.unanswered_touchdowns;
+      ++r.unanswered_by[why];
+      pending_touchdown = false;
+    };
     for (const EventRow& e : run.events) {
       if (e.pad != r.pad) continue;
+      if (e.event == "touchdown" && pending_touchdown) unanswered("left_within_attach_window");
+      if (e.event == "attach" || e.event == "attach_rejected") pending_touchdown = false;
       if (e.time_s >= a && e.time_s <= b) {
         if (e.event == "touchdown") {
           ++r.touchdowns;
+          pending_touchdown = true;
         } else if (e.event == "attach") {
           ++r.attachments;
         } else if (e.event == "attach_rejected") {
@@ -131,6 +143,7 @@ Report Analyse(const Run& run, const Window& window) {
         attached = false;
       }
     }
+    if (pending_touchdown) unanswered("run_ended_during_touch");
     if (attached) {
       raw.push_back({start, run.duration_s, false, ""});
       take_loads(std::numeric_limits<double>::infinity());
@@ -185,6 +198,8 @@ nlohmann::json ReportJson(const Run& run, const Report& report) {
                     {"attachments", r.attachments},
                     {"rejected", r.rejected},
                     {"rejected_by", r.rejected_by},
+                    {"unanswered_touchdowns", r.unanswered_touchdowns},
+                    {"unanswered_by", r.unanswered_by},
                     {"detaches", r.detaches},
                     {"detached_by", r.detached_by},
                     {"bonds_lost_steps", r.bonds_lost_steps},
@@ -246,6 +261,9 @@ std::string ReportText(const Run& run, const Report& report) {
       "rejected attaches", [](const LegReport& r) { return r.rejected; },
       [](const LegReport& r) -> const std::map<std::string, int>& { return r.rejected_by; });
   count_rows(
+      "touchdowns unanswered", [](const LegReport& r) { return r.unanswered_touchdowns; },
+      [](const LegReport& r) -> const std::map<std::string, int>& { return r.unanswered_by; });
+  count_rows(
       "detaches", [](const LegReport& r) { return r.detaches; },
       [](const LegReport& r) -> const std::map<std::string, int>& { return r.detached_by; });
   row("bonds-lost steps", [](const LegReport& r) { return std::to_string(r.bonds_lost_steps); });
@@ -275,7 +293,9 @@ std::string ReportText(const Run& run, const Report& report) {
       "\nstance = attach .. detach; mean and shortest over stances whole inside the window;\n"
       "duty factor = attached time / observed time; loads (pad frame, normal + pulls off) are\n"
       "those at the pad's events while attached, its detach included; lowest bonded fraction\n"
-      "is before the step the pad let go. - : none.\n";
+      "is before the step the pad let go; touchdowns unanswered = neither attached nor\n"
+      "rejected: left_within_attach_window (the pad left the surface before its contacts and\n"
+      "preload met the attach conditions), run_ended_during_touch. - : none.\n";
   return out;
 }
 

@@ -105,6 +105,11 @@ class CsvFile {
       throw InputError(path_, l.number, l.starts[c], std::string(lines_[0].cells[c]),
                        "expected a number, got '" + std::string(cell) + "'");
     }
+    // climbsim writes finite numbers only: nan or inf is damage (or an edit), not data.
+    if (!std::isfinite(v)) {
+      throw InputError(path_, l.number, l.starts[c], std::string(lines_[0].cells[c]),
+                       "expected a finite number, got '" + std::string(cell) + "'");
+    }
     return v;
   }
 
@@ -269,13 +274,28 @@ Run LoadRun(const std::string& dir_in) {
   const std::string summary_path = dir + "/summary.json";
   const std::string summary_text = ReadWholeFile(
       summary_path, "written last by climbsim simulate: without it the run did not finish");
+  const auto line_of = [&](size_t byte) {
+    byte = std::min(byte, summary_text.size());
+    return 1 +
+           static_cast<int>(std::count(summary_text.begin(), summary_text.begin() + byte, '\n'));
+  };
   try {
     run.summary = nlohmann::json::parse(summary_text);
   } catch (const nlohmann::json::parse_error& e) {
-    const size_t byte = std::min<size_t>(e.byte, summary_text.size());
-    const int line =
-        1 + static_cast<int>(std::count(summary_text.begin(), summary_text.begin() + byte, '\n'));
-    throw InputError(summary_path, line, 0, "", std::string("not valid JSON: ") + e.what());
+    throw InputError(summary_path, line_of(e.byte), 0, "",
+                     std::string("not valid JSON: ") + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    // A number out of range ("number overflow parsing '1e400'"): the line of that number.
+    const std::string what = e.what();
+    const size_t q = what.find("parsing '");
+    int line = 0;
+    if (q != std::string::npos) {
+      const size_t end = what.find('\'', q + 9);
+      const std::string token = what.substr(q + 9, end == std::string::npos ? end : end - q - 9);
+      const size_t at = token.empty() ? std::string::npos : summary_text.find(token);
+      if (at != std::string::npos) line = line_of(at);
+    }
+    throw InputError(summary_path, line, 0, "", "not valid climbsim JSON: " + what);
   }
   if (!run.summary.is_object() || !run.summary.contains("duration_s") ||
       !run.summary["duration_s"].is_number()) {

@@ -89,6 +89,16 @@ YAML::Node Walk(YAML::Node root, std::string_view key, bool create) {
 }  // namespace
 
 void SetDottedKey(YAML::Node root, std::string_view key, double value) {
+  // A key the file gives as text (cpg.gait: trot) takes no number.
+  const YAML::Node n = Walk(root, key, /*create=*/true);
+  if (n.IsDefined() && n.IsScalar()) {
+    try {
+      n.as<double>();
+    } catch (const YAML::Exception&) {
+      throw std::invalid_argument(std::string(key) + " holds text ('" + n.Scalar() +
+                                  "'), not a number");
+    }
+  }
   SetDottedKeyText(root, key, sim::ExactNumber(value));
 }
 

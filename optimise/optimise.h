@@ -157,6 +157,90 @@ AccuracyReport BenchAccuracy(const std::string& scenario_file, double duration_s
 // accuracy.csv and accuracy.png (error against wall time on log axes, a curve per knob).
 std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 
+// ---- Robustness ----------------------------------------------------------------------------
+// `climbsim bench robustness`: for each family of disturbance, the largest magnitude the robot
+// survives, with the scenario's reflexes and with spindle and GTO off, on the same cases.
+//
+// A case is a seed k (0 .. seeds−1): the scenario's seed + k for every random draw, and for
+// k ≥ 1 a start moved by up to ±5 mm along x and y and turned by up to ±5° (uniform draws
+// from that seed), so the cases differ even where no disturbance is random. Push families
+// add the phases: a push at push_time_s + j/(phases·f) (f = cpg.frequency_hz), j = 0 ..
+// phases−1. A case SURVIVES a magnitude when its run (the given duration, fall.stop on) is
+// stable, does not fall, and climbs at least half of what the same case climbs undisturbed
+// (when that is positive). A magnitude survives when every case does.
+//
+// The search, per family and mode: the family's largest magnitude hi is tried first (if it
+// survives, the answer is "≥ hi"), then the smallest lo ("< lo" if it fails), then geometric
+// bisection between a surviving and a failing magnitude until they are within `tolerance`
+// (10 %: failing ≤ 1.1 × survived). Cases run in order and an evaluation stops at its first
+// failing case. (family, mode) searches run side by side on threads, each run on its own
+// model copy: the report does not depend on the number of threads.
+//
+// Families (magnitude, unit, range):
+//   push_off    10 ms push along the surface normal, away from it      N s   0.005 .. 1
+//   push_down   10 ms push down the slope (gravity along the surface)  N s   0.005 .. 1
+//   push_side   10 ms push across the slope (normal x down: -y on the wall) N s   0.005 .. 1
+//   payload     payload_kg on the base                                 kg    2 % .. 400 % of the robot's mass
+//   pad_failure adhesion.pad_failure_probability                       -     0.01 .. 1
+//   weak_patch  1 − scene.weak_patches.fraction (σ_T lost on a patch; 5 cm cells, 30 % weak)
+//                                                                      -     0.02 .. 0.99
+//   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
+// Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
+// roughness off the plane scenes, pushes without cpg) are left out.
+struct RobustnessOptions {
+  double duration_s = 10.0;   // 0: the scenario's
+  int seeds = 3;
+  int phases = 4;
+  double push_time_s = 4.0;   // first push (at most a third of the duration)
+  double tolerance = 0.1;
+  int threads = 0;            // 0: all cores
+  std::vector<std::string> families;  // empty: all
+};
+
+struct RobustnessFamily {
+  std::string name, unit, what;
+  double lo = 0.0, hi = 0.0;
+};
+// The families a scenario can take (ranges resolved: payload from the robot's mass).
+std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario);
+// The names of every family, in order.
+std::vector<std::string> RobustnessFamilyNames();
+
+// The scenario of one case at one magnitude: mode 0 the scenario's reflexes, 1 spindle and GTO
+// off; magnitude 0 (or family "") is the undisturbed case. Throws InputError for an unknown
+// family.
+sim::Scenario RobustnessCase(const sim::Scenario& base, const RobustnessOptions& options,
+                             const std::string& family, double magnitude, int mode, int seed,
+                             int phase);
+
+struct RobustnessRow {
+  std::string family, unit, mode;  // mode: "reflexes" or "spindle_gto_off"
+  double lo = 0.0, hi = 0.0;
+  double survived = 0.0;  // largest magnitude every case survived (0: not even lo)
+  double failed = 0.0;    // smallest magnitude found failing (+inf: hi survived)
+  std::string failing_case;  // the first case that failed at `failed` ("seed 1 phase 2")
+  std::string failing_how;   // "fell at 4.21 s", "climbed 0.012 m of 0.150 m", "unstable"
+  int evaluations = 0, runs = 0;
+  bool same_as_reflexes = false;  // spindle and GTO were already off: the rows are one search
+};
+struct RobustnessReport {
+  std::string scenario_file;
+  RobustnessOptions options;
+  double robot_mass_kg = 0.0;
+  std::vector<std::vector<double>> baseline_m;  // [mode][seed] undisturbed distance
+  std::vector<RobustnessRow> rows;              // per family: reflexes, then spindle_gto_off
+};
+// progress(fraction) is called from worker threads under a lock.
+RobustnessReport BenchRobustness(const std::string& scenario_file, const RobustnessOptions& options,
+                                 const std::function<void(double)>& progress = {});
+// Whether one case survives `magnitude` (what the search evaluates), with why not in `how`.
+bool RobustnessSurvives(const sim::Scenario& scenario, double baseline_m, std::string* how);
+// robustness.csv and robustness.png (one panel per family, reflexes against spindle and GTO
+// off). Returns the plot's warning ("" when drawn).
+std::string WriteRobustness(const std::string& dir, const RobustnessReport& report);
+// The terminal table.
+std::string RobustnessTable(const RobustnessReport& report);
+
 // ---- Running it ---------------------------------------------------------------------------
 struct Evaluation {
   int start = 0;
@@ -172,6 +256,7 @@ struct Options {
   std::string out_dir;
   int threads = 0;                // per process; 0: the cores / the processes on this machine
   bool resume = false;
+  bool force = false;             // replace an earlier climbsim folder at out_dir whole
   int max_evaluations = 0;        // 0: the file's
   bool quiet = false;
 };

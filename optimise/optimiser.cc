@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -32,6 +33,15 @@ uint64_t Fnv1a(std::string_view s) {
   uint64_t h = 1469598103934665603ull;
   for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
   return h;
+}
+
+// Checksum of a checkpoint: FNV-1a of the fingerprint (scenario and budget) and the
+// canonical dump of the evaluations, as hex.
+std::string CheckpointChecksum(const std::string& fingerprint, const nlohmann::json& starts) {
+  char buf[17];
+  std::snprintf(buf, sizeof(buf), "%016llx",
+                static_cast<unsigned long long>(Fnv1a(fingerprint + "|" + starts.dump())));
+  return buf;
 }
 
 nlopt::algorithm Algorithm(const std::string& name) {
@@ -117,9 +127,66 @@ void WriteCheckpoint(Shared& s) {
     for (const auto& e : evals) list.push_back(ToJson(e));
     starts.push_back(list);
   }
-  const nlohmann::json j{{"fingerprint", s.fingerprint}, {"starts", starts}};
+  const nlohmann::json j{{"fingerprint", s.fingerprint},
+                         {"checksum", CheckpointChecksum(s.fingerprint, starts)},
+                         {"starts", starts}};
   sim::WriteFileAtomic(s.checkpoint_path, j.dump() + "\n");
 }
+
+// Reads DIR/checkpoint.json for --resume: every value of the right type, the scenario's
+// fingerprint, and the checksum of the content (an edited number is refused, not trusted).
+std::vector<std::vector<Evaluation>> ReadCheckpoint(const std::string& path,
+                                                    const std::string& fingerprint, int starts,
+                                                    size_t dimension) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    throw InputError(path, 0, 0, "",
+                     "missing: nothing to resume (drop --resume to start over, with --force)");
+  }
+  nlohmann::json j;
+  try {
+    std::ifstream in(path);
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw InputError(path, 0, 0, "", std::string("unreadable: ") + e.what());
+  }
+  if (!j.is_object() || !j.contains("fingerprint") || !j["fingerprint"].is_string() ||
+      !j.contains("checksum") || !j["checksum"].is_string() || !j.contains("starts") ||
+      !j["starts"].is_array()) {
+    throw InputError(path, 0, 0, "",
+                     "not a climbsim checkpoint (expected an object with fingerprint, checksum "
+                     "and starts)");
+  }
+  if (j["fingerprint"].get<std::string>() != fingerprint) {
+    throw InputError(path, 0, 0, "fingerprint",
+                     "belongs to another scenario or budget; drop --resume (and use --force) "
+                     "to start over");
+  }
+  if (j["checksum"].get<std::string>() != CheckpointChecksum(fingerprint, j["starts"])) {
+    throw InputError(path, 0, 0, "checksum",
+                     "does not match the content: the checkpoint was edited or damaged; drop "
+                     "--resume (and use --force) to start over");
+  }
+  std::vector<std::vector<Evaluation>> recorded(starts);
+  const auto& list = j["starts"];
+  for (int s = 0; s < starts && s < static_cast<int>(list.size()); ++s) {
+    if (!list[s].is_array()) throw InputError(path, 0, 0, "starts", "expected lists");
+    for (size_t i = 0; i < list[s].size(); ++i) {
+      const std::string where = "starts[" + std::to_string(s) + "][" + std::to_string(i) + "]";
+      try {
+        recorded[s].push_back(FromJson(list[s][i], s, static_cast<int>(i)));
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError(path, 0, 0, where, std::string("wrong value: ") + e.what());
+      }
+      if (recorded[s].back().x.size() != dimension) {
+        throw InputError(path, 0, 0, where + ".x",
+                         "expected " + std::to_string(dimension) + " parameters");
+      }
+    }
+  }
+  return recorded;
+}
+
 
 // ---- Rounds --------------------------------------------------------------------------------
 // Each start runs its algorithm on its own thread and hands its next evaluations (one for
@@ -592,6 +659,26 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   }
 
   const Comm& comm = Comm::World();
+  // The results folder: checked and locked by rank 0 before any rollout (sim/run_folder.h);
+  // every rank learns whether it was refused, so that all stop together.
+  std::optional<sim::RunFolder> folder;
+  std::string refused;
+  if (comm.root()) {
+    try {
+      folder.emplace(sim::RunFolder::Live(
+          options.out_dir,
+          {.made_by = "optimise", .force = options.force, .inputs = {scenario_file}},
+          options.resume));
+    } catch (const InputError& e) {
+      if (comm.size() == 1) throw;
+      refused = e.what();
+    }
+  }
+  if (comm.size() > 1) {
+    for (const std::string& r : comm.AllGather(refused)) {
+      if (!r.empty()) throw InputError(options.out_dir, 0, 0, "", "refused on rank 0: " + r);
+    }
+  }
   const std::string resolved = sim::ScenarioToYamlText(problem.scenario());
   if (comm.root()) {
     fs::create_directories(options.out_dir);
@@ -608,24 +695,9 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   // count, which does not change the result.
   shared.fingerprint = std::to_string(Fnv1a(resolved + "|" +
                                             std::to_string(params.max_evaluations)));
-  if (options.resume && fs::exists(shared.checkpoint_path)) {
-    nlohmann::json j;
-    try {
-      std::ifstream in(shared.checkpoint_path);
-      j = nlohmann::json::parse(in);
-    } catch (const std::exception& e) {
-      throw InputError(shared.checkpoint_path, 0, 0, "", std::string("unreadable: ") + e.what());
-    }
-    if (j.value("fingerprint", "") != shared.fingerprint) {
-      throw InputError(shared.checkpoint_path, 0, 0, "",
-                       "belongs to another scenario or budget; remove it or drop --resume");
-    }
-    const auto& list = j.at("starts");
-    for (int s = 0; s < starts && s < static_cast<int>(list.size()); ++s) {
-      for (size_t i = 0; i < list[s].size(); ++i) {
-        shared.recorded[s].push_back(FromJson(list[s][i], s, static_cast<int>(i)));
-      }
-    }
+  if (options.resume) {
+    shared.recorded =
+        ReadCheckpoint(shared.checkpoint_path, shared.fingerprint, starts, problem.start().size());
   }
   if (comm.root()) shared.failures.open(options.out_dir + "/failures.log", std::ios::app);
 
@@ -726,6 +798,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
       {"plot_warning", plot_warning},
       {"checkpoint_warning", shared.error}};
   sim::WriteFileAtomic(options.out_dir + "/summary.json", summary.dump(2) + "\n");
+  folder->Commit();
   return result;
 }
 

@@ -48,6 +48,19 @@ Problem::Problem(const YAML::Node& root, const std::string& file)
       }
     }
   }
+  // Keys checked only when the run is built (a gait name, a pad body) are caught here too:
+  // the start builds, before any rollout.
+  if (!ps.empty()) {
+    const sim::Scenario s = ScenarioFor(start(), 0);
+    try {
+      const auto model = sim::CompileScenario(s);
+      sim::Simulation check(s, *model);
+    } catch (const InputError& e) {
+      throw sim::ScenarioError(scenario_, "optimise.parameters",
+                               "the start values do not give a runnable scenario: " + e.key() +
+                                   " " + e.message() + " (is every key a number?)");
+    }
+  }
 }
 
 std::vector<double> Problem::start() const {

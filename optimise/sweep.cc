@@ -116,9 +116,9 @@ std::string WriteSweep(const std::string& dir, const std::vector<std::string>& f
   for (const SweepRow& r : rows) {
     csv += sim::ExactNumber(r.value);
     for (const sim::RunResult& res : r.results) {
-      csv += "," + sim::ExactNumber(res.distance_m) + "," +
-             sim::ExactNumber(res.sim_time_s > 0 ? res.distance_m / res.sim_time_s : 0.0) + "," +
-             (res.fell ? "1" : "0") + "," + (res.fell ? sim::ExactNumber(res.fall_time_s) : "");
+      csv += "," + sim::ExactNumber(res.distance_m) + "," + sim::ExactNumber(res.mean_speed_mps()) +
+             "," + (res.fell ? "1" : "0") + "," +
+             (res.fell ? sim::ExactNumber(res.fall_time_s) : "");
     }
     csv += "\n";
   }

@@ -13,6 +13,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox ffmpeg
   clang-14 libclang-rt-14-dev  # libFuzzer and its sanitizers: the fuzz_scenario_loader test
+  libmujoco-samples  # mujoco-simulate and mujoco-compile: open a robot or a run's model.xml
+  pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest  # import climbsim
   libpagmo-dev                 # CMA-ES for climbsim optimise
   libopenmpi-dev openmpi-bin   # mpirun -np N climbsim optimise|sweep (optional: CLIMBSIM_MPI)
 )
@@ -32,3 +34,16 @@ fi
 build_dir=${BUILD_DIR:-build}
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-} >/dev/null
 cmake --build "$build_dir" -j "$(nproc)"
+
+# `import climbsim` from anywhere: a .pth file in Python's site folder names build/python (the
+# module is used where it is built, so a rebuild is picked up without reinstalling).
+if [ -f "$build_dir/python/climbsim/__init__.py" ]; then
+  python_dir=$(cd "$build_dir/python" && pwd)
+  python=python3; [ -x /usr/bin/python3 ] && python=/usr/bin/python3  # Debian's, with numpy
+  site=$($python -c 'import site; print(site.getsitepackages()[0])')
+  if ! { mkdir -p "$site" 2>/dev/null && echo "$python_dir" >"$site/climbsim.pth" 2>/dev/null; }; then
+    site=$($python -m site --user-site)
+    mkdir -p "$site" && echo "$python_dir" >"$site/climbsim.pth"
+  fi
+  echo "setup: $python -c 'import climbsim' finds $python_dir (through $site/climbsim.pth)"
+fi

@@ -1,6 +1,9 @@
 #include "sim/adhesion_effect.h"
 
 #include <algorithm>
+#include <limits>
+
+#include "sim/surface.h"
 
 namespace climbsim::sim {
 namespace {
@@ -93,7 +96,10 @@ void AddAdhesionMjcf(const Scenario& scenario, const AdhesionParams& params,
 }
 
 AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& params, World& world)
-    : params_(params), world_(&world) {
+    : params_(params),
+      seed_(scenario.seed),
+      weak_patches_(scenario.scene.weak_patches),
+      world_(&world) {
   mjModel* m = world.model();
   adhesion::AdhesionSystemParams sys;
   sys.pads = AdhesionPadSpecs(scenario, params, m, world.robot());
@@ -123,11 +129,15 @@ AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& p
     pad_of_leg_[leg] = pad;
     if (pad >= 0) leg_of_pad_[pad] = static_cast<int>(leg);
   }
+  fail_at_s_.assign(system_->size(), std::numeric_limits<double>::infinity());
+  attach_count_.assign(system_->size(), 0);
 }
 
 void AdhesionEffect::Reset(World& world, RunContext& ctx) {
   legs_ = ctx.legs;
   events_ = ctx.events;
+  std::fill(fail_at_s_.begin(), fail_at_s_.end(), std::numeric_limits<double>::infinity());
+  std::fill(attach_count_.begin(), attach_count_.end(), 0);
   system_->Reset(world.model(), world.data(), this);
   FillSignals();
 }
@@ -138,8 +148,31 @@ void AdhesionEffect::BeforeStep(World& world, RunContext&) {
 }
 
 void AdhesionEffect::AfterStep(World& world, RunContext&) {
-  system_->AfterStep(world.model(), world.data(), this);
+  mjModel* m = world.model();
+  mjData* d = world.data();
+  system_->AfterStep(m, d, this);
+  for (int i = 0; i < system_->size(); ++i) {
+    if (d->time >= fail_at_s_[i]) {
+      fail_at_s_[i] = std::numeric_limits<double>::infinity();
+      system_->pad(i).Fail(m, d, d->time, this);
+    }
+  }
   FillSignals();
+}
+
+void AdhesionEffect::DrawDisturbances(int pad, double time_s) {
+  adhesion::StickyPad& p = system_->pad(pad);
+  const long n = attach_count_[pad]++;
+  fail_at_s_[pad] = std::numeric_limits<double>::infinity();
+  if (params_.pad_failure_probability > 0.0 &&
+      UnitDraw(seed_, kStreamPadFailure, pad, 2 * n) < params_.pad_failure_probability) {
+    fail_at_s_[pad] =
+        time_s + params_.pad_failure_window_s * UnitDraw(seed_, kStreamPadFailure, pad, 2 * n + 1);
+  }
+  if (weak_patches_) {
+    const adhesion::PadFrame face = adhesion::FaceFrame(world_->data(), p.geometry());
+    p.SetStrengthScale(PatchStrength(*weak_patches_, seed_, face.pos.x(), face.pos.y()));
+  }
 }
 
 bool AdhesionEffect::RequestRelease(int pad) {
@@ -174,6 +207,7 @@ void AdhesionEffect::FillSignals() {
 }
 
 void AdhesionEffect::OnPadEvent(int pad, const adhesion::PadEvent& e) {
+  if (e.kind == adhesion::PadEventKind::kAttach) DrawDisturbances(pad, e.time_s);
   if (events_ == nullptr) return;
   Event row;
   row.time_s = e.time_s;
@@ -215,6 +249,7 @@ void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {
     j["detach_overload"] = c.detach_overload;
     j["detach_released"] = c.detach_released;
     j["detach_contact_lost"] = c.detach_contact_lost;
+    j["detach_failure"] = c.detach_failure;
     j["attached_at_end"] = p.attached();
     j["bonded_fraction_at_end"] = p.bonded_fraction();
     pads[system_->pad_name(i)] = j;

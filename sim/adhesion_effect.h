@@ -12,6 +12,13 @@
 // attached, bonded_fraction, normal_load_n, preload_n, bonds_lost) and lets a pad go with
 // RequestRelease.
 //
+// Disturbances (`climbsim bench robustness`): with adhesion.pad_failure_probability p each
+// attach draws (from the seed, the pad and its attach count) whether it fails and when
+// (uniform in [0, pad_failure_window_s)); at that time, if still attached, the pad fails
+// (StickyPad::Fail: bonds_lost, detach cause "failure"). With scene.weak_patches each attach
+// sets the pad's σ_T scale from the patch under its face centre (sim/surface.h). Both are
+// decided in the attach event and checked each AfterStep without allocating.
+//
 // Values that change nothing in the MJCF's structure (weld solref, actuator gains) are set
 // on the run's own model copy, so one compiled model serves scenarios that differ only in
 // them.
@@ -19,6 +26,7 @@
 #define CLIMBSIM_SIM_ADHESION_EFFECT_H_
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,7 +94,13 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
   void OnPadEvent(int pad, const adhesion::PadEvent& e) override;
   void FillSignals();
 
+  void DrawDisturbances(int pad, double time_s);
+
   AdhesionParams params_;
+  int seed_ = 0;
+  std::optional<WeakPatchParams> weak_patches_;
+  std::vector<double> fail_at_s_;     // per pad: when this attachment fails; +inf: it does not
+  std::vector<long> attach_count_;    // per pad, since Reset: the draws' index
   World* world_;
   std::unique_ptr<adhesion::AdhesionSystem> system_;
   std::vector<int> pad_of_leg_;

@@ -100,8 +100,9 @@ class YamlReadArchive {
   void Visit(const Field& f, int* v) {
     Place(f);
     if (f.required && !map_.Has(f.key)) throw map_.Error(f.key, "is required");
-    *v = map_.Int(f.key, *v, static_cast<int>(std::max(f.range.lo, -2e9)),
-                  static_cast<int>(std::min(f.range.hi, 2e9)));
+    // The whole int range is allowed (seed: up to 2147483647, as documented).
+    *v = map_.Int(f.key, *v, static_cast<int>(std::max(f.range.lo, -2147483648.0)),
+                  static_cast<int>(std::min(f.range.hi, 2147483647.0)));
   }
   void Visit(const Field& f, bool* v) {
     Place(f);

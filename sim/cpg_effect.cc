@@ -1,6 +1,7 @@
 #include "sim/cpg_effect.h"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace climbsim::sim {
@@ -169,7 +170,11 @@ void CpgEffect::InitialPose(World& world, RunContext& ctx) {
   }
 }
 
-void CpgEffect::Reset(World& world, RunContext& ctx) { WriteTargets(world, ctx); }
+void CpgEffect::Reset(World& world, RunContext& ctx) {
+  hold_since_s_ = -1.0;
+  hold_ = Hold{};
+  WriteTargets(world, ctx);
+}
 
 void CpgEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
@@ -188,14 +193,31 @@ void CpgEffect::Feedback(RunContext& ctx) {
   // Legs in swing go on (their feet are free), so the legs being waited for can land.
   // hold_stance ("do not leave stance yet") acts where the leg would leave: at the gate.
   bool hold = ctx.hold_all_stance;
+  Hold why{hold ? HoldCause::kReflexAll : HoldCause::kNone};
   for (size_t i = 0; i < legs.size() && !hold; ++i) {
     const bool leaving = legs[i].stance && legs[i].progress >= gate;
     hold = legs[i].hold_phase || (leaving && legs[i].hold_stance);
+    if (hold) {
+      why = {legs[i].hold_phase ? HoldCause::kHoldPhase : HoldCause::kHoldStance,
+             static_cast<int>(i)};
+    }
     if (params_.wait_for_support && leaving) {
       for (int j : support_[i]) {
-        hold |= !legs[j].attached || legs[j].bonded_fraction < params_.support_bond_fraction;
+        if (hold) break;
+        hold = !legs[j].attached || legs[j].bonded_fraction < params_.support_bond_fraction;
+        if (hold) {
+          why = {HoldCause::kWaitForSupport, j, static_cast<int>(i), legs[j].attached,
+                 legs[j].bonded_fraction};
+        }
       }
     }
+  }
+  // Stall watch: when the current hold began, and what holds it now.
+  if (!hold) {
+    hold_since_s_ = -1.0;
+  } else {
+    if (hold_since_s_ < 0) hold_since_s_ = ctx.time_s;
+    hold_ = why;
   }
   for (size_t i = 0; i < legs.size(); ++i) {
     double f = 0.0;
@@ -246,7 +268,48 @@ void CpgEffect::WriteTargets(World& world, RunContext& ctx) {
   }
 }
 
-void CpgEffect::Summarise(const World&, nlohmann::json* summary) const {
+void CpgEffect::Summarise(const World& world, nlohmann::json* summary) const {
+  // Stalled: the gait has been held for at least two strides (and 1 s) when the run ends.
+  const double end_s = world.data()->time;
+  const double stall_after_s = std::max(1.0, 2.0 / params_.frequency_hz);
+  if (hold_since_s_ >= 0.0 && end_s - hold_since_s_ >= stall_after_s) {
+    const auto& legs = world.robot().legs;
+    const auto name = [&](int leg) {
+      return leg >= 0 && leg < static_cast<int>(legs.size()) ? legs[leg].name : std::string("?");
+    };
+    std::string reason;
+    std::string leg = name(hold_.leg);
+    switch (hold_.cause) {
+      case HoldCause::kWaitForSupport: {
+        char buf[200];
+        if (hold_.attached) {
+          std::snprintf(buf, sizeof(buf), "bonded fraction %.3f < cpg.support_bond_fraction %.3f",
+                        hold_.bonded_fraction, params_.support_bond_fraction);
+        } else {
+          std::snprintf(buf, sizeof(buf), "pad not attached");
+        }
+        reason = "cpg.wait_for_support: " + name(hold_.waiting_leg) + " waits to swing for " + leg +
+                 " (" + buf + ")";
+        break;
+      }
+      case HoldCause::kHoldPhase:
+        reason = "reflex: " + leg + " holds its phase";
+        break;
+      case HoldCause::kHoldStance:
+        reason = "reflex: " + leg + " holds stance";
+        break;
+      case HoldCause::kReflexAll:
+        leg = "all";
+        reason = "reflex: every stance leg is held (re-grip)";
+        break;
+      case HoldCause::kNone:
+        break;
+    }
+    (*summary)["stalled"] = true;
+    (*summary)["stall_time_s"] = hold_since_s_;
+    (*summary)["stall_leg"] = leg;
+    (*summary)["stall_reason"] = reason;
+  }
   (*summary)["cpg"] = {{"oscillator", params_.oscillator},
                        {"gait", params_.gait.empty() ? "explicit" : params_.gait},
                        {"duty_factor", *params_.duty_factor},

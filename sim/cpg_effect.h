@@ -14,6 +14,9 @@
 //             legs in swing go on, so the legs being waited for can land. A leg holding its
 //             phase (hold_phase, a peel) pauses in swing too.
 // Reflex offsets (LegSignals::offset_rad) are added to the targets.
+// A stall: a hold that lasts to the end of the run, at least two strides (2 / frequency_hz)
+// and 1 s long. Summarise then sets summary.json's stalled, stall_time_s (the hold's start),
+// stall_leg (the leg that holds: the one waited for) and stall_reason.
 #ifndef CLIMBSIM_SIM_CPG_EFFECT_H_
 #define CLIMBSIM_SIM_CPG_EFFECT_H_
 
@@ -68,6 +71,18 @@ class CpgEffect final : public Effect {
   double period_s_ = 0.0;
   std::vector<double> feedback_;  // rad/s per oscillator, sized once
   std::vector<uint8_t> held_;     // oscillators held this tick
+
+  // What holds the gait (a stall when it lasts to the end of the run: Summarise).
+  enum class HoldCause : uint8_t { kNone, kReflexAll, kHoldPhase, kHoldStance, kWaitForSupport };
+  struct Hold {
+    HoldCause cause = HoldCause::kNone;
+    int leg = -1;          // the leg that holds: the one waited for, or the one asking
+    int waiting_leg = -1;  // wait_for_support: the leg that cannot swing
+    bool attached = false;
+    double bonded_fraction = 0.0;
+  };
+  double hold_since_s_ = -1.0;  // start of the current hold, -1 when none
+  Hold hold_;
 };
 
 }  // namespace climbsim::sim

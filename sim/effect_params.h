@@ -144,6 +144,8 @@ struct AdhesionParams {
   double ctrl = 1.0;
   double reach_m = 0.001;
   std::vector<AdhesionPadOverride> pad_overrides;
+  double pad_failure_probability = 0.0;
+  double pad_failure_window_s = 1.0;
 
   template <class A>
   void Serialize(A* a) {
@@ -169,6 +171,8 @@ struct AdhesionParams {
     a->Visit({"ctrl", "", "model mujoco: actuator ctrl while attached", Range::Closed(0, 1)}, &ctrl);
     a->Visit({"reach_m", "m", "model mujoco: pad geom margin = gap, so the actuator pulls a pad this close to a surface", Range::Closed(0, 0.1)}, &reach_m);
     a->Visit({"pad_overrides", "", "per-pad changes: a list of maps with pad and any of sigma_t_pa, mu, gain_n"}, &pad_overrides);
+    a->Visit({"pad_failure_probability", "", "each attachment fails with this probability (drawn from seed): all its bonds break at once (detach cause failure) at a time uniform in [0, pad_failure_window_s) after the attach, if the pad still holds then", Range::Closed(0, 1)}, &pad_failure_probability);
+    a->Visit({"pad_failure_window_s", "s", "pad failures: the window after an attach in which a failing pad fails (about one stance of the example gaits: 1.25 s gecko, 0.95 s spider)", Range::Positive()}, &pad_failure_window_s);
   }
 
   void Validate(const Checker& c) const {

@@ -1,5 +1,6 @@
 #include "sim/scenario.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -34,9 +35,28 @@ const std::vector<std::string>& BuiltinScenes() {
 
 }  // namespace
 
+namespace {
+std::string& PackageMjcfDir() {
+  static std::string dir;
+  return dir;
+}
+}  // namespace
+
+void SetPackageMjcfDir(const char* dir) { PackageMjcfDir() = dir; }
+
 std::string MjcfDir() {
   if (const char* env = std::getenv("CLIMBSIM_MJCF_DIR"); env != nullptr && *env != '\0') {
     return env;
+  }
+  // An installed package: the folder its climbsimConfig.cmake registered.
+  if (!PackageMjcfDir().empty()) return PackageMjcfDir();
+  std::error_code ec;
+  if (std::filesystem::is_directory(CLIMBSIM_DEFAULT_MJCF_DIR, ec)) return CLIMBSIM_DEFAULT_MJCF_DIR;
+  // An installed climbsim tool: PREFIX/bin/climbsim → PREFIX/share/climbsim/mjcf.
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share/climbsim/mjcf";
+    if (std::filesystem::is_directory(installed, ec)) return installed.string();
   }
   return CLIMBSIM_DEFAULT_MJCF_DIR;
 }
@@ -90,6 +110,26 @@ Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
     if (!s.scene.incline_deg) s.scene.incline_deg = 30.0;
   } else if (s.scene.incline_deg) {
     throw ScenarioError(s, "scene.incline_deg", "applies to the incline scene only");
+  }
+  // A run is bounded: 10^9 steps of 1 ns would run for days and write nothing. (Without
+  // physics.timestep_s the scene's step applies: Simulation checks the same bound.)
+  if (const double steps = s.duration_s / s.physics.timestep_s.value_or(1.0);
+      s.physics.timestep_s && steps > kMaxScenarioSteps) {
+    throw ScenarioError(
+        s, "physics.timestep_s",
+        "duration_s / physics.timestep_s asks for " +
+            (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
+            " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
+            ": raise the time step or shorten the run");
+  }
+  // A push that starts after the end of the run would silently never happen.
+  for (size_t i = 0; i < s.perturbations.size(); ++i) {
+    if (s.perturbations[i].time_s >= s.duration_s) {
+      throw ScenarioError(s, "perturbations[" + std::to_string(i) + "].time_s",
+                          "must be before the end of the run (duration_s " +
+                              ExactNumber(s.duration_s) + " s), got " +
+                              ExactNumber(s.perturbations[i].time_s));
+    }
   }
   return s;
 }

@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,15 +18,73 @@
 
 namespace climbsim::sim {
 
+// Weak patches of the surface (a disturbance of `climbsim bench robustness`): the plane z = 0
+// is cut into square cells of side size_m from the origin; each cell is weak with
+// probability coverage, drawn from the scenario's seed (a hash of seed and cell: the same
+// layout in every run with that seed). A pad that attaches with its face centre over a weak
+// cell has σ_T times `fraction` for that attachment (sim/adhesion_effect.h).
+struct WeakPatchParams {
+  double fraction = 0.5;
+  double size_m = 0.05;
+  double coverage = 0.3;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"fraction", "", "sigma_T on a weak patch as a fraction of adhesion.sigma_t_pa (bonds model)", Range::OpenClosed(0, 1)}, &fraction);
+    a->Visit({"size_m", "m", "side of the square cells the surface is cut into", Range::Positive()}, &size_m);
+    a->Visit({"coverage", "", "share of the cells that are weak (which ones: drawn from seed)", Range::Closed(0, 1)}, &coverage);
+  }
+};
+
+// A rough surface: square-topped box bumps standing height_m proud of the plane z = 0, one per
+// cell of a grid of pitch spacing_m over extent_m, each moved within its cell by a draw from
+// the scenario's seed. Bumps under the robot's starting footprint are left out, so a robot
+// that starts attached still starts on the plane. They belong to the world body and collide
+// like the scene; pads stick to their tops (and to the plane between them) like to the plane.
+struct RoughnessParams {
+  double height_m = 0.002;
+  double spacing_m = 0.04;
+  double size_m = 0.015;
+  std::vector<double> extent_m{-0.3, 1.2, -0.25, 0.25};
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"height_m", "m", "height of every bump above the surface", Range::OpenClosed(0, 0.1)}, &height_m);
+    a->Visit({"spacing_m", "m", "pitch of the grid of bumps", Range::OpenClosed(0, 1)}, &spacing_m);
+    a->Visit({"size_m", "m", "side of a bump's square top (at most spacing_m)", Range::OpenClosed(0, 1)}, &size_m);
+    a->Visit({"extent_m", "m", "area covered: x_min, x_max, y_min, y_max on the plane z = 0"}, &extent_m, 4);
+  }
+
+  void Validate(const Checker& c) const {
+    if (size_m > spacing_m) c.Fail("size_m", "must be <= spacing_m");
+    if (extent_m[1] <= extent_m[0] || extent_m[3] <= extent_m[2]) {
+      c.Fail("extent_m", "must be [x_min, x_max, y_min, y_max] with x_min < x_max, y_min < y_max");
+    }
+    const double n = std::ceil((extent_m[1] - extent_m[0]) / spacing_m) *
+                     std::ceil((extent_m[3] - extent_m[2]) / spacing_m);
+    if (n > 5000) c.Fail("spacing_m", "gives " + std::to_string(static_cast<long>(n)) + " bumps over extent_m; at most 5000");
+  }
+};
+
 struct SceneParams {
   static constexpr const char* kShorthandKey = "name";  // "scene: wall" means {name: wall}
   std::string name = "floor";
   std::optional<double> incline_deg;  // incline scene only; 30 when not given
+  std::optional<WeakPatchParams> weak_patches;
+  std::optional<RoughnessParams> roughness;
 
   template <class A>
   void Serialize(A* a) {
     a->Visit({"name", "", "floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet, or a path to an MJCF scene file", {}, true}, &name);
     a->Visit({"incline_deg", "deg", "slope of the incline scene, default 30 (0 floor, 90 wall, 180 ceiling); gravity is rotated, uphill is +x; incline scene only", Range::Closed(0, 180)}, &incline_deg);
+    a->Visit({"weak_patches", "", "weak patches of the surface where sigma_T is a fraction of the rest (floor, wall, ceiling, incline); absent: none"}, &weak_patches);
+    a->Visit({"roughness", "", "bumps on the surface (floor, wall, ceiling, incline); absent: a flat surface"}, &roughness);
+  }
+
+  void Validate(const Checker& c) const {
+    const bool plane = name == "floor" || name == "wall" || name == "ceiling" || name == "incline";
+    if (weak_patches && !plane) c.Fail("weak_patches", "applies to the plane scenes only (floor, wall, ceiling, incline)");
+    if (roughness && !plane) c.Fail("roughness", "applies to the plane scenes only (floor, wall, ceiling, incline)");
   }
 };
 
@@ -76,13 +135,16 @@ struct OutputParams {
 struct FallParams {
   double drop_m = 0.1;
   double turn_over_deg = 90.0;
-  bool stop = false;
+  bool stop = true;
 
   template <class A>
   void Serialize(A* a) {
     a->Visit({"drop_m", "m", "the robot has fallen when its base drops this far along gravity below the highest point it reached, or turns over", Range::Positive()}, &drop_m);
     a->Visit({"turn_over_deg", "deg", "the robot has turned over when its base normal is more than this from the normal it started with (a floor-to-wall climb turns it by 90 deg on purpose)", Range::OpenClosed(0, 180)}, &turn_over_deg);
-    a->Visit({"stop", "", "end the run at the fall (the optimiser does; simulate goes on by default)"}, &stop);
+    a->Visit({"stop", "",
+              "end the run at the fall (default); false simulates on to duration_s (distance_m "
+              "stays the distance up to the fall)"},
+             &stop);
   }
 };
 
@@ -93,6 +155,7 @@ struct Scenario {
   int seed = 0;
   PhysicsParams physics;
   InitialParams initial;
+  double payload_kg = 0.0;
   std::optional<AdhesionParams> adhesion;
   std::optional<ReflexParams> reflex;
   std::optional<CpgParams> cpg;
@@ -113,6 +176,7 @@ struct Scenario {
     a->Visit({"seed", "", "seed of every random draw in the run", Range::Closed(0, 2147483647)}, &seed);
     a->Visit({"physics", "", "MuJoCo options"}, &physics);
     a->Visit({"initial", "", "initial pose"}, &initial);
+    a->Visit({"payload_kg", "kg", "extra mass carried rigidly by the base body, spread like the base's own mass (same centre of mass and radii of gyration)", Range::Closed(0, 1000)}, &payload_kg);
     a->Visit({"adhesion", "", "effect: dry-adhesive pads (welds and bond grids, or MuJoCo's adhesion actuator); absent: pads are ordinary contacts"}, &adhesion);
     a->Visit({"reflex", "", "effect: leg reflexes (preload, search, peel, re-grip, load, stretch) on top of the CPG; needs cpg"}, &reflex);
     a->Visit({"cpg", "", "effect: the central pattern generator driving the leg servos; absent: servos hold the neutral pose"}, &cpg);
@@ -122,6 +186,13 @@ struct Scenario {
     a->Visit({"optimise", "", "what `climbsim optimise` tunes and how (docs/optimise.md); simulate ignores it but reports the objective"}, &optimise);
   }
 };
+
+// The most steps a scenario may ask for (duration_s / physics.timestep_s); the same bound as
+// sim::kMaxSteps, checked at load with the key's place.
+inline constexpr double kMaxScenarioSteps = 1e8;
+// The most rows trajectory.csv may get (duration_s times outputs.trajectory_rate_hz, at most
+// one per step): 2·10^6, 5.5 h at 100 Hz, about 0.6 GB in memory for the spider.
+inline constexpr double kMaxTrajectoryRows = 2e6;
 
 // Parses a scenario from a YAML tree (file names the source in messages). Throws
 // InputError for any unknown key, wrong type or value out of range, with file:line:col.
@@ -138,8 +209,12 @@ std::string ScenarioToYamlText(const Scenario& scenario);
 std::vector<DocArchive::Row> ScenarioKeys();
 std::string ScenarioKeysMarkdown();
 
-// The folder of the bundled MJCF models: $CLIMBSIM_MJCF_DIR, else the source tree's mjcf/.
+// The folder of the bundled MJCF models: $CLIMBSIM_MJCF_DIR; else an installed package's
+// (registered by sim/sim.h in a program built against it, SetPackageMjcfDir); else the
+// source tree's mjcf/ when it exists; else PREFIX/share/climbsim/mjcf beside an installed
+// PREFIX/bin/climbsim.
 std::string MjcfDir();
+void SetPackageMjcfDir(const char* dir);
 // "gecko" → <MjcfDir>/gecko.xml, "wall" → <MjcfDir>/scenes/wall.xml; a path is returned as
 // given (already made absolute by ParseScenario).
 std::string RobotFile(const Scenario& scenario);

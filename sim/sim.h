@@ -10,9 +10,21 @@
 #define CLIMBSIM_SIM_SIM_H_
 
 #include "sim/bench_speed.h"
+#include "sim/controller.h"
 #include "sim/input_error.h"
+#include "sim/run_folder.h"
 #include "sim/scenario.h"
 #include "sim/simulation.h"
+#include "sim/surface.h"
 #include "sim/world.h"
+
+#ifdef CLIMBSIM_PACKAGE_MJCF_DIR
+// Set by climbsimConfig.cmake for programs built against an installed climbsim: the bundled
+// models are found in the package (PREFIX/share/climbsim/mjcf) before the program starts.
+namespace climbsim::sim::detail {
+inline const bool kPackageMjcfDirRegistered =
+    (SetPackageMjcfDir(CLIMBSIM_PACKAGE_MJCF_DIR), true);
+}  // namespace climbsim::sim::detail
+#endif
 
 #endif  // CLIMBSIM_SIM_SIM_H_

@@ -1,18 +1,19 @@
 #include "sim/simulation.h"
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <unistd.h>
-
-#include <Eigen/Geometry>
+#include <mutex>
 
 #include "sim/adhesion_effect.h"
+#include "sim/controller.h"
 #include "sim/cpg_effect.h"
 #include "sim/perturbation_effect.h"
 #include "sim/reflex_effect.h"
+#include "sim/surface.h"
 #include "sim/trajectory.h"
 
 namespace climbsim::sim {
@@ -47,11 +48,39 @@ Eigen::Vector3d BasePos(const mjData* d, const RobotInfo& r) {
   return {q[0], q[1], q[2]};
 }
 
+// MuJoCo's last warning on this thread: a fixed buffer, so the handler never allocates.
+thread_local char mujoco_warning[512] = "";
+
+void KeepMujocoWarning(const char* msg) {
+  std::strncpy(mujoco_warning, msg, sizeof(mujoco_warning) - 1);
+  mujoco_warning[sizeof(mujoco_warning) - 1] = '\0';
+}
+
+void PrintMujocoError(const char* msg) {
+  std::fprintf(stderr, "climbsim: MuJoCo error: %s\n", msg);
+  std::exit(1);
+}
+
 }  // namespace
+
+void InstallMujocoHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mju_user_warning = KeepMujocoWarning;
+    if (mju_user_error == nullptr) mju_user_error = PrintMujocoError;
+  });
+}
+
+std::string TakeMujocoWarning() {
+  std::string s = mujoco_warning;
+  mujoco_warning[0] = '\0';
+  return s;
+}
 
 MjcfAdditions EffectAdditions(const Scenario& scenario) {
   MjcfAdditions additions;
   if (scenario.adhesion) AddAdhesionMjcf(scenario, *scenario.adhesion, &additions);
+  additions.worldbody += RoughnessMjcf(scenario);
   return additions;
 }
 
@@ -59,8 +88,31 @@ std::unique_ptr<CompiledModel> CompileScenario(const Scenario& scenario) {
   return CompiledModel::Build(scenario, EffectAdditions(scenario));
 }
 
-Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
+Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
+                       std::shared_ptr<Controller> controller)
     : scenario_(scenario), world_(compiled, scenario_) {
+  InstallMujocoHandlers();
+  // Bounds before anything is sized for the run: steps, and rows of trajectory.csv.
+  const double steps = scenario_.duration_s / world_.model()->opt.timestep;
+  if (steps > kMaxScenarioSteps) {
+    throw ScenarioError(
+        scenario_, "physics.timestep_s",
+        "duration_s / timestep_s asks for " +
+            (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
+            " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
+            ": raise the time step or shorten the run");
+  }
+  const double rate_hz = scenario_.outputs.trajectory_rate_hz;
+  if (rate_hz > 0) {
+    const double every = std::max(1.0, std::round(1.0 / (rate_hz * world_.model()->opt.timestep)));
+    if (const double rows = steps / every; rows > kMaxTrajectoryRows) {
+      throw ScenarioError(scenario_, "outputs.trajectory_rate_hz",
+                          "would record " + std::to_string(std::llround(rows)) +
+                              " rows of trajectory.csv; at most " +
+                              std::to_string(std::llround(kMaxTrajectoryRows)) +
+                              ": lower the rate (0 records none) or shorten the run");
+    }
+  }
   const RobotInfo& robot = world_.robot();
   legs_.resize(robot.legs.size());
   // scenario.yaml records every physics option the run used, the scene's included.
@@ -97,15 +149,31 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
   if (scenario_.reflex && !scenario_.cpg) {
     throw ScenarioError(scenario_, "reflex", "needs the cpg block: reflexes act on its gait");
   }
+  // The controllers: the built-in CPG + reflexes when the scenario has a cpg block, then the
+  // user's; one effect runs the chain at the control period (sim/controller.h).
+  std::vector<std::shared_ptr<Controller>> chain;
+  double period_s = controller ? controller->control_period_s() : 0.0;
   if (scenario_.cpg) {
     auto cpg = std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_);
     scenario_.cpg = cpg->resolved();  // scenario.yaml shows the gait and defaults used
+    std::unique_ptr<ReflexEffect> reflex;
     if (scenario_.reflex) {
       // Before the CPG: its offsets and holds act at the same control tick.
-      effects_.push_back(std::make_unique<ReflexEffect>(scenario_, *scenario_.reflex, world_,
-                                                        *cpg, adhesion, leg_event_pad));
+      reflex = std::make_unique<ReflexEffect>(scenario_, *scenario_.reflex, world_, *cpg,
+                                              adhesion, leg_event_pad);
     }
-    effects_.push_back(std::move(cpg));
+    period_s = cpg->control_period_s();
+    chain.push_back(std::make_shared<CpgReflexController>(world_, ctx_, std::move(cpg),
+                                                          std::move(reflex)));
+  }
+  if (controller) chain.push_back(std::move(controller));
+  if (!chain.empty()) {
+    const int period_steps =
+        std::max(1, static_cast<int>(std::lround(period_s / world_.model()->opt.timestep)));
+    auto effect = std::make_unique<ControllerEffect>(world_, std::move(chain), period_steps,
+                                                     adhesion, scenario_.cpg.has_value());
+    controller_ = effect.get();
+    effects_.push_back(std::move(effect));
   }
   if (!scenario_.perturbations.empty()) {
     effects_.push_back(std::make_unique<PerturbationEffect>(scenario_, world_));
@@ -123,12 +191,13 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled)
     if (e->has_after_step()) after_.push_back(e.get());
   }
 
-  // Room for a few adhesion and reflex events per pad per stride at up to 10 strides a second.
-  const size_t capacity =
-      static_cast<size_t>(64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size()));
+  // Room for a few adhesion and reflex events per pad per stride at up to 10 strides a second,
+  // at most a million rows (a longer run counts the rest in events_dropped).
+  const size_t capacity = static_cast<size_t>(
+      std::min(1e6, 64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size())));
   events_.Configure(std::move(pad_names), capacity);
 
-  steps_total_ = std::lround(scenario_.duration_s / world_.model()->opt.timestep);
+  steps_total_ = std::lround(steps);
   Reset();
 }
 
@@ -147,6 +216,7 @@ void Simulation::Reset() {
   for (auto& e : effects_) e->InitialPose(world_, ctx_);
   mj_kinematics(m, d);
   for (auto& e : effects_) e->Reset(world_, ctx_);
+  world_.MarkStart();
 
   for (int w = 0; w < mjNWARNING; ++w) warnings_seen_[w] = d->warning[w].number;
   const RobotInfo& r = world_.robot();
@@ -202,6 +272,13 @@ bool Simulation::StepProfiled(Profile* p) {
   return ok;
 }
 
+double Simulation::Heading() const {
+  // The body's forward axis turned about the start surface normal.
+  const Eigen::Vector3d f = BaseAxis(world_.data(), world_.robot(), 0);
+  const Eigen::Vector3d side = up0_.cross(forward0_);
+  return std::atan2(f.dot(side), f.dot(forward0_)) * 180.0 / M_PI;
+}
+
 bool Simulation::Monitor() {
   const mjData* d = world_.data();
   const double t = ctx_.time_s + world_.model()->opt.timestep;
@@ -211,7 +288,10 @@ bool Simulation::Monitor() {
       std::snprintf(buf, sizeof(buf), "step %ld, t = %.6f s: %s at index %d", ctx_.step, t,
                     WarningName(w), d->warning[w].lastinfo);
       result_.stable = false;
-      result_.failure = buf;  // the run ends here; this one allocation is fine
+      result_.failure = buf;  // the run ends here; these allocations are fine
+      if (const std::string m = TakeMujocoWarning(); !m.empty()) {
+        result_.failure += " (MuJoCo: " + m + ")";
+      }
       return false;
     }
   }
@@ -239,6 +319,9 @@ bool Simulation::Monitor() {
     if (dropped || turned_over) {
       result_.fell = true;
       result_.fall_time_s = t;
+      result_.fall_cause = dropped ? "dropped" : "turned_over";
+      fall_pos_ = pos;
+      fall_heading_deg_ = Heading();
       if (scenario_.fall.stop) return false;
     }
   }
@@ -261,11 +344,11 @@ RunResult Simulation::Run(const std::function<void(double)>& progress) {
   result_.sim_time_s = ctx_.step * world_.model()->opt.timestep;
   result_.wall_time_s = wall.count();
   if (result_.stable) {
-    result_.distance_m = world_.scene().travel.dot(BasePos(d, r) - start_pos_);
-    // Heading: the body's forward axis turned about the start surface normal.
-    const Eigen::Vector3d f = BaseAxis(d, r, 0);
-    const Eigen::Vector3d side = up0_.cross(forward0_);
-    result_.heading_deg = std::atan2(f.dot(side), f.dot(forward0_)) * 180.0 / M_PI;
+    const Eigen::Vector3d& travel = world_.scene().travel;
+    result_.distance_at_end_m = travel.dot(BasePos(d, r) - start_pos_);
+    result_.distance_m =
+        result_.fell ? travel.dot(fall_pos_ - start_pos_) : result_.distance_at_end_m;
+    result_.heading_deg = result_.fell ? fall_heading_deg_ : Heading();
   }
   if (progress) progress(1.0);
   return result_;
@@ -285,10 +368,18 @@ nlohmann::json Simulation::Summary() const {
   j["stable"] = result_.stable;
   j["failure"] = result_.failure;
   j["distance_m"] = result_.distance_m;
-  j["mean_speed_mps"] = result_.sim_time_s > 0 ? result_.distance_m / result_.sim_time_s : 0.0;
+  j["mean_speed_mps"] = result_.mean_speed_mps();
   j["heading_deg"] = result_.heading_deg;
   j["fell"] = result_.fell;
   j["fall_time_s"] = result_.fell ? nlohmann::json(result_.fall_time_s) : nlohmann::json();
+  if (result_.fell) {
+    // How: the fall criterion that fired, and whether the run went on after it.
+    j["fall_cause"] = result_.fall_cause;
+    j["fall_stopped_run"] = scenario_.fall.stop;
+    if (!scenario_.fall.stop) j["distance_at_end_m"] = result_.distance_at_end_m;
+  }
+  // A gait that froze (CpgEffect::Summarise overwrites these when it did).
+  j["stalled"] = false;
   j["robot_mass_kg"] = world_.robot().mass_kg;
   j["actuator_work_j"] = result_.actuator_work_j;
   // Cost of transport: work per weight and distance (distance floored at 1 mm).
@@ -310,25 +401,16 @@ std::string Simulation::TrajectoryCsv() const {
 
 std::string Simulation::EventsCsv() const { return events_.ToCsv(world_.model()); }
 
-void WriteFileAtomic(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << content;
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(tmp);
-      throw std::runtime_error("cannot write " + path);
-    }
-  }
-  std::filesystem::rename(tmp, path);
+std::vector<std::string> ScenarioInputs(const Scenario& s) {
+  std::vector<std::string> inputs{s.source_file};
+  if (s.robot.find('/') != std::string::npos) inputs.push_back(RobotFile(s));
+  if (s.scene.name.find('/') != std::string::npos) inputs.push_back(SceneFile(s));
+  return inputs;
 }
 
-void WriteRunDirectory(const std::string& dir, const Simulation& sim,
-                       const nlohmann::json& extra) {
-  std::filesystem::create_directories(dir);
+void WriteRunFiles(const std::string& dir, const Simulation& sim, const nlohmann::json& extra) {
   WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
-  WriteFileAtomic(dir + "/model.xml", sim.world().compiled().xml());
+  WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
   const std::string traj = sim.TrajectoryCsv();
   if (!traj.empty()) WriteFileAtomic(dir + "/trajectory.csv", traj);
   WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());
@@ -336,6 +418,14 @@ void WriteRunDirectory(const std::string& dir, const Simulation& sim,
   nlohmann::json summary = sim.Summary();
   summary.update(extra);
   WriteFileAtomic(dir + "/summary.json", summary.dump(2) + "\n");
+}
+
+void WriteRunDirectory(const std::string& dir, const Simulation& sim, const nlohmann::json& extra,
+                       bool force) {
+  RunFolder folder(
+      dir, {.made_by = "simulate", .force = force, .inputs = ScenarioInputs(sim.scenario())});
+  WriteRunFiles(folder.path(), sim, extra);
+  folder.Commit();
 }
 
 }  // namespace climbsim::sim

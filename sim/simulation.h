@@ -5,15 +5,16 @@
 #ifndef CLIMBSIM_SIM_SIMULATION_H_
 #define CLIMBSIM_SIM_SIMULATION_H_
 
-#include <nlohmann/json.hpp>
-
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "sim/controller.h"
 #include "sim/effect.h"
 #include "sim/events.h"
+#include "sim/run_folder.h"
 #include "sim/scenario.h"
 #include "sim/world.h"
 
@@ -36,14 +37,29 @@ struct RunResult {
   double wall_time_s = 0.0;
   bool fell = false;
   double fall_time_s = -1.0;
-  double distance_m = 0.0;   // travel · base displacement
-  double heading_deg = 0.0;  // final heading about the start surface normal, 0 = as started
+  const char* fall_cause = "";  // "dropped" or "turned_over" when fell
+  // travel · base displacement, from the start to the end of the run or, when the robot
+  // fell, to the fall: a free fall (or a drift off the surface) after it is not progress.
+  double distance_m = 0.0;
+  double distance_at_end_m = 0.0;  // the same to the end of the run, fall or not
+  double heading_deg = 0.0;        // heading about the start surface normal (at the end, or at the
+                                   // fall), 0 = as started
   double actuator_work_j = 0.0;  // Σ over steps and actuators of |force · velocity| · dt
+
+  // distance_m over the time it took: to the fall when the robot fell, else the whole run.
+  double mean_speed_mps() const {
+    const double t = fell ? fall_time_s : sim_time_s;
+    return t > 0 ? distance_m / t : 0.0;
+  }
 };
 
 class Simulation {
  public:
-  Simulation(const Scenario& scenario, const CompiledModel& compiled);
+  // `controller` (optional) is the user's controller (sim/controller.h): it runs at each
+  // control tick after the built-in CPG + reflexes (when the scenario has a cpg block) and
+  // may change their command; without a cpg block it alone drives the servos.
+  Simulation(const Scenario& scenario, const CompiledModel& compiled,
+             std::shared_ptr<Controller> controller = nullptr);
   ~Simulation();
 
   // Back to t = 0 (mj_resetData, then each effect's Reset). The constructor calls it.
@@ -73,6 +89,10 @@ class Simulation {
   const Scenario& scenario() const { return scenario_; }
   const std::vector<std::unique_ptr<Effect>>& effects() const { return effects_; }
   const EventLog& events() const { return events_; }
+  // The effect that runs the controllers; null when the scenario has none.
+  const ControllerEffect* controller() const { return controller_; }
+  // The trajectory recorder; null when the trajectory is not recorded.
+  const TrajectoryRecorder* trajectory() const { return trajectory_; }
   std::vector<LegSignals>& legs() { return legs_; }
 
   // Outputs of the run so far.
@@ -82,12 +102,14 @@ class Simulation {
 
  private:
   bool Monitor();  // false to stop; fills result_
+  double Heading() const;  // deg, forward axis about the start normal
 
   Scenario scenario_;
   World world_;
   std::vector<std::unique_ptr<Effect>> effects_;
   std::vector<Effect*> before_, after_;
   TrajectoryRecorder* trajectory_ = nullptr;
+  ControllerEffect* controller_ = nullptr;
   std::vector<LegSignals> legs_;
   EventLog events_;
   RunContext ctx_;
@@ -99,16 +121,33 @@ class Simulation {
   Eigen::Vector3d start_pos_, up0_, forward0_, down_;
   double turn_over_cos_ = 0.0;  // cos of fall.turn_over_deg
   double highest_ = 0.0;
+  Eigen::Vector3d fall_pos_;  // base position at the fall
+  double fall_heading_deg_ = 0.0;
 };
 
-// Writes DIR/scenario.yaml, trajectory.csv, events.csv, summary.json and model.xml, each to
-// a temporary name first and then renamed, so a killed run never leaves half a file.
-// `extra` is merged into summary.json (figures computed outside sim, such as the objective).
-void WriteRunDirectory(const std::string& dir, const Simulation& sim,
-                       const nlohmann::json& extra = nlohmann::json::object());
+// The files a run reads: the scenario file, and the robot and scene files it names by path.
+// A run folder must not hold them (RunFolderOptions::inputs).
+std::vector<std::string> ScenarioInputs(const Scenario& scenario);
 
-// Writes `content` to `path` atomically (temporary file in the same folder, then rename).
-void WriteFileAtomic(const std::string& path, const std::string& content);
+// Writes the files of a run into `dir` (a RunFolder's path()): scenario.yaml, model.xml,
+// trajectory.csv (when recorded), events.csv and, last, summary.json. `extra` is merged into
+// summary.json (figures computed outside sim, such as the objective).
+void WriteRunFiles(const std::string& dir, const Simulation& sim,
+                   const nlohmann::json& extra = nlohmann::json::object());
+
+// WriteRunFiles into a RunFolder at `dir` made by "simulate", committed at once: the run
+// folder appears whole or not at all. Throws InputError when `dir` is refused
+// (sim/run_folder.h; `force` replaces an earlier climbsim run folder).
+void WriteRunDirectory(const std::string& dir, const Simulation& sim,
+                       const nlohmann::json& extra = nlohmann::json::object(), bool force = false);
+
+// Routes MuJoCo's warnings through climbsim instead of MUJOCO_LOG.TXT in the working folder:
+// a warning is kept (per thread, without allocating) for the run's failure message. Errors
+// keep MuJoCo's handler unless one is set (the climbsim executable sets its own). Called by
+// every Simulation; idempotent.
+void InstallMujocoHandlers();
+// The last MuJoCo warning text of this thread ("" when none since the last call), cleared.
+std::string TakeMujocoWarning();
 
 }  // namespace climbsim::sim
 

@@ -24,6 +24,8 @@ class TrajectoryRecorder final : public Effect {
   std::string ToCsv() const;
   const std::vector<std::string>& columns() const { return columns_; }
   int every_steps() const { return every_steps_; }
+  // The rows recorded so far, row-major (columns().size() values a row).
+  const std::vector<double>& rows() const { return rows_; }
 
  private:
   void Record(const World& world);

@@ -1,11 +1,17 @@
 #include "sim/world.h"
 
-#include "adhesion/adhesion.h"
-
+#include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <sstream>
+
+#include "adhesion/adhesion.h"
 
 namespace climbsim::sim {
 namespace {
@@ -25,8 +31,190 @@ std::vector<std::string> LegNames(const mjModel* m) {
   return names;
 }
 
+// A path as an XML attribute value: & < > " and ' as entities (a folder may be named so).
+std::string XmlAttribute(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+// The value of `name="..."` in the first <compiler> element of an MJCF text, "" when none.
+std::string CompilerAttribute(const std::string& text, const std::string& name) {
+  for (size_t at = text.find("<compiler"); at != std::string::npos;
+       at = text.find("<compiler", at + 1)) {
+    const size_t end = text.find('>', at);
+    const std::string element = text.substr(at, end == std::string::npos ? end : end - at);
+    for (const char quote : {'"', '\''}) {
+      const size_t key = element.find(" " + name + "=" + quote);
+      if (key == std::string::npos) continue;
+      const size_t from = key + name.size() + 3;
+      const size_t to = element.find(quote, from);
+      if (to != std::string::npos) return element.substr(from, to - from);
+    }
+  }
+  return "";
+}
+
+// MuJoCo 2.2.2 resolves a relative meshdir and texturedir (and mesh files without one) against
+// the top file's folder, which for the composed model is the working folder. A robot file
+// outside the bundled folder gets them resolved against its own folder instead: a <compiler>
+// after its include (the last one wins), with absolute paths.
+std::string RobotAssetDirs(const std::string& robot_file) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(robot_file).parent_path();
+  std::error_code ec;
+  if (dir.empty() || fs::equivalent(dir, fs::path(MjcfDir()), ec)) return "";
+  std::ifstream in(robot_file, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string attributes;
+  for (const char* name : {"meshdir", "texturedir"}) {
+    const fs::path given = CompilerAttribute(text, name);
+    const fs::path resolved = given.is_absolute() ? given : (dir / given).lexically_normal();
+    std::string value = resolved.string();
+    if (!value.empty() && value.back() != '/') value += '/';
+    attributes += std::string(" ") + name + "=\"" + XmlAttribute(value) + "\"";
+  }
+  return "  <compiler" + attributes + "/>\n";
+}
+
+std::string ReadMjcfFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// An attribute value with XML's five entities decoded (a folder may hold & or quotes).
+std::string XmlUnescape(const std::string& text) {
+  static const std::pair<const char*, char> kEntities[] = {
+      {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
+  std::string out;
+  for (size_t i = 0; i < text.size();) {
+    bool done = false;
+    for (const auto& [entity, c] : kEntities) {
+      if (text.compare(i, std::strlen(entity), entity) == 0) {
+        out += c;
+        i += std::strlen(entity);
+        done = true;
+        break;
+      }
+    }
+    if (!done) out += text[i++];
+  }
+  return out;
+}
+
+// Index just past the comments, processing instructions and blanks before position i.
+size_t SkipProlog(const std::string& xml, size_t i) {
+  while (i < xml.size()) {
+    if (std::isspace(static_cast<unsigned char>(xml[i]))) {
+      ++i;
+    } else if (xml.compare(i, 4, "<!--") == 0) {
+      const size_t end = xml.find("-->", i + 4);
+      i = end == std::string::npos ? xml.size() : end + 3;
+    } else if (xml.compare(i, 2, "<?") == 0) {
+      const size_t end = xml.find("?>", i + 2);
+      i = end == std::string::npos ? xml.size() : end + 2;
+    } else {
+      break;
+    }
+  }
+  return i;
+}
+
+// The children of an MJCF file's <mujoco> root, with its own includes expanded in turn
+// (MuJoCo splices an included file's root children in place of the <include>).
+std::string IncludedChildren(const std::string& path, int depth) {
+  if (depth > 16) throw std::runtime_error("includes nested too deep at " + path);
+  const std::string xml = ReadMjcfFile(path);
+  const size_t open = SkipProlog(xml, 0);
+  if (xml.compare(open, 7, "<mujoco") != 0) {
+    throw std::runtime_error(path + ": the root element is not <mujoco>");
+  }
+  const size_t open_end = xml.find('>', open);
+  if (open_end == std::string::npos) throw std::runtime_error(path + ": unterminated <mujoco>");
+  if (xml[open_end - 1] == '/') return "";  // <mujoco/>
+  const size_t close = xml.rfind("</mujoco>");
+  if (close == std::string::npos || close < open_end) {
+    throw std::runtime_error(path + ": no </mujoco>");
+  }
+  return ExpandIncludes(xml.substr(open_end + 1, close - open_end - 1),
+                        std::filesystem::path(path).parent_path().string(), depth + 1);
+}
 
 }  // namespace
+
+std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth) {
+  // A plain scan (no std::regex: GCC 12 warns falsely inside it under the sanitizers):
+  // comments are copied as they are, every <include file="..."/> is replaced.
+  std::string out;
+  size_t last = 0;
+  for (size_t at = 0; at < xml.size();) {
+    if (xml.compare(at, 4, "<!--") == 0) {
+      const size_t end = xml.find("-->", at + 4);
+      at = end == std::string::npos ? xml.size() : end + 3;
+      continue;
+    }
+    const bool include = xml.compare(at, 8, "<include") == 0 && at + 8 < xml.size() &&
+                         std::isspace(static_cast<unsigned char>(xml[at + 8]));
+    if (!include) {
+      ++at;
+      continue;
+    }
+    const size_t close = xml.find('>', at);
+    if (close == std::string::npos) throw std::runtime_error("unterminated <include");
+    const std::string element = xml.substr(at, close + 1 - at);
+    size_t key = element.find("file");
+    while (key != std::string::npos &&
+           !std::isspace(static_cast<unsigned char>(element[key - 1]))) {
+      key = element.find("file", key + 1);
+    }
+    size_t q = key == std::string::npos ? key : element.find_first_not_of(" \t\r\n", key + 4);
+    if (q != std::string::npos && element[q] == '=') {
+      q = element.find_first_not_of(" \t\r\n", q + 1);
+    } else {
+      q = std::string::npos;
+    }
+    if (q == std::string::npos || (element[q] != '"' && element[q] != '\'')) {
+      throw std::runtime_error("an <include> without file=\"...\": " + element);
+    }
+    const size_t q_end = element.find(element[q], q + 1);
+    if (q_end == std::string::npos) throw std::runtime_error("unterminated file= in " + element);
+    std::filesystem::path file = XmlUnescape(element.substr(q + 1, q_end - q - 1));
+    if (file.is_relative() && !base_dir.empty()) file = std::filesystem::path(base_dir) / file;
+    const std::string name = file.lexically_normal().string();
+    out.append(xml, last, at - last);
+    // The markers name the file only: model.xml holds no path of the machine it ran on.
+    const std::string base = std::filesystem::path(name).filename().string();
+    out += "<!-- climbsim: begin of " + base + " -->";
+    out += IncludedChildren(name, depth);
+    out += "<!-- climbsim: end of " + base + " -->";
+    at = last = close + 1;
+  }
+  out.append(xml, last, std::string::npos);
+  return out;
+}
 
 bool CustomNumeric(const mjModel* m, const char* name, int size, double* out) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, name);
@@ -38,8 +226,10 @@ bool CustomNumeric(const mjModel* m, const char* name, int size, double* out) {
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& add) {
   std::string xml = "<mujoco model=\"climbsim\">\n";
-  xml += "  <include file=\"" + scene_file + "\"/>\n";
-  xml += "  <include file=\"" + robot_file + "\"/>\n";
+  xml += "  <include file=\"" + XmlAttribute(scene_file) + "\"/>\n";
+  xml += "  <include file=\"" + XmlAttribute(robot_file) + "\"/>\n";
+  xml += RobotAssetDirs(robot_file);
+  if (!add.worldbody.empty()) xml += "  <worldbody>\n" + add.worldbody + "  </worldbody>\n";
   if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
   if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
   if (!add.actuator.empty()) xml += "  <actuator>\n" + add.actuator + "  </actuator>\n";
@@ -56,8 +246,13 @@ mjModel* CompileMjcf(const std::string& xml, std::string* error) {
 std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
                                                     const MjcfAdditions& additions) {
   std::unique_ptr<CompiledModel> c(new CompiledModel());
-  c->xml_ = ComposeMjcf(RobotFile(s), SceneFile(s), additions);
   std::string error;
+  try {
+    // Self-contained: what is compiled here is what the run folder's model.xml holds.
+    c->xml_ = ExpandIncludes(ComposeMjcf(RobotFile(s), SceneFile(s), additions), "");
+  } catch (const std::exception& e) {
+    throw ScenarioError(s, "robot", e.what());
+  }
   c->model_ = CompileMjcf(c->xml_, &error);
   if (c->model_ == nullptr) {
     throw ScenarioError(s, "robot", "MuJoCo cannot load the model: " + error);
@@ -166,7 +361,53 @@ World::World(const CompiledModel& compiled, const Scenario& s)
     mju_mulQuat(rotated, yaw_quat, q + 3);
     mju_copy4(q + 3, rotated);
   }
+  // Payload: on the base body, spread like its own mass.
+  const int base = compiled.robot().base_body;
+  const bool payload = s.payload_kg > 0.0 && base >= 0;
+  if (payload) {
+    const double k = (m->body_mass[base] + s.payload_kg) / m->body_mass[base];
+    m->body_mass[base] *= k;
+    for (int i = 0; i < 3; ++i) m->body_inertia[3 * base + i] *= k;
+  }
   data_ = mj_makeData(m);
+  if (payload) mj_setConst(m, data_);
+}
+
+void World::MarkStart() {
+  start_qpos_.assign(data_->qpos, data_->qpos + model_->nq);  // sized once: no allocation after
+}
+
+std::string World::Xml() const {
+  const mjModel* m = model_;
+  auto numbers = [](const double* v, int n) {
+    std::string s;
+    char buf[32];
+    for (int i = 0; i < n; ++i) {
+      if (i) s += ' ';
+      // Shortest text that reads back as the same double.
+      s.append(buf, std::to_chars(buf, buf + sizeof(buf), v[i]).ptr);
+    }
+    return s;
+  };
+  const char* integrator = m->opt.integrator == mjINT_EULER ? "Euler"
+                           : m->opt.integrator == mjINT_RK4 ? "RK4"
+                                                            : "implicit";
+  std::string run = "  <!-- climbsim: this run's values (the scenario's physics options win over the files';\n"
+                    "       key climbsim_start is the state the run started from) -->\n";
+  run += "  <option timestep=\"" + numbers(&m->opt.timestep, 1) + "\" gravity=\"" +
+         numbers(m->opt.gravity, 3) + "\" integrator=\"" + integrator + "\" iterations=\"" +
+         std::to_string(m->opt.iterations) + "\" tolerance=\"" + numbers(&m->opt.tolerance, 1) +
+         "\" noslip_iterations=\"" + std::to_string(m->opt.noslip_iterations) + "\" cone=\"" +
+         (m->opt.cone == mjCONE_ELLIPTIC ? "elliptic" : "pyramidal") + "\" impratio=\"" +
+         numbers(&m->opt.impratio, 1) + "\"/>\n";
+  const std::vector<double>& q =
+      start_qpos_.empty() ? std::vector<double>(m->qpos0, m->qpos0 + m->nq) : start_qpos_;
+  run += "  <keyframe>\n    <key name=\"climbsim_start\" qpos=\"" +
+         numbers(q.data(), m->nq) + "\"/>\n  </keyframe>\n";
+  std::string xml = compiled_.xml();
+  const size_t close = xml.rfind("</mujoco>");
+  xml.insert(close == std::string::npos ? xml.size() : close, run);
+  return xml;
 }
 
 World::~World() {

@@ -3,7 +3,7 @@
 // mjcf/README.md (legs, joints, pads). It depends only on the scenario's structure (robot,
 // scene, which effects), is compiled once and never changes. Each run owns a World: its own
 // mj_copyModel, on which the scenario's values (physics options, incline gravity, initial
-// pose) are set, and its mjData. Runs never share a model: MuJoCo 2.2.2 keeps run-time
+// pose, payload) are set, and its mjData. Runs never share a model: MuJoCo 2.2.2 keeps run-time
 // switches such as eq_active in mjModel.
 #ifndef CLIMBSIM_SIM_WORLD_H_
 #define CLIMBSIM_SIM_WORLD_H_
@@ -26,6 +26,7 @@ struct MjcfAdditions {
   std::string sensor;
   std::string actuator;
   std::string contact;
+  std::string worldbody;  // geoms of the world body (scene.roughness's bumps)
 };
 
 // One leg of the robot contract: ids resolved once so the step never looks up a name.
@@ -66,7 +67,8 @@ class CompiledModel {
   CompiledModel& operator=(const CompiledModel&) = delete;
 
   const mjModel* model() const { return model_; }
-  const std::string& xml() const { return xml_; }  // the composed top file
+  // The composed model, self-contained (includes expanded): the text MuJoCo compiled.
+  const std::string& xml() const { return xml_; }
   const RobotInfo& robot() const { return robot_; }
   const SceneInfo& scene() const { return scene_; }
 
@@ -87,7 +89,11 @@ PhysicsParams PhysicsOf(const mjModel* model);
 class World {
  public:
   // Copies the model and sets the scenario's physics options (those it gives; the others stay
-  // as the scene file has them), gravity and initial pose.
+  // as the scene file has them), gravity and initial pose. A payload (payload_kg) scales the
+  // base body's mass and inertia by (m_base + payload)/m_base (the payload spread like the
+  // base's own mass: same centre of mass, same radii of gyration), then mj_setConst
+  // recomputes what depends on masses (subtree masses, the constraint solver's inverse
+  // weights).
   World(const CompiledModel& compiled, const Scenario& scenario);
   ~World();
   World(const World&) = delete;
@@ -102,12 +108,21 @@ class World {
   // Gravity of this run (the scene's, rotated for an incline).
   const Eigen::Vector3d& gravity() const { return gravity_; }
   const CompiledModel& compiled() const { return compiled_; }
+  // Records the state the run starts from (Simulation::Reset calls it after the initial pose).
+  void MarkStart();
+  // This run's model as one self-contained MJCF file (the run folder's model.xml): the
+  // compiled text (every include expanded, climbsim's welds, sensors and actuators) plus an
+  // <option> with this run's physics values (timestep, gravity after an incline's rotation,
+  // solver) and a keyframe "climbsim_start" with the starting qpos (spawn and initial pose).
+  // `mujoco-compile model.xml` compiles it from any folder; no file outside it is read.
+  std::string Xml() const;
 
  private:
   const CompiledModel& compiled_;
   mjModel* model_;
   mjData* data_ = nullptr;
   Eigen::Vector3d gravity_;
+  std::vector<double> start_qpos_;
 };
 
 // A model's custom numeric `name` with at least `size` numbers into out; false when absent.
@@ -116,6 +131,13 @@ bool CustomNumeric(const mjModel* model, const char* name, int size, double* out
 // The composed top-level MJCF for a robot and a scene file (absolute paths).
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& additions);
+
+// `xml` with every <include file="..."/> replaced by the included file's root children (its
+// own includes expanded in turn; relative names resolve against base_dir, or against the
+// including file's folder inside an included file), each between "climbsim: begin of NAME"
+// and "end of NAME" comments (the file name only). Throws std::runtime_error when a file cannot be read. Asset files
+// (meshes, textures from files) are not copied: the bundled models use none.
+std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth = 0);
 
 // Compiles MJCF text through MuJoCo's VFS (no temporary files), with
 // adhesion::CompileMjcfString: the one loader of the program, serialised because MuJoCo's XML

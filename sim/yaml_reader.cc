@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -49,15 +50,69 @@ std::string Range::Describe() const {
   return "must be finite";
 }
 
+namespace {
+
+// Every list at most kMaxYamlListLength items and nesting at most 64 deep, from the root.
+void CheckShape(const YAML::Node& n, const std::string& path, int depth) {
+  if (depth > 64) {
+    throw InputError(path, n.Mark().line + 1, n.Mark().column + 1, "",
+                     "nested more than 64 levels deep");
+  }
+  if (n.IsSequence()) {
+    if (n.size() > kMaxYamlListLength) {
+      throw InputError(path, n.Mark().line + 1, n.Mark().column + 1, "",
+                       "a list of " + std::to_string(n.size()) + " items; at most " +
+                           std::to_string(kMaxYamlListLength) + " are allowed");
+    }
+    for (const auto& item : n) CheckShape(item, path, depth + 1);
+  } else if (n.IsMap()) {
+    if (n.size() > kMaxYamlListLength) {
+      throw InputError(path, n.Mark().line + 1, n.Mark().column + 1, "",
+                       "a map of " + std::to_string(n.size()) + " keys; at most " +
+                           std::to_string(kMaxYamlListLength) + " are allowed");
+    }
+    for (const auto& kv : n) CheckShape(kv.second, path, depth + 1);
+  }
+}
+
+}  // namespace
+
 YAML::Node LoadYamlFile(const std::string& path) {
-  std::ifstream in(path);
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) throw InputError(path, 0, 0, "", "file not found");
+  if (fs::is_directory(st)) {
+    throw InputError(path, 0, 0, "", "is a folder, not a scenario file (give the .yaml file)");
+  }
+  // A file or a pipe (read up to the bound); a device never ends (/dev/zero) or waits.
+  if (!fs::is_regular_file(st) && !fs::is_fifo(st)) {
+    throw InputError(path, 0, 0, "", "is not a regular file (a device?); give a .yaml file");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, 0, "", "cannot open file");
-  std::stringstream text;
-  text << in.rdbuf();
+  // Read at most the bound and one byte more: a huge file is refused without reading it all.
+  std::string text;
+  char buf[65536];
+  while (in && text.size() <= kMaxYamlFileBytes) {
+    in.read(buf, sizeof(buf));
+    text.append(buf, static_cast<size_t>(in.gcount()));
+  }
+  if (text.size() > kMaxYamlFileBytes) {
+    throw InputError(path, 0, 0, "",
+                     "larger than " + std::to_string(kMaxYamlFileBytes / (1 << 20)) +
+                         " MiB; a scenario file is a few kB");
+  }
   try {
-    YAML::Node root = YAML::Load(text.str());
-    if (root.IsNull()) throw InputError(path, 1, 1, "", "file is empty");
-    return root;
+    std::vector<YAML::Node> docs = YAML::LoadAll(text);
+    if (docs.size() > 1) {
+      const YAML::Mark m = docs[1].Mark();
+      throw InputError(path, m.line + 1, m.column + 1, "",
+                       "a second YAML document ('---'): a scenario file holds one");
+    }
+    if (docs.empty() || docs[0].IsNull()) throw InputError(path, 1, 1, "", "file is empty");
+    CheckShape(docs[0], path, 0);
+    return docs[0];
   } catch (const YAML::ParserException& e) {
     throw InputError(path, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
   }

@@ -33,7 +33,15 @@ struct Range {
   std::string Describe() const;  // "must be > 0", "must be in [0, 1]"
 };
 
-// Reads a whole file; a YAML syntax error becomes an InputError at its place.
+// Bounds on what a YAML file may hold: a scenario file is a few kB; without bounds /dev/zero
+// or a 58 MB file would take gigabytes of memory before any check.
+inline constexpr size_t kMaxYamlFileBytes = 4u << 20;  // 4 MiB
+inline constexpr size_t kMaxYamlListLength = 10000;    // items of a list, keys of a map
+
+// Reads a whole file: a regular file (or a pipe) of at most kMaxYamlFileBytes holding one YAML
+// document whose lists and maps are at most kMaxYamlListLength long and 64 deep. A YAML syntax
+// error, a folder, a device, a second document ('---') or a bound exceeded is an InputError at its
+// place.
 YAML::Node LoadYamlFile(const std::string& path);
 
 // "" when `text` holds no control character (bytes below 0x20, and 0x7f), else what is

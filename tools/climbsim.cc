@@ -8,6 +8,7 @@
 #include <exception>
 
 #include "sim/input_error.h"
+#include "sim/sim.h"
 #include "tools/commands.h"
 
 namespace {
@@ -22,6 +23,8 @@ void MujocoError(const char* msg) {
 
 int main(int argc, char** argv) {
   mju_user_error = MujocoError;
+  // MuJoCo's warnings go to climbsim's reports (a run's failure), not to MUJOCO_LOG.TXT.
+  climbsim::sim::InstallMujocoHandlers();
   CLI::App app{"climbsim: simulate, optimise and inspect bio-inspired climbing robots"};
   app.require_subcommand(1);
   app.footer(

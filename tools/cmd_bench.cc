@@ -1,4 +1,4 @@
-// climbsim bench speed|accuracy|optimise SCENARIO
+// climbsim bench speed|accuracy|optimise|robustness SCENARIO
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -8,6 +8,7 @@
 #include "optimise/optimise.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
+#include "tools/progress.h"
 
 namespace climbsim::tools {
 namespace {
@@ -79,8 +80,13 @@ void SpeedVersus(const std::string& file, const std::vector<std::string>& versus
 }
 
 void Accuracy(const std::string& file, double duration_s, int threads, const std::string& out) {
+  // A run folder (docs/run-folders.md), checked before the runs; an earlier bench's replaced.
+  sim::RunFolder folder(out, {.made_by = "bench",
+                              .force = sim::RunFolderMadeBy(out) == "bench",
+                              .inputs = {file}});
   const optimise::AccuracyReport r = optimise::BenchAccuracy(file, duration_s, threads);
-  const std::string warning = optimise::WriteAccuracy(out, r);
+  const std::string warning = optimise::WriteAccuracy(folder.path(), r);
+  folder.Commit();
   std::printf("climbsim bench accuracy: %s, %.1f s simulated per run\n", file.c_str(),
               r.duration_s);
   std::printf("  reference (finest of every knob): %.4f m climbed in %.2f s wall%s\n",
@@ -105,6 +111,7 @@ void OptimiseSpeed(const std::string& file, int evaluations, const std::string& 
   for (int threads : {1, 2}) {
     optimise::Options o;
     o.out_dir = out + "/threads" + std::to_string(threads);
+    o.force = sim::RunFolderMadeBy(o.out_dir) == "optimise";  // an earlier bench's run
     o.threads = threads;
     o.max_evaluations = evaluations;
     const optimise::Result r = optimise::Optimise(file, o);
@@ -139,6 +146,25 @@ void OptimiseSpeed(const std::string& file, int evaluations, const std::string& 
     }
     std::printf("  speed-up with 2 MPI ranks: %.2fx\n", mpi_rate[1] / mpi_rate[0]);
   }
+}
+
+// The largest disturbance of each family the robot survives, reflexes on and spindle + GTO off.
+void Robustness(const std::string& file, const optimise::RobustnessOptions& options,
+                const std::string& out) {
+  // A user's folder is sacred: refuse one that holds anything, before anything runs.
+  std::error_code error;
+  if (std::filesystem::exists(out, error) &&
+      (!std::filesystem::is_directory(out, error) || !std::filesystem::is_empty(out, error))) {
+    throw InputError("climbsim bench robustness", 0, 0, "--out",
+                     out + " exists and is not empty: choose a new folder");
+  }
+  Progress bar("robustness");
+  const optimise::RobustnessReport r =
+      optimise::BenchRobustness(file, options, [&](double f) { bar.Update(f); });
+  const std::string warning = optimise::WriteRobustness(out, r);
+  std::fputs(optimise::RobustnessTable(r).c_str(), stdout);
+  std::printf("  outputs %s/{robustness.csv,robustness.png}%s%s\n", out.c_str(),
+              warning.empty() ? "" : "  plot: ", warning.c_str());
 }
 
 }  // namespace
@@ -190,6 +216,50 @@ void AddBenchCommand(CLI::App& app) {
   opt->add_option("--out", out_dir, "folder for the two optimisation runs");
   opt->footer("Example:\n  climbsim bench optimise examples/gecko_wall.yaml --evaluations 8");
   opt->callback([] { OptimiseSpeed(file, evaluations, out_dir); });
+
+  static optimise::RobustnessOptions robust;
+  static std::string robust_out, families;
+  auto* rob = cmd->add_subcommand(
+      "robustness",
+      "largest disturbance of each family survived, reflexes on and spindle + GTO off");
+  rob->add_option("scenario", file, "scenario file")->required();
+  rob->add_option("--out", robust_out, "new (or empty) folder for robustness.csv and robustness.png")
+      ->required();
+  rob->add_option("--duration", robust.duration_s, "simulated seconds per run (0: the scenario's)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  rob->add_option("--seeds", robust.seeds, "cases per magnitude (start jitter, random draws)")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  rob->add_option("--phases", robust.phases, "push times spread over one gait cycle")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  rob->add_option("--push-time", robust.push_time_s, "first push [s] (at most a third of the duration)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  rob->add_option("--families", families,
+                  "comma-separated: push_off, push_down, push_side, payload, pad_failure, "
+                  "weak_patch, roughness (default: all the scenario can take)");
+  rob->add_option("--threads", robust.threads, "searches side by side (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+  rob->footer(
+      "Survived: no fall and at least half the undisturbed distance, in every seed (and push "
+      "phase); bisection to 10 %.\nExample:\n  climbsim bench robustness examples/gecko_wall.yaml "
+      "--duration 3 --seeds 1 --phases 1 --families push_down,pad_failure --out "
+      "runs/robustness_quick");
+  rob->callback([] {
+    robust.families.clear();
+    std::string cur;
+    for (char c : families + ",") {
+      if (c == ',') {
+        if (!cur.empty()) robust.families.push_back(cur);
+        cur.clear();
+      } else if (c != ' ') {
+        cur += c;
+      }
+    }
+    Robustness(file, robust, robust_out);
+  });
 }
 
 }  // namespace climbsim::tools

@@ -6,6 +6,7 @@
 
 #include "inspect/inspect.h"
 #include "sim/input_error.h"
+#include "sim/run_folder.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 
@@ -76,6 +77,14 @@ void AddInspectCommand(CLI::App& app) {
                  stdout);
     }
     if (plots) {
+      // The plots go beside the run's data and never over it.
+      std::vector<std::string> names{"gait", "path"};
+      for (const auto& l : run.legs) names.push_back("pad_" + l);
+      for (const auto& n : names) {
+        for (const char* ext : {".png", ".svg"}) {
+          sim::CheckFileOutput(run.dir + "/" + n + ext, "--plots");
+        }
+      }
       std::vector<std::string> notes;
       const auto files = inspect::WritePlots(run, report, run.dir, &notes);
       FILE* out = json ? stderr : stdout;

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "optimise/optimise.h"
+#include "sim/input_error.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 
@@ -12,16 +13,20 @@ void AddOptimiseCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("optimise", "Tune CPG and reflex parameters offline with NLopt");
   static std::string scenario_path, out_dir;
   static int threads = 0, max_evaluations = 0;
-  static bool resume = false, quiet = false;
+  static bool resume = false, quiet = false, force = false;
   cmd->add_option("scenario", scenario_path, "scenario file with an optimise: block")->required();
-  cmd->add_option("--out", out_dir, "results folder")->required();
+  cmd->add_option("--out", out_dir,
+                  "results folder: new, empty, or (with --force) an earlier climbsim folder "
+                  "(docs/run-folders.md)")
+      ->required();
+  cmd->add_flag("--force", force, "replace the earlier climbsim folder at --out whole");
   cmd->add_option("--threads", threads,
                   "worker threads per process (default: the cores, shared by the MPI ranks on "
                   "the machine); the result does not depend on it")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--max-evaluations", max_evaluations,
-                  "override optimise.max_evaluations (evaluations in all)")
-      ->check(CLI::Range(0, 100000000));
+                  "override optimise.max_evaluations (evaluations in all, at least 1)")
+      ->check(CLI::Range(1, 100000000));
   cmd->add_flag("--resume", resume,
                 "continue from DIR/checkpoint.json after a kill (same end result as an "
                 "uninterrupted run)");
@@ -36,6 +41,11 @@ void AddOptimiseCommand(CLI::App& app) {
     o.out_dir = out_dir;
     o.threads = threads;
     o.resume = resume;
+    o.force = force;
+    if (resume && force) {
+      throw InputError("climbsim optimise", 0, 0, "--force",
+                       "cannot go with --resume (--force starts over, --resume continues)");
+    }
     o.max_evaluations = max_evaluations;
     o.quiet = quiet;
     const bool root = optimise::ProcessRank() == 0;

@@ -39,6 +39,7 @@ struct PulloffOptions {
   double friction = 1.0;
   double max_force_factor = 8.0;
   bool quiet = false;
+  bool force = false;
 };
 
 struct Row {
@@ -164,6 +165,10 @@ void Run(PulloffOptions o) {
     throw CLI::ValidationError("pulloff", e.what());
   }
 
+  // The output folder: checked and locked before anything runs; it appears whole.
+  sim::RunFolder folder(o.out_dir, {.made_by = "pulloff", .force = o.force});
+  const std::string dir = folder.path();
+
   // The angles: from, from + step, ... up to to (within step/1000).
   std::vector<Row> rows;
   for (int k = 0;; ++k) {
@@ -204,9 +209,8 @@ void Run(PulloffOptions o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   // Files: the CSV and the script first, then the plot.
-  std::filesystem::create_directories(o.out_dir);
-  const std::string csv_path = o.out_dir + "/pulloff.csv";
-  const std::string png_path = o.out_dir + "/pulloff.png";
+  const std::string csv_path = dir + "/pulloff.csv";
+  const std::string png_path = dir + "/pulloff.png";
   sim::WriteFileAtomic(csv_path, Csv(rows, bonds, mujoco, capacity));
   double y_max = 0.0;
   for (const Row& r : rows) {
@@ -216,13 +220,13 @@ void Run(PulloffOptions o) {
     }
   }
   y_max = std::min(3.0, std::ceil(1.1 * y_max * 4.0) / 4.0);
-  sim::WriteFileAtomic(
-      o.out_dir + "/pulloff.gp",
-      "# cd into this folder and run: gnuplot pulloff.gp\n" +
-          Script(o, "\"pulloff.csv\"", "\"pulloff.png\"", bonds, mujoco, capacity, y_max));
+  sim::WriteFileAtomic(dir + "/pulloff.gp", "# cd into this folder and run: gnuplot pulloff.gp\n" +
+                                                Script(o, "\"pulloff.csv\"", "\"pulloff.png\"",
+                                                       bonds, mujoco, capacity, y_max));
   const std::string error = sim::RunGnuplot(
       Script(o, sim::GnuplotQuote(csv_path), "OUTPUT(0)", bonds, mujoco, capacity, y_max),
       {png_path});
+  folder.Commit();
 
   if (!o.quiet) {
     std::printf("climbsim pulloff: %zu angles in %.2f s; sigma_T*A = %.4g N\n", rows.size(), wall_s,
@@ -255,8 +259,11 @@ void AddPulloffCommand(CLI::App& app) {
       "The seed's figure-6 experiment in MuJoCo: the force that pulls a weightless sticky block "
       "off a plane, against the pull angle, for the bond model and MuJoCo's adhesion actuator");
   static PulloffOptions o;
-  cmd->add_option("--out", o.out_dir, "folder for pulloff.csv, pulloff.gp and pulloff.png")
+  cmd->add_option("--out", o.out_dir,
+                  "folder for pulloff.csv, pulloff.gp and pulloff.png: new, empty, or (with "
+                  "--force) an earlier climbsim folder (docs/run-folders.md)")
       ->required();
+  cmd->add_flag("--force", o.force, "replace the earlier climbsim folder at --out whole");
   cmd->add_option("--model", o.model, "which model to run: both, bonds or mujoco")
       ->check(CLI::IsMember({"both", "bonds", "mujoco"}))
       ->capture_default_str();

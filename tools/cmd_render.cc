@@ -3,10 +3,12 @@
 // by bonded fraction, encoded by ffmpeg. Nothing is simulated: the run is shown as recorded.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 
 #include "inspect/inspect.h"
 #include "sim/input_error.h"
+#include "sim/run_folder.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 
@@ -41,15 +43,40 @@ void AddRenderCommand(CLI::App& app) {
   cmd->footer(
       "Example:\n  climbsim render runs/gecko_wall --at 10 --out runs/gecko_wall/still.png\n"
       "  climbsim render runs/gecko_wall --out runs/gecko_wall/video.mp4 --quality reduced");
-  cmd->callback([] {
+  auto* at_option = cmd->get_option("--at");
+  cmd->callback([at_option] {
     o.quality = quality == "reduced" ? inspect::Quality::kReduced : inspect::Quality::kDefault;
-    const bool still = !std::isnan(at_s);
+    if (at_option->count() > 0 && !std::isfinite(at_s)) {
+      throw InputError("climbsim render", 0, 0, "--at", "must be a finite time in seconds");
+    }
+    const bool still = at_option->count() > 0;
     if (still && (out.empty() || !frames.empty())) {
       throw InputError("climbsim render", 0, 0, "--at", "needs --out STILL.png (and no --frames)");
     }
     if (!still && out.empty() == frames.empty()) {
       throw InputError("climbsim render", 0, 0, "--out",
                        "give one of --out VIDEO.mp4, --frames DIR or --at T --out STILL.png");
+    }
+    // Outputs never replace a run's data, and their kind matches their name.
+    if (!out.empty()) {
+      const std::string ext = std::filesystem::path(out).extension().string();
+      if (still && ext != ".png") {
+        throw InputError(out, 0, 0, "--out", "a still is a PNG: give a name ending in .png");
+      }
+      if (!still && ext != ".mp4") {
+        throw InputError(out, 0, 0, "--out",
+                         "the video is MP4 (H.264): give a name ending in .mp4, or --at T for a "
+                         "still");
+      }
+      sim::CheckFileOutput(out, "--out");
+    }
+    if (!frames.empty()) {
+      if (sim::IsRunFolder(frames) || std::filesystem::exists(frames + "/summary.json")) {
+        throw InputError(frames, 0, 0, "--frames",
+                         "is a run folder; give a folder of its own for the frames (e.g. " +
+                             frames + "/frames)");
+      }
+      sim::CheckFileOutput(frames + "/frame_00000.png", "--frames");
     }
     const inspect::RunKind kind = inspect::DetectRunKind(dir);
     if (kind == inspect::RunKind::kPulloff) {

@@ -1,6 +1,5 @@
 // climbsim simulate SCENARIO --out DIR
 #include <cstdio>
-#include <filesystem>
 
 #include "optimise/optimise.h"
 #include "sim/sim.h"
@@ -25,7 +24,21 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
               s["distance_m"].get<double>());
   std::printf("  mean speed      %.4f m/s\n", s["mean_speed_mps"].get<double>());
   std::printf("  heading         %.1f deg\n", s["heading_deg"].get<double>());
-  std::printf("  fell            %s\n", s["fell"].get<bool>() ? "yes" : "no");
+  if (s["fell"].get<bool>()) {
+    std::printf("  fell            yes, at %.3f s (%s)%s\n", s["fall_time_s"].get<double>(),
+                s["fall_cause"].get<std::string>() == "dropped"
+                    ? "its base dropped fall.drop_m below the highest point it reached"
+                    : "its base turned over past fall.turn_over_deg",
+                s["fall_stopped_run"].get<bool>() ? "; the run ended there" : "");
+    std::printf("                  (distance, speed and heading are those up to the fall)\n");
+  } else {
+    std::printf("  fell            no\n");
+  }
+  if (s.value("stalled", false)) {
+    std::printf("  STALLED         from %.3f s to the end, held by %s: %s\n",
+                s["stall_time_s"].get<double>(), s["stall_leg"].get<std::string>().c_str(),
+                s["stall_reason"].get<std::string>().c_str());
+  }
   std::string effects;
   for (const auto& e : s["effects"]) effects += (effects.empty() ? "" : ", ") + e.get<std::string>();
   std::printf("  effects         %s\n", effects.empty() ? "(none)" : effects.c_str());
@@ -45,14 +58,21 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
 void AddSimulateCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("simulate", "Simulate a gait from a scenario file");
   static std::string scenario_path, out_dir;
-  static bool quiet = false;
+  static bool quiet = false, force = false;
   cmd->add_option("scenario", scenario_path, "scenario file (YAML; keys in docs/scenario.md)")
       ->required();
-  cmd->add_option("--out", out_dir, "run directory to write")->required();
+  cmd->add_option("--out", out_dir,
+                  "run folder to write: new, empty, or (with --force) an earlier climbsim run "
+                  "folder (docs/run-folders.md)")
+      ->required();
+  cmd->add_flag("--force", force, "replace the earlier climbsim run folder at --out whole");
   cmd->add_flag("--quiet", quiet, "no progress and no summary on the terminal");
   cmd->footer("Example:\n  climbsim simulate examples/gecko_floor.yaml --out runs/gecko_floor");
   cmd->callback([] {
     const sim::Scenario scenario = sim::LoadScenario(scenario_path);
+    // The folder is checked and locked before anything runs; the run appears there whole.
+    sim::RunFolder folder(
+        out_dir, {.made_by = "simulate", .force = force, .inputs = sim::ScenarioInputs(scenario)});
     const auto model = sim::CompileScenario(scenario);
     sim::Simulation run(scenario, *model);
     Progress progress("simulate", !quiet);
@@ -60,7 +80,8 @@ void AddSimulateCommand(CLI::App& app) {
     // A scenario with an optimise block (best.yaml) also reports the cost the optimiser saw.
     nlohmann::json extra = nlohmann::json::object();
     if (scenario.optimise) extra["objective"] = optimise::NominalCost(run).total;
-    sim::WriteRunDirectory(out_dir, run, extra);
+    sim::WriteRunFiles(folder.path(), run, extra);
+    folder.Commit();
     if (!quiet) {
       nlohmann::json summary = run.Summary();
       summary.update(extra);

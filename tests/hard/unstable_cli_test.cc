@@ -27,10 +27,11 @@ TEST(HardUnstableCli, SimulateStopsWithStepTimeAndCauseExitsOneAndWritesTheRun) 
   const std::string dir = TempDir() + "/hard_unstable_run";
   const CliResult r = RunClimbsim("simulate " + scenario + " --out " + dir + " --quiet");
   EXPECT_EQ(r.code, 1) << r.out << r.err;
-  // "climbsim simulate: the run went numerically bad: step N, t = T s: mjWARN_BAD... at index I"
+  // "climbsim simulate: the run went numerically bad: step N, t = T s: mjWARN_BAD... at index I
+  // (MuJoCo: its own warning text)"
   const std::regex message(
       "climbsim simulate: the run went numerically bad: step ([0-9]+), t = ([0-9.]+) s: "
-      "(mjWARN_BAD[A-Z]+) \\(bad number in [a-z]+\\) at index -?[0-9]+\n");
+      "(mjWARN_BAD[A-Z]+) \\(bad number in [a-z]+\\) at index -?[0-9]+ \\(MuJoCo: [^\n]+\\)\n");
   std::smatch m;
   ASSERT_TRUE(std::regex_match(r.err, m, message)) << r.err;
   const long step = std::stol(m[1]);

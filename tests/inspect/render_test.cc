@@ -50,13 +50,17 @@ std::string Pixels(const std::string& png) {
 // the robot file): the same camera, the same scene, no robot.
 std::string RunWithoutRobot(const std::string& run) {
   const std::string dir = CopyRun(run, "invisible_robot");
-  std::string robot = ReadFile(Source("mjcf/gecko.xml"));
-  robot = std::regex_replace(robot, std::regex(R"(rgba="([-0-9.e]+ [-0-9.e]+ [-0-9.e]+) 1")"),
-                             R"(rgba="$1 0")");
-  WriteFile(dir + "/gecko_invisible.xml", robot);
+  // model.xml holds the robot file expanded between climbsim's begin and end comments.
   std::string model = ReadFile(dir + "/model.xml");
-  model.replace(model.find(Source("mjcf/gecko.xml")), Source("mjcf/gecko.xml").size(),
-                dir + "/gecko_invisible.xml");
+  const size_t begin = model.find("gecko.xml -->");
+  const size_t end = model.find("<!-- climbsim: end of", begin);
+  EXPECT_NE(begin, std::string::npos);
+  EXPECT_NE(end, std::string::npos);
+  const std::string robot =
+      std::regex_replace(model.substr(begin, end - begin),
+                         std::regex(R"(rgba="([-0-9.e]+ [-0-9.e]+ [-0-9.e]+) 1")"),
+                         R"(rgba="$1 0")");
+  model.replace(begin, end - begin, robot);
   WriteFile(dir + "/model.xml", model);
   return dir;
 }

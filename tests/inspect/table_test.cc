@@ -77,6 +77,21 @@ json Recompute(const std::vector<Ev>& all, const std::string& pad, double a, dou
       ++reflexes[e->event];
     }
   }
+  // A touchdown in the window is answered by the pad's next attach or attach_rejected; the
+  // next touchdown first means it left inside the attach window; nothing means the run ended.
+  int unanswered = 0;
+  std::map<std::string, int> unanswered_by;
+  for (size_t i = 0; i < ev.size(); ++i) {
+    if (ev[i]->event != "touchdown" || ev[i]->t < a || ev[i]->t > b) continue;
+    std::string next;
+    for (size_t j = i + 1; j < ev.size() && next.empty(); ++j) {
+      const std::string& k = ev[j]->event;
+      if (k == "touchdown" || k == "attach" || k == "attach_rejected") next = k;
+    }
+    if (next == "attach" || next == "attach_rejected") continue;
+    ++unanswered;
+    ++unanswered_by[next.empty() ? "run_ended_during_touch" : "left_within_attach_window"];
+  }
   std::vector<Interval> intervals;
   std::optional<Interval> open;
   for (const Ev* e : ev) {
@@ -126,6 +141,8 @@ json Recompute(const std::vector<Ev>& all, const std::string& pad, double a, dou
           {"attachments", counts["attach"]},
           {"rejected", counts["attach_rejected"]},
           {"rejected_by", rejected_by},
+          {"unanswered_touchdowns", unanswered},
+          {"unanswered_by", unanswered_by},
           {"detaches", counts["detach"]},
           {"detached_by", detached_by},
           {"bonds_lost_steps", counts["bonds_lost"]},

@@ -100,7 +100,9 @@ TEST(Simulation, NoTemporaryFilesAreLeftBehind) {
     EXPECT_EQ(f.path().string().find(".tmp"), std::string::npos) << f.path();
     ++files;
   }
-  EXPECT_EQ(files, 5);  // scenario.yaml, model.xml, trajectory.csv, events.csv, summary.json
+  // scenario.yaml, model.xml, trajectory.csv, events.csv, summary.json and the run-folder
+  // marker .climbsim-run
+  EXPECT_EQ(files, 6);
 }
 
 // A joint with an absurd explicit spring at a large step diverges: MuJoCo flags the bad

@@ -1,0 +1,484 @@
+// climbsim bench robustness (optimise/optimise.h states what is searched and how).
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+#include "optimise/optimise.h"
+#include "sim/gnuplot.h"
+#include "sim/surface.h"
+
+namespace climbsim::optimise {
+namespace {
+
+constexpr double kPushDuration = 0.01;
+constexpr double kJitterOffsetM = 0.005;
+constexpr double kJitterYawDeg = 5.0;
+constexpr uint64_t kStreamJitter = 101;
+
+// What every case of a scenario shares: the push directions and times.
+struct Setup {
+  sim::Scenario base;
+  RobustnessOptions options;
+  double duration_s = 0.0;
+  double frequency_hz = 0.0;  // 0: no cpg, no push families
+  double push_time_s = 0.0;
+  Eigen::Vector3d off{0, 0, 1}, down{-1, 0, 0}, side{0, 1, 0};
+  double robot_mass_kg = 0.0;
+};
+
+bool PlaneScene(const sim::Scenario& s) {
+  const std::string& n = s.scene.name;
+  return n == "floor" || n == "wall" || n == "ceiling" || n == "incline";
+}
+
+Setup MakeSetup(const sim::Scenario& base, const RobustnessOptions& options) {
+  Setup u;
+  u.base = base;
+  u.options = options;
+  u.duration_s = options.duration_s > 0 ? options.duration_s : base.duration_s;
+  u.frequency_hz = base.cpg ? base.cpg->frequency_hz : 0.0;
+  u.push_time_s = std::min(options.push_time_s, u.duration_s / 3.0);
+  // Directions on the contract's surface, the plane z = 0 with normal +z: off it; down the
+  // slope (gravity along the surface; on a level surface, against the travel); across.
+  const std::unique_ptr<sim::CompiledModel> model =
+      sim::CompiledModel::Build(base, sim::MjcfAdditions{});
+  sim::World world(*model, base);
+  u.robot_mass_kg = model->robot().mass_kg;
+  const Eigen::Vector3d z(0, 0, 1);
+  Eigen::Vector3d g = world.gravity();
+  Eigen::Vector3d along = g - g.dot(z) * z;
+  if (along.norm() < 1e-6 * std::max(1.0, g.norm())) {
+    along = -(model->scene().travel - model->scene().travel.dot(z) * z);
+  }
+  if (along.norm() > 0) u.down = along.normalized();
+  u.side = z.cross(u.down).normalized();
+  return u;
+}
+
+std::vector<RobustnessFamily> AllFamilies(double mass_kg) {
+  return {
+      {"push_off", "N s", "10 ms push off the surface", 0.005, 1.0},
+      {"push_down", "N s", "10 ms push down the slope", 0.005, 1.0},
+      {"push_side", "N s", "10 ms push across the slope", 0.005, 1.0},
+      {"payload", "kg", "payload on the base", 0.02 * mass_kg, 4.0 * mass_kg},
+      {"pad_failure", "", "probability that an attachment fails", 0.01, 1.0},
+      {"weak_patch", "", "sigma_T lost on weak patches (1 - fraction)", 0.02, 0.99},
+      {"roughness", "m", "bump height", 0.0005, 0.03},
+  };
+}
+
+bool Applicable(const Setup& u, const std::string& family) {
+  if (family.rfind("push_", 0) == 0) return u.frequency_hz > 0;
+  if (family == "pad_failure") return u.base.adhesion.has_value();
+  if (family == "weak_patch") {
+    return u.base.adhesion.has_value() && u.base.adhesion->model == "bonds" && PlaneScene(u.base);
+  }
+  if (family == "roughness") return PlaneScene(u.base);
+  return true;
+}
+
+sim::Scenario MakeCase(const Setup& u, const std::string& family, double magnitude, int mode,
+                       int seed, int phase) {
+  sim::Scenario s = u.base;
+  s.duration_s = u.duration_s;
+  s.fall.stop = true;
+  s.outputs.trajectory_rate_hz = 0.0;
+  s.seed = u.base.seed + seed;
+  if (seed > 0) {
+    const auto sd = static_cast<uint64_t>(s.seed);
+    s.initial.offset_m[0] += kJitterOffsetM * (2 * sim::UnitDraw(sd, kStreamJitter, 0, 0) - 1);
+    s.initial.offset_m[1] += kJitterOffsetM * (2 * sim::UnitDraw(sd, kStreamJitter, 1, 0) - 1);
+    s.initial.yaw_deg = std::clamp(
+        s.initial.yaw_deg + kJitterYawDeg * (2 * sim::UnitDraw(sd, kStreamJitter, 2, 0) - 1),
+        -180.0, 180.0);
+  }
+  if (mode == 1 && s.reflex) {
+    s.reflex->spindle.enabled = false;
+    s.reflex->gto.enabled = false;
+  }
+  if (family.empty() || magnitude <= 0) return s;
+  if (family.rfind("push_", 0) == 0) {
+    const Eigen::Vector3d dir = family == "push_off"    ? u.off
+                                : family == "push_down" ? u.down
+                                                        : u.side;
+    sim::PushParams p;
+    p.time_s = u.push_time_s + phase / (u.options.phases * u.frequency_hz);
+    p.body = "base";
+    p.impulse_ns = {magnitude * dir.x(), magnitude * dir.y(), magnitude * dir.z()};
+    p.duration_s = kPushDuration;
+    s.perturbations.push_back(p);
+  } else if (family == "payload") {
+    s.payload_kg += magnitude;
+  } else if (family == "pad_failure") {
+    s.adhesion->pad_failure_probability = std::min(1.0, magnitude);
+  } else if (family == "weak_patch") {
+    sim::WeakPatchParams w;
+    w.fraction = std::max(1e-6, 1.0 - magnitude);
+    w.size_m = 0.05;
+    w.coverage = 0.3;
+    s.scene.weak_patches = w;
+  } else if (family == "roughness") {
+    sim::RoughnessParams r;
+    r.height_m = magnitude;
+    s.scene.roughness = r;
+  } else {
+    throw InputError("climbsim bench robustness", 0, 0, "--families",
+                     "unknown family '" + family + "'");
+  }
+  return s;
+}
+
+bool Survives(const sim::Scenario& s, double baseline_m, ModelCache* cache, std::string* how) {
+  sim::Simulation run(s, cache->For(s));
+  const sim::RunResult r = run.Run();
+  char buf[160];
+  if (!r.stable) {
+    if (how) *how = "unstable: " + r.failure;
+    return false;
+  }
+  if (r.fell) {
+    std::snprintf(buf, sizeof(buf), "fell at %.2f s", r.fall_time_s);
+    if (how) *how = buf;
+    return false;
+  }
+  if (baseline_m > 0 && r.distance_m < 0.5 * baseline_m) {
+    std::snprintf(buf, sizeof(buf), "climbed %.3f m of %.3f m", r.distance_m, baseline_m);
+    if (how) *how = buf;
+    return false;
+  }
+  return true;
+}
+
+std::string Num(double v) { return sim::ExactNumber(v); }
+
+// Runs `work(i)` for i in [0, n) on up to `threads` threads. An exception (bad input met
+// only when a case is built) is rethrown after every thread has stopped: the one of the lowest
+// i, whatever the threads.
+template <class F>
+void ParallelFor(int n, int threads, F work) {
+  std::atomic<int> next{0};
+  std::mutex mu;
+  int error_at = n;
+  std::exception_ptr error;
+  auto worker = [&] {
+    ModelCache cache;
+    for (int t = next++; t < n; t = next++) {
+      try {
+        work(t, &cache);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mu);
+        if (t < error_at) {
+          error_at = t;
+          error = std::current_exception();
+        }
+      }
+    }
+  };
+  const int k = std::min(
+      n,
+      std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())));
+  std::vector<std::thread> pool;
+  for (int i = 1; i < k; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+std::vector<std::string> RobustnessFamilyNames() {
+  std::vector<std::string> names;
+  for (const auto& f : AllFamilies(1.0)) names.push_back(f.name);
+  return names;
+}
+
+std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario) {
+  const Setup u = MakeSetup(scenario, RobustnessOptions{});
+  std::vector<RobustnessFamily> out;
+  for (const auto& f : AllFamilies(u.robot_mass_kg)) {
+    if (Applicable(u, f.name)) out.push_back(f);
+  }
+  return out;
+}
+
+sim::Scenario RobustnessCase(const sim::Scenario& base, const RobustnessOptions& options,
+                             const std::string& family, double magnitude, int mode, int seed,
+                             int phase) {
+  return MakeCase(MakeSetup(base, options), family, magnitude, mode, seed, phase);
+}
+
+bool RobustnessSurvives(const sim::Scenario& scenario, double baseline_m, std::string* how) {
+  ModelCache cache;
+  return Survives(scenario, baseline_m, &cache, how);
+}
+
+RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
+                                 const std::function<void(double)>& progress) {
+  const sim::Scenario base = sim::LoadScenario(file);
+  const Setup u = MakeSetup(base, options);
+  const std::vector<std::string> known = RobustnessFamilyNames();
+  for (const std::string& f : options.families) {
+    if (std::find(known.begin(), known.end(), f) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InputError("climbsim bench robustness", 0, 0, "--families",
+                       "unknown family '" + f + "' (" + list + ")");
+    }
+  }
+  std::vector<RobustnessFamily> families;
+  for (const auto& f : AllFamilies(u.robot_mass_kg)) {
+    const bool wanted = options.families.empty() ||
+                        std::find(options.families.begin(), options.families.end(), f.name) !=
+                            options.families.end();
+    if (wanted && Applicable(u, f.name)) families.push_back(f);
+  }
+  // Every family's largest case must build before anything long runs (bad input: exit 2).
+  {
+    ModelCache cache;
+    for (const auto& f : families) {
+      const sim::Scenario s = MakeCase(u, f.name, f.hi, 0, std::max(0, options.seeds - 1), 0);
+      sim::Simulation check(s, cache.For(s));
+    }
+  }
+  // Spindle and GTO already off (or no reflexes): mode 1 is mode 0, searched once.
+  const bool same = sim::ScenarioToYamlText(MakeCase(u, "", 0, 0, 0, 0)) ==
+                    sim::ScenarioToYamlText(MakeCase(u, "", 0, 1, 0, 0));
+  const int modes = same ? 1 : 2;
+
+  RobustnessReport report;
+  report.scenario_file = file;
+  report.options = options;
+  report.robot_mass_kg = u.robot_mass_kg;
+
+  // Progress: each search counts its budget of evaluations (cases each), baselines one run.
+  std::mutex mu;
+  const int push_cases = options.seeds * options.phases;
+  auto budget = [&](const RobustnessFamily& f) {
+    const double steps =
+        std::ceil(std::log2(std::log(f.hi / f.lo) / std::log1p(options.tolerance)));
+    return (2 + std::max(0, static_cast<int>(steps))) *
+           (f.name.rfind("push_", 0) == 0 ? push_cases : options.seeds);
+  };
+  double total = modes * options.seeds;
+  for (const auto& f : families) total += modes * budget(f);
+  double done = 0;
+  auto advance = [&](double runs) {
+    std::lock_guard<std::mutex> lock(mu);
+    done += runs;
+    if (progress) progress(std::min(1.0, done / total));
+  };
+
+  // Undisturbed distances.
+  report.baseline_m.assign(2, std::vector<double>(options.seeds, 0.0));
+  ParallelFor(modes * options.seeds, options.threads, [&](int t, ModelCache* cache) {
+    const int mode = t / options.seeds, seed = t % options.seeds;
+    const sim::Scenario s = MakeCase(u, "", 0, mode, seed, 0);
+    sim::Simulation run(s, cache->For(s));
+    report.baseline_m[mode][seed] = run.Run().distance_m;
+    advance(1);
+  });
+  if (same) report.baseline_m[1] = report.baseline_m[0];
+
+  // The searches.
+  const int searches = static_cast<int>(families.size()) * modes;
+  std::vector<RobustnessRow> rows(families.size() * 2);
+  ParallelFor(searches, options.threads, [&](int t, ModelCache* cache) {
+    const RobustnessFamily& f = families[t / modes];
+    const int mode = t % modes;
+    const bool push = f.name.rfind("push_", 0) == 0;
+    const int phases = push ? options.phases : 1;
+    RobustnessRow row;
+    row.family = f.name;
+    row.unit = f.unit;
+    row.mode = mode == 0 ? "reflexes" : "spindle_gto_off";
+    row.lo = f.lo;
+    row.hi = f.hi;
+    std::string fail_case, fail_how;
+    auto evaluate = [&](double m) {
+      ++row.evaluations;
+      int ran = 0;
+      bool ok = true;
+      for (int seed = 0; seed < options.seeds && ok; ++seed) {
+        for (int phase = 0; phase < phases && ok; ++phase) {
+          ++row.runs;
+          ++ran;
+          std::string how;
+          if (!Survives(MakeCase(u, f.name, m, mode, seed, phase), report.baseline_m[mode][seed],
+                        cache, &how)) {
+            ok = false;
+            fail_case =
+                "seed " + std::to_string(seed) + (push ? " phase " + std::to_string(phase) : "");
+            fail_how = how;
+          }
+        }
+      }
+      advance(options.seeds * phases);
+      return ok;
+    };
+    if (evaluate(f.hi)) {
+      row.survived = f.hi;
+      row.failed = std::numeric_limits<double>::infinity();
+    } else {
+      std::string hi_case = fail_case, hi_how = fail_how;
+      if (!evaluate(f.lo)) {
+        row.survived = 0.0;
+        row.failed = f.lo;
+        row.failing_case = fail_case;
+        row.failing_how = fail_how;
+      } else {
+        double a = f.lo, b = f.hi;
+        std::string b_case = hi_case, b_how = hi_how;
+        while (b > a * (1.0 + options.tolerance)) {
+          const double c = std::sqrt(a * b);
+          if (evaluate(c)) {
+            a = c;
+          } else {
+            b = c;
+            b_case = fail_case;
+            b_how = fail_how;
+          }
+        }
+        row.survived = a;
+        row.failed = b;
+        row.failing_case = b_case;
+        row.failing_how = b_how;
+      }
+    }
+    const int spent = row.evaluations * options.seeds * phases;
+    advance(std::max(0, budget(f) - spent));
+    rows[2 * (t / modes) + mode] = row;
+  });
+  for (size_t i = 0; i < families.size(); ++i) {
+    if (same) {
+      rows[2 * i + 1] = rows[2 * i];
+      rows[2 * i + 1].mode = "spindle_gto_off";
+      rows[2 * i + 1].same_as_reflexes = true;
+    }
+    report.rows.push_back(rows[2 * i]);
+    report.rows.push_back(rows[2 * i + 1]);
+  }
+  if (progress) progress(1.0);
+  return report;
+}
+
+std::string RobustnessTable(const RobustnessReport& r) {
+  std::string out;
+  char buf[512];
+  std::snprintf(buf, sizeof(buf),
+                "climbsim bench robustness: %s, %.1f s per run, %d seeds, %d push phases\n",
+                r.scenario_file.c_str(), r.options.duration_s, r.options.seeds, r.options.phases);
+  out += buf;
+  std::string base0, base1;
+  for (double d : r.baseline_m[0])
+    base0 += (base0.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
+  for (double d : r.baseline_m[1])
+    base1 += (base1.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
+  out += "  undisturbed distance [m] per seed: reflexes " + base0 + "; spindle+GTO off " + base1 +
+         "\n";
+  out +=
+      "  survived = largest magnitude every case survives (no fall, >= half the undisturbed "
+      "distance); fails = the next one tried\n";
+  std::snprintf(buf, sizeof(buf), "  %-12s %-5s %12s %12s %12s %12s %7s  %s\n", "family", "unit",
+                "reflexes", "fails at", "sp+GTO off", "fails at", "ratio",
+                "first failure (reflexes)");
+  out += buf;
+  auto fmt = [](double v) {
+    char b[32];
+    if (std::isinf(v)) return std::string("-");
+    std::snprintf(b, sizeof(b), "%.4g", v);
+    return std::string(b);
+  };
+  for (size_t i = 0; i + 1 < r.rows.size(); i += 2) {
+    const RobustnessRow& on = r.rows[i];
+    const RobustnessRow& off = r.rows[i + 1];
+    const std::string s_on = (std::isinf(on.failed) ? ">=" : "") + fmt(on.survived);
+    const std::string s_off = (std::isinf(off.failed) ? ">=" : "") + fmt(off.survived);
+    const std::string ratio = off.survived > 0 ? fmt(on.survived / off.survived) : "-";
+    std::snprintf(buf, sizeof(buf), "  %-12s %-5s %12s %12s %12s %12s %7s  %s\n", on.family.c_str(),
+                  on.unit.empty() ? "-" : on.unit.c_str(), s_on.c_str(), fmt(on.failed).c_str(),
+                  s_off.c_str(), fmt(off.failed).c_str(), ratio.c_str(),
+                  on.failing_case.empty() ? "" : (on.failing_case + ": " + on.failing_how).c_str());
+    out += buf;
+  }
+  if (!r.rows.empty() && r.rows[1].same_as_reflexes) {
+    out += "  (spindle and GTO are already off in this scenario: one search serves both columns)\n";
+  }
+  return out;
+}
+
+std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
+  std::filesystem::create_directories(dir);
+  auto quote = [](const std::string& s) {
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  };
+  std::string csv =
+      "family,unit,mode,survived,failed,lo,hi,evaluations,runs,failing_case,failing_how,"
+      "same_as_reflexes\n";
+  for (const RobustnessRow& row : r.rows) {
+    csv += row.family + "," + row.unit + "," + row.mode + "," + Num(row.survived) + "," +
+           (std::isinf(row.failed) ? std::string("inf") : Num(row.failed)) + "," + Num(row.lo) +
+           "," + Num(row.hi) + "," + std::to_string(row.evaluations) + "," +
+           std::to_string(row.runs) + "," + quote(row.failing_case) + "," + quote(row.failing_how) +
+           "," + (row.same_as_reflexes ? "1" : "0") + "\n";
+  }
+  sim::WriteFileAtomic(dir + "/robustness.csv", csv);
+
+  // One panel per family: survived magnitude as a share of the family's range top, on a log
+  // axis from lo/hi to 1; two bars, reflexes and spindle + GTO off.
+  std::string data;
+  const int n = static_cast<int>(r.rows.size() / 2);
+  for (int i = 0; i < n; ++i) {
+    const RobustnessRow& on = r.rows[2 * i];
+    const RobustnessRow& off = r.rows[2 * i + 1];
+    data += "0 \"reflexes\" " + Num(std::max(on.survived, on.lo * 0.5)) + "\n";
+    data += "1 \"spindle+GTO off\" " + Num(std::max(off.survived, off.lo * 0.5)) + "\n\n\n";
+  }
+  sim::WriteFileAtomic(dir + "/robustness.dat", data);
+  if (n == 0) return "no family to plot";
+  const int cols = std::min(n, 4), rows = (n + cols - 1) / cols;
+  // Two lines: gnuplot's "\n" inside a double-quoted string.
+  std::string title = sim::GnuplotQuote("robustness of " +
+                                        std::filesystem::path(r.scenario_file).filename().string() +
+                                        ": largest magnitude survived");
+  title.pop_back();
+  title += "\\n(a bar at the bottom: not even the smallest; at the top: the largest tried)\"";
+  std::string script =
+      "set terminal pngcairo size " + std::to_string(330 * cols) + "," +
+      std::to_string(60 + 360 * rows) +
+      " noenhanced\nset output OUTPUT(0)\n"
+      "data = " +
+      sim::GnuplotQuote(dir + "/robustness.dat") +
+      "\n"
+      "set style fill solid 0.8\nset boxwidth 0.6\nset grid ytics\nset logscale y\n"
+      "set lmargin 11\nset rmargin 2\nset bmargin 4\n"
+      "set xrange [-0.6:1.6]\nset xtics rotate by -20 font ',9'\nunset key\n"
+      "set multiplot layout " +
+      std::to_string(rows) + "," + std::to_string(cols) + " title " + title + " font ',10'\n";
+  for (int i = 0; i < n; ++i) {
+    const RobustnessRow& on = r.rows[2 * i];
+    script += "set title " + sim::GnuplotQuote(on.family) + "\nset ylabel " +
+              sim::GnuplotQuote(on.family == "pad_failure"  ? "failure probability per attachment"
+                                : on.family == "weak_patch" ? "share of sigma_T lost on a patch"
+                                : on.family == "payload"    ? "payload [kg]"
+                                : on.family == "roughness"  ? "bump height [m]"
+                                                           : "impulse in 10 ms [" + on.unit + "]") +
+              "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
+              "]\n"
+              "plot data index " +
+              std::to_string(i) +
+              " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
+  }
+  script += "unset multiplot\n";
+  return sim::RunGnuplot(script, {dir + "/robustness.png"});
+}
+
+}  // namespace climbsim::optimise
