@@ -413,8 +413,9 @@ Eigen::Vector3d LegReflex::Gto(const Sensed& in, const Laws& laws, LegReflexOutp
 
 // Spindles. Pad attached: no offset (also in a peel); in stance a stretch beyond the stance
 // band (the body pushed) holds every leg in stance. Free swing leg: a stretch beyond the swing
-// threshold lifts the foot (stumble). Free stance foot: the stretch law on each joint. One
-// event at the onset of activity.
+// threshold lifts the foot (stumble). Stance foot in the air (a search): the stretch law on
+// each joint. A foot touching without a bond: nothing (the preload presses it). One event at
+// the onset of activity.
 Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflexOutput* out) {
   LegReflexState& st = state_;
   const LegSpindleParams& p = params_.spindle;
@@ -444,7 +445,7 @@ Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflex
         offset[kKnee] = p.joints[kKnee].length_gain * excess;
         if (!st.spindle_active) Emit(out, LegEventType::kSpindle, LegEventReason::kStumble);
       }
-    } else {
+    } else if (!in.raw->touching) {
       active = (laws.spindle_rad.array() != 0.0).any();
       if (active) {
         offset = laws.spindle_rad;

@@ -282,7 +282,7 @@ struct GtoHoldParams {
   double press_max_offset_rad = 0.10;                                // >= 0
   double full_bond_fraction = 0.95;  // bond counts as built from here, in (0, 1]
   bool require_partner_attached = true;
-  GtoParams unload{.gain = 2.0, .threshold = 0.5, .delay_s = 0.01};  // 1/utilisation, -, s
+  GtoParams unload{.gain = 2.0, .threshold = 0.8, .delay_s = 0.01};  // 1/utilisation, -, s
   double unload_min_kp_fraction = 0.2;                               // in (0, 1]
   GtoParams support{.gain = 1.0, .threshold = 0.8, .delay_s = 0.01};  // gain unused; -, s
 };
@@ -293,8 +293,10 @@ struct GtoHoldParams {
 //    s = max_j [|q̃_j(t−Δ)| − swing_threshold]₊ the foot is lifted: hip_pitch += K_L,pitch·s,
 //    knee += K_L,knee·s. (Resisting every stretch in swing, the law below, set the free foot
 //    chattering against its own servo lag with the 10 ms delay.)
-//  * stance, foot not attached (a foot pressed on, or slipping): the law of SpindleReflex on
-//    each joint, against the stretch.
+//  * stance, foot in the air (a search): the law of SpindleReflex on each joint, against the
+//    stretch. A foot that touches without a bond gets nothing: the preload presses it, and
+//    resisting the contact's stretch as well bounced the foot off the wall (the spider fell).
+//    The law acts as before wherever no pad is involved (robots without adhesion).
 //  * pad attached (stance or a peel): no offset (a welded foot cannot follow one; it would
 //    only load the other pads). In stance a delayed stretch |q̃(t−Δ)| beyond stance_band_rad
 //    on any joint means the body is being pushed: the leg asks every leg to stay in stance
@@ -303,7 +305,7 @@ struct GtoHoldParams {
 struct LegSpindleParams {
   bool enabled = true;
   std::array<SpindleParams, kLegJoints> joints{};
-  double swing_threshold_rad = 0.2;  // >= 0
+  double swing_threshold_rad = 0.3;  // >= 0
   double stance_band_rad = 0.15;     // >= 0
   double hold_s = 0.2;               // >= 0
 };
@@ -496,7 +498,8 @@ struct LegReflexState {
 //  gto unload| stance ∧ attached ∧ delayed     | kp_fraction ×        | utilisation <= U0
 //            | utilisation > U0                | max(min, 1 − u)      |
 //  spindle   | swing, free: |q̃(t−Δ)| > L_sw    | lift (stumble)       | inside L_sw
-//            | stance, free: |q̃(t−Δ)| > L0 ∨   | resist the stretch   | inside the dead zones
+//            | stance, in the air: |q̃(t−Δ)| >  | resist the stretch   | inside the dead zones
+//            | L0 ∨
 //            | |q̇(t−Δ)| > V0                   |                      |
 //            | attached in stance: |q̃(t−Δ)| >  | hold_others (no      | inside the band, then
 //            | stance_band_rad (pushed)        | offset)              | hold_s

@@ -234,11 +234,18 @@ TEST(ReflexLegSpindle, BlockedSwingLegLiftsItsFoot) {
   EXPECT_EQ(rec.events(), (Events{At(3, E::kSpindle, R::kStumble)}));
 }
 
-// The same stretch on a free stance foot is resisted, as before.
-TEST(ReflexLegSpindle, FreeFootResistsTheSameStretch) {
+// The same stretch on a stance foot in the air (a search) is resisted, as before; on a foot
+// that touches without a bond it is left to the preload.
+TEST(ReflexLegSpindle, FootInTheAirResistsTheSameStretch) {
+  {
+    LegReflex leg(SpindleOnly(), kDt);
+    LegSensing s = Touching(Stance());
+    s.stretch_rad = {0.0, -0.3125, 0.0};
+    EXPECT_EQ(Recorder(&leg).Repeat(s, 3).target_offset_rad, Eigen::Vector3d::Zero());
+  }
   LegReflex leg(SpindleOnly(), kDt);
   Recorder rec(&leg);
-  LegSensing s = Touching(Stance());
+  LegSensing s = Stance();
   s.stretch_rad = {0.0, -0.3125, 0.0};
   const LegReflexOutput& out = rec.Repeat(s, 2);
   EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d(0.0, 0.125, 0.0));
@@ -246,25 +253,28 @@ TEST(ReflexLegSpindle, FreeFootResistsTheSameStretch) {
   EXPECT_EQ(rec.events(), (Events{At(1, E::kSpindle)}));
 }
 
-// The spindles measure the stretch from the target the leg was given: a leg that follows a
-// preload press exactly is not stretched (without that, the spindle undid the press; and on
-// the wall it undid the peel).
+// The spindles measure the stretch from the target the leg was given: a leg in a search (its
+// foot in the air, where the law acts) that follows the search's reach exactly is not
+// stretched. (Measured from the CPG's target alone, the spindle undid the reflexes' own
+// offsets: on the wall it fought the peel.)
 TEST(ReflexLegSpindle, StretchIsMeasuredFromTheCommandedTarget) {
   LegReflexParams p = SpindleOnly();
-  p.preload.enabled = true;
-  p.preload.hip_pitch_press_rad = 0.25;
-  p.preload.knee_press_rad = 0.125;
-  p.preload.ramp_s = 0.0;  // full press at once
-  p.preload.max_duration_s = 1.0;
+  p.search.enabled = true;
+  p.search.attempt_duration_s = 0.1;  // 10 periods
+  p.search.max_attempts = 3;
   LegReflex leg(p, kDt);
   Recorder rec(&leg);
-  LegSensing s = Touching(Stance());
-  rec.Step(s);  // #0: touchdown, press −0.25/−0.125
-  s.stretch_rad = {0.0, -0.25, -0.125};  // the joints followed the press
-  for (int k = 1; k < 6; ++k) {
-    EXPECT_EQ(rec.Step(s).target_offset_rad, Eigen::Vector3d(0.0, -0.25, -0.125)) << k;
+  rec.Step(Swing());  // #0
+  LegSensing s = Stance();
+  Eigen::Vector3d commanded = rec.Step(s).target_offset_rad;  // #1: the search starts
+  for (int k = 2; k < 25; ++k) {
+    s.stretch_rad = commanded;  // the joints followed last period's command
+    const LegReflexOutput& out = rec.Step(s);
+    EXPECT_FALSE(out.Fired(Reflex::kSpindle)) << k;
+    EXPECT_TRUE(out.Fired(Reflex::kSearch)) << k;
+    commanded = out.target_offset_rad;
   }
-  EXPECT_FALSE(rec.output(5).Fired(Reflex::kSpindle));
+  EXPECT_GT(commanded.cwiseAbs().maxCoeff(), 0.1);  // well past the spindle's dead zone
 }
 
 }  // namespace

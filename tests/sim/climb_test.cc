@@ -1,5 +1,5 @@
-// Climbing control (issue: climbing gaits): the bundled wall and ceiling examples climb and
-// hang as documented, the gecko walks from the floor onto the wall round a fillet, the
+// Climbing control (issue: climbing gaits; issue 12: spindle and GTO on): the bundled wall and
+// ceiling examples climb and hang as documented, the gecko walks from the floor onto the wall round a fillet, the
 // climbing reflexes recover from a push that the same gait without them does not survive,
 // and every climbing reflex is logged on the leg that fired it.
 // Body lengths are those of mjcf/README.md: gecko 0.10 m, spider 0.16 m.
@@ -38,23 +38,53 @@ Scenario ExampleWith(const std::string& example, const std::string& name,
   return LoadScenario(WriteFile(name, text + append));
 }
 
+// The climbing examples run with the spindle and GTO reflexes on (issue 12).
+void ExpectSpindleAndGtoOn(const Scenario& s) {
+  ASSERT_TRUE(s.reflex.has_value());
+  EXPECT_TRUE(s.reflex->spindle.enabled);
+  EXPECT_TRUE(s.reflex->gto.enabled);
+}
+
 TEST(Climb, GeckoClimbsThreeBodyLengthsUpAWallIn20s) {
-  const RunResult r = RunScenario(LoadScenario(Source("examples/gecko_wall.yaml")));
+  const Scenario s = LoadScenario(Source("examples/gecko_wall.yaml"));
+  ExpectSpindleAndGtoOn(s);
+  const RunResult r = RunScenario(s);
   ASSERT_TRUE(r.stable) << r.failure;
   EXPECT_FALSE(r.fell) << r.fall_time_s;
   EXPECT_GE(r.distance_m, 3 * 0.10);
+  EXPECT_GE(r.distance_m, 0.34);  // issue 12: with spindle and GTO on
 }
 
 TEST(Climb, SpiderClimbsTwoBodyLengthsUpAWallIn20s) {
-  const RunResult r = RunScenario(LoadScenario(Source("examples/spider_wall.yaml")));
+  const Scenario s = LoadScenario(Source("examples/spider_wall.yaml"));
+  ExpectSpindleAndGtoOn(s);
+  const RunResult r = RunScenario(s);
   ASSERT_TRUE(r.stable) << r.failure;
   EXPECT_FALSE(r.fell) << r.fall_time_s;
   EXPECT_GE(r.distance_m, 2 * 0.16);
+  EXPECT_GE(r.distance_m, 0.46);  // issue 12: with spindle and GTO on
+}
+
+// GTO's load channel on a welded pad (load_attached, Ekeberg and Pearson's rule as it was):
+// on a wall the front pads hang loaded all the time, so no leg ever leaves stance and the gait
+// stalls. The default leaves attached pads to the support channel (utilisation) and climbs.
+TEST(Climb, LoadHoldOnWeldedPadsStallsTheWallGait) {
+  const Scenario base = ExampleWith("examples/gecko_wall.yaml", "load_hold.yaml",
+                                    "duration_s: 20", "duration_s: 4");
+  Scenario welded = base;
+  welded.reflex->gto.load_attached = true;
+  const RunResult free = RunScenario(base);
+  const RunResult stalled = RunScenario(welded);
+  EXPECT_FALSE(free.fell);
+  EXPECT_FALSE(stalled.fell);
+  EXPECT_GT(free.distance_m, 0.05);
+  EXPECT_LT(stalled.distance_m, 0.5 * free.distance_m);
 }
 
 TEST(Climb, GeckoWalksUnderTheCeilingFor20sWithoutFalling) {
   const Scenario s = LoadScenario(Source("examples/gecko_ceiling.yaml"));
   ASSERT_EQ(s.duration_s, 20.0);
+  ExpectSpindleAndGtoOn(s);
   const RunResult r = RunScenario(s);
   ASSERT_TRUE(r.stable) << r.failure;
   EXPECT_FALSE(r.fell) << r.fall_time_s;
