@@ -412,10 +412,10 @@ Eigen::Vector3d LegReflex::Gto(const Sensed& in, const Laws& laws, LegReflexOutp
 }
 
 // Spindles. Pad attached: no offset (also in a peel); in stance a stretch beyond the stance
-// band (the body pushed) holds every leg in stance. Free swing leg: a stretch beyond the swing
-// threshold lifts the foot (stumble). Stance foot in the air (a search): the stretch law on
-// each joint. A foot touching without a bond: nothing (the preload presses it). One event at
-// the onset of activity.
+// band (the body pushed) holds every leg in stance. Foot in the air: a stretch beyond the
+// swing threshold lifts the foot (stumble); with resist, a stance foot in the air gets the
+// stretch law on each joint instead. A foot touching without a bond: nothing (the preload
+// presses it). One event at the onset of activity.
 Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflexOutput* out) {
   LegReflexState& st = state_;
   const LegSpindleParams& p = params_.spindle;
@@ -433,7 +433,7 @@ Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflex
         if (!st.spindle_active) Emit(out, LegEventType::kSpindle, LegEventReason::kPushed);
         active = true;
       }
-    } else if (!in.stance) {
+    } else if (!in.raw->touching && !(in.stance && p.resist)) {
       double excess = 0.0;
       for (int j = 0; j < kLegJoints; ++j) {
         excess = std::max(
@@ -445,7 +445,7 @@ Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflex
         offset[kKnee] = p.joints[kKnee].length_gain * excess;
         if (!st.spindle_active) Emit(out, LegEventType::kSpindle, LegEventReason::kStumble);
       }
-    } else if (!in.raw->touching) {
+    } else if (!in.raw->touching) {  // resist: a stance foot in the air
       active = (laws.spindle_rad.array() != 0.0).any();
       if (active) {
         offset = laws.spindle_rad;

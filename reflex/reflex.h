@@ -288,15 +288,18 @@ struct GtoHoldParams {
 };
 
 // The spindle law on each joint, indexed by Joint. Where the stretch of a joint means what:
-//  * swing, foot free: a stretch beyond swing_threshold_rad on any joint means the leg is
+//  * foot in the air (swing, or a stance foot searching): a stretch beyond
+//    swing_threshold_rad on any joint means the leg is
 //    blocked or tripping (Forssberg's stumbling-corrective reaction: lift and re-place). With
 //    s = max_j [|q̃_j(t−Δ)| − swing_threshold]₊ the foot is lifted: hip_pitch += K_L,pitch·s,
 //    knee += K_L,knee·s. (Resisting every stretch in swing, the law below, set the free foot
 //    chattering against its own servo lag with the 10 ms delay.)
-//  * stance, foot in the air (a search): the law of SpindleReflex on each joint, against the
-//    stretch. A foot that touches without a bond gets nothing: the preload presses it, and
-//    resisting the contact's stretch as well bounced the foot off the wall (the spider fell).
-//    The law acts as before wherever no pad is involved (robots without adhesion).
+//  * with `resist` (off by default), a stance foot in the air gets instead the law of
+//    SpindleReflex on each joint, against the stretch. Off because resisting the lag of a
+//    commanded motion speeds it up: a searching foot hit the ceiling at 0.45 m/s (too fast to
+//    attach) and the gait stalled. A foot that touches without a bond gets nothing: the
+//    preload presses it, and resisting the contact's stretch bounced the spider's feet off
+//    the wall (it fell).
 //  * pad attached (stance or a peel): no offset (a welded foot cannot follow one; it would
 //    only load the other pads). In stance a delayed stretch |q̃(t−Δ)| beyond stance_band_rad
 //    on any joint means the body is being pushed: the leg asks every leg to stay in stance
@@ -306,6 +309,7 @@ struct LegSpindleParams {
   bool enabled = true;
   std::array<SpindleParams, kLegJoints> joints{};
   double swing_threshold_rad = 0.3;  // >= 0
+  bool resist = false;               // the per-joint law on a stance foot in the air
   double stance_band_rad = 0.15;     // >= 0
   double hold_s = 0.2;               // >= 0
 };
@@ -497,9 +501,9 @@ struct LegReflexState {
 //            | bonded < full_bond_fraction     | preload              |
 //  gto unload| stance ∧ attached ∧ delayed     | kp_fraction ×        | utilisation <= U0
 //            | utilisation > U0                | max(min, 1 − u)      |
-//  spindle   | swing, free: |q̃(t−Δ)| > L_sw    | lift (stumble)       | inside L_sw
-//            | stance, in the air: |q̃(t−Δ)| >  | resist the stretch   | inside the dead zones
-//            | L0 ∨
+//  spindle   | in the air: |q̃(t−Δ)| > L_sw     | lift (stumble)       | inside L_sw
+//            | with resist, stance in the air: | resist the stretch   | inside the dead zones
+//            | |q̃(t−Δ)| > L0 ∨
 //            | |q̇(t−Δ)| > V0                   |                      |
 //            | attached in stance: |q̃(t−Δ)| >  | hold_others (no      | inside the band, then
 //            | stance_band_rad (pushed)        | offset)              | hold_s

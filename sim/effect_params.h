@@ -253,12 +253,14 @@ struct SpindleKeys {
   bool enabled = true;
   reflex::SpindleParams law;
   double swing_threshold_rad = reflex::LegSpindleParams{}.swing_threshold_rad;
+  bool resist = reflex::LegSpindleParams{}.resist;
   double stance_band_rad = reflex::LegSpindleParams{}.stance_band_rad;
   double hold_s = reflex::LegSpindleParams{}.hold_s;
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "muscle-spindle-like stretch reflex on each joint: in stance with the foot not attached, u = K_L [stretch(t-D) - L_0]+ + K_V [rate(t-D) - V_0]+, against the stretch; in swing, a stretch beyond swing_threshold_rad lifts the foot; with the pad attached, no offset, and in stance a stretch beyond stance_band_rad holds every leg in stance"}, &enabled);
+    a->Visit({"enabled", "", "muscle-spindle-like stretch reflex: a foot in the air stretched beyond swing_threshold_rad is lifted (stumbling correction); with the pad attached, no offset, and in stance a stretch beyond stance_band_rad holds every leg in stance; with resist, the law u = K_L [stretch(t-D) - L_0]+ + K_V [rate(t-D) - V_0]+ against the stretch on a stance foot in the air"}, &enabled);
     a->Visit({"swing_threshold_rad", "rad", "free swing leg: a delayed stretch beyond this on any joint means it is blocked, and lifts the foot by K_L times the excess (stumbling correction)", Range::NonNegative()}, &swing_threshold_rad);
+    a->Visit({"resist", "", "a stance foot in the air (a search) resists its stretch with the law above instead of lifting only when blocked (off: resisting the lag of a commanded reach sped the foot into the surface too fast to attach)"}, &resist);
     a->Visit({"stance_band_rad", "rad", "attached stance leg: a delayed stretch beyond this on any joint means the body is pushed", Range::NonNegative()}, &stance_band_rad);
     a->Visit({"hold_s", "s", "how long every leg stays in stance after a push ends", Range::NonNegative()}, &hold_s);
     a->Visit({"length_gain", "rad/rad", "K_L", Range::NonNegative()}, &law.length_gain);
@@ -313,6 +315,7 @@ struct ReflexParams {
     p.spindle.enabled = spindle.enabled;
     p.spindle.joints = {spindle.law, spindle.law, spindle.law};
     p.spindle.swing_threshold_rad = spindle.swing_threshold_rad;
+    p.spindle.resist = spindle.resist;
     p.spindle.stance_band_rad = spindle.stance_band_rad;
     p.spindle.hold_s = spindle.hold_s;
     p.compliance = compliance;

@@ -182,6 +182,7 @@ TEST(ReflexGtoHold, LoadChannelActsOnAFreeFootNotOnAWeldedOne) {
 LegReflexParams SpindleOnly() {
   LegReflexParams p = AllOff();
   p.spindle.enabled = true;
+  p.spindle.resist = true;
   for (SpindleParams& j : p.spindle.joints) {
     j = {.length_gain = 0.5,
          .velocity_gain_s = 0.0,
@@ -234,9 +235,19 @@ TEST(ReflexLegSpindle, BlockedSwingLegLiftsItsFoot) {
   EXPECT_EQ(rec.events(), (Events{At(3, E::kSpindle, R::kStumble)}));
 }
 
-// The same stretch on a stance foot in the air (a search) is resisted, as before; on a foot
-// that touches without a bond it is left to the preload.
+// With resist, the same stretch on a stance foot in the air is resisted, as before; on a foot
+// that touches without a bond it is left to the preload; without resist a stance foot in the
+// air only lifts when blocked, like a swing leg.
 TEST(ReflexLegSpindle, FootInTheAirResistsTheSameStretch) {
+  {
+    LegReflexParams p = SpindleOnly();
+    p.spindle.resist = false;
+    p.spindle.swing_threshold_rad = 0.5;
+    LegReflex leg(p, kDt);
+    LegSensing s = Stance();
+    s.stretch_rad = {0.0, -0.3125, 0.0};
+    EXPECT_EQ(Recorder(&leg).Repeat(s, 3).target_offset_rad, Eigen::Vector3d::Zero());
+  }
   {
     LegReflex leg(SpindleOnly(), kDt);
     LegSensing s = Touching(Stance());

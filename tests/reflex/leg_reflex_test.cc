@@ -560,6 +560,7 @@ TEST(ReflexGtoHold, SilentWhenSwitchedOff) {
 LegReflexParams SpindleOnly() {
   LegReflexParams p = AllOff();
   p.spindle.enabled = true;
+  p.spindle.resist = true;  // the per-joint law on a stance foot in the air
   for (SpindleParams& j : p.spindle.joints) {
     j = {.length_gain = 0.5,
          .velocity_gain_s = 0.0,
