@@ -439,10 +439,12 @@ Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflex
         excess = std::max(
             excess, std::abs(spindles_[j].delayed_stretch_rad()) - p.swing_threshold_rad);
       }
-      active = excess > 0.0;
-      if (active) {
+      if (excess > 0.0) {
         offset[kHipPitch] = p.joints[kHipPitch].length_gain * excess;
         offset[kKnee] = p.joints[kKnee].length_gain * excess;
+      }
+      active = offset[kHipPitch] != 0.0 || offset[kKnee] != 0.0;  // a lift, not zero gains
+      if (active) {
         if (!st.spindle_active) Emit(out, LegEventType::kSpindle, LegEventReason::kStumble);
       }
     } else if (!in.raw->touching) {  // resist: a stance foot in the air
