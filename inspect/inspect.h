@@ -159,6 +159,9 @@ struct Stance {
 //   detach row); peak_shear_n = max hypot(fx_n, fy_n); lowest_bonded_fraction = min
 //   bonded_fraction over those rows before the detach's own time step (that step's rows
 //   hold what was left after the pad failed). Only rows inside the window count.
+// * peak_utilisation = max of trajectory.csv's `<pad>_utilisation` (the pad's peak bond
+//   demand over threshold, 1 breaks a bond) over the rows inside the window; absent when the
+//   run has no such column (runs from before it existed).
 struct LegReport {
   std::string leg;
   std::string pad;
@@ -183,6 +186,7 @@ struct LegReport {
   std::optional<double> peak_normal_n;           // N, + pulls off
   std::optional<double> peak_shear_n;            // N
   std::optional<double> lowest_bonded_fraction;  // the safety margin while attached
+  std::optional<double> peak_utilisation;        // bond demand / threshold, 1 breaks
   std::map<std::string, int> reflexes;           // event name → count
 };
 
@@ -202,7 +206,8 @@ Report Analyse(const Run& run, const Window& window);
 //  "legs":[{"leg","pad","touchdowns","attachments","rejected","rejected_by":{},"detaches",
 //  "detached_by":{},"bonds_lost_steps","stances":[{"start_s","end_s","open_start","open_end",
 //  "end_cause"}],"complete_stances","mean_stance_s","shortest_stance_s","attached_s",
-//  "duty_factor","peak_normal_n","peak_shear_n","lowest_bonded_fraction","reflexes":{}}]}
+//  "duty_factor","peak_normal_n","peak_shear_n","lowest_bonded_fraction","peak_utilisation",
+//  "reflexes":{}}]}
 // Absent values (no complete stance, never attached) are null.
 nlohmann::json ReportJson(const Run& run, const Report& report);
 // The table for a terminal: one column per leg, one row per figure.

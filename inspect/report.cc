@@ -169,6 +169,14 @@ Report Analyse(const Run& run, const Window& window) {
     }
     if (r.complete_stances > 0) r.mean_stance_s = sum_complete / r.complete_stances;
     r.duty_factor = r.attached_s / report.observed_s;
+    // Peak utilisation from trajectory.csv, when the run has the column.
+    const int u = run.trajectory ? run.trajectory->Column(r.pad + "_utilisation") : -1;
+    if (u >= 0) {
+      const auto& t = *run.trajectory;
+      for (size_t row = 0; row < t.rows(); ++row) {
+        if (t.at(row, 0) >= a && t.at(row, 0) <= b) Max(&r.peak_utilisation, t.at(row, u));
+      }
+    }
     report.legs.push_back(std::move(r));
   }
   return report;
@@ -212,6 +220,7 @@ nlohmann::json ReportJson(const Run& run, const Report& report) {
                     {"peak_normal_n", Optional(r.peak_normal_n)},
                     {"peak_shear_n", Optional(r.peak_shear_n)},
                     {"lowest_bonded_fraction", Optional(r.lowest_bonded_fraction)},
+                    {"peak_utilisation", Optional(r.peak_utilisation)},
                     {"reflexes", r.reflexes}});
   }
   j["legs"] = legs;
@@ -276,6 +285,7 @@ std::string ReportText(const Run& run, const Report& report) {
   row("peak shear load (N)", [&](const LegReport& r) { return opt(r.peak_shear_n, "%.3f"); });
   row("lowest bonded fraction",
       [&](const LegReport& r) { return opt(r.lowest_bonded_fraction, "%.3f"); });
+  row("peak utilisation", [&](const LegReport& r) { return opt(r.peak_utilisation, "%.3f"); });
   std::set<std::string> reflexes;
   for (const LegReport& r : report.legs) {
     for (const auto& [k, n] : r.reflexes) reflexes.insert(k);

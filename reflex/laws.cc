@@ -102,6 +102,7 @@ SpindleReflex::SpindleReflex(const SpindleParams& params, double dt_s)
 // offset = −K_L·D(q̃(t−Δ), L0) − K_V·D(q̇(t−Δ), V0); "0.0 −" keeps a silent term at +0.
 double SpindleReflex::Update(double stretch_rad, double stretch_velocity_rad_per_s) {
   const double q = stretch_delay_.Update(Sanitize(stretch_rad, &nonfinite_inputs_));
+  delayed_stretch_rad_ = q;
   const double v = velocity_delay_.Update(Sanitize(stretch_velocity_rad_per_s, &nonfinite_inputs_));
   length_term_rad_ = 0.0 - params_.length_gain * SignedDeadZone(q, params_.length_threshold_rad);
   velocity_term_rad_ =
@@ -114,6 +115,7 @@ void SpindleReflex::Reset() {
   velocity_delay_.Reset();
   length_term_rad_ = 0.0;
   velocity_term_rad_ = 0.0;
+  delayed_stretch_rad_ = 0.0;
   nonfinite_inputs_ = 0;
 }
 

@@ -87,12 +87,28 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
   CheckNonNegative(FieldPath(gto, "press.gain"), params.gto.press.gain);
   CheckNonNegative(FieldPath(gto, "press_max_offset_rad"), params.gto.press_max_offset_rad);
   CheckRange(FieldPath(gto, "full_bond_fraction"), params.gto.full_bond_fraction, 0.0, 1.0, true);
+  Validate(params.gto.unload, dt_s, FieldPath(gto, "unload"));
+  CheckNonNegative(FieldPath(gto, "unload.gain"), params.gto.unload.gain);
+  CheckRange(FieldPath(gto, "unload_min_kp_fraction"), params.gto.unload_min_kp_fraction, 0.0,
+             1.0, true);
+  Validate(params.gto.support, dt_s, FieldPath(gto, "support"));
 
   // Spindles.
   for (int j = 0; j < kLegJoints; ++j) {
     Validate(params.spindle.joints[j], dt_s,
              FieldPath(name, "spindle.joints[" + std::to_string(j) + "]"));
   }
+
+  CheckNonNegative(FieldPath(name, "spindle.swing_threshold_rad"),
+                   params.spindle.swing_threshold_rad);
+  CheckNonNegative(FieldPath(name, "spindle.stance_band_rad"), params.spindle.stance_band_rad);
+  DurationToSamples(FieldPath(name, "spindle.hold_s"), params.spindle.hold_s, dt_s, false);
+
+  // Compliance.
+  const std::string compliance = FieldPath(name, "compliance");
+  CheckRange(FieldPath(compliance, "stance_kp_fraction"), params.compliance.stance_kp_fraction,
+             0.0, 1.0, true);
+  DurationToSamples(FieldPath(compliance, "ramp_s"), params.compliance.ramp_s, dt_s, false);
 
   CheckPositive(FieldPath(name, "max_offset_rad"), params.max_offset_rad);
 }
@@ -107,8 +123,11 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
       regrip_samples_(DurationToSamples("", params.regrip.hold_others_s, dt_s, false)),
       peel_max_samples_(DurationToSamples("", params.peel.max_duration_s, dt_s, true)),
       peel_release_samples_(DurationToSamples("", params.peel.release_s, dt_s, false)),
+      pushed_hold_samples_(DurationToSamples("", params.spindle.hold_s, dt_s, false)),
       hold_gto_(params.gto.hold, dt_s),
       press_gto_(params.gto.press, dt_s),
+      unload_gto_(params.gto.unload, dt_s),
+      support_gto_(params.gto.support, dt_s),
       spindles_{SpindleReflex(params.spindle.joints[0], dt_s),
                 SpindleReflex(params.spindle.joints[1], dt_s),
                 SpindleReflex(params.spindle.joints[2], dt_s)} {}
@@ -116,245 +135,367 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
 void LegReflex::Reset() {
   hold_gto_.Reset();
   press_gto_.Reset();
+  unload_gto_.Reset();
+  support_gto_.Reset();
   for (SpindleReflex& spindle : spindles_) spindle.Reset();
   state_ = LegReflexState{};
 }
 
+// The reflexes composed: each function below is one reflex (its state, events and offset).
 LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
   LegReflexOutput out;
+  const Sensed in = Sense(sensing);
+  const Laws laws = RunLaws(in);
+  SwingOnset(in, &out);
+  PreloadLimits(in, &out);
+  Eigen::Vector3d offset = Search(in, &out);
+  Regrip(in, &out);
+  offset += Preload(in, &out);
+  offset += Peel(in, &out);
+  offset += Gto(in, laws, &out);
+  state_.other_offset_rad = offset;  // the spindles' reference for the next period
+  offset += Spindle(in, laws, &out);
+  Compliance(in, &out);
+  Finish(in, offset, &out);
+  return out;
+}
+
+// Sensing, with non-finite values replaced by 0 and counted, and this period's edges.
+LegReflex::Sensed LegReflex::Sense(const LegSensing& sensing) {
   LegReflexState& st = state_;
-  const LegReflexParams& p = params_;
-
-  // Sensing, with non-finite values replaced by 0 and counted.
   int64_t* bad = &st.nonfinite_inputs;
-  const bool stance = sensing.stance;
+  Sensed in;
+  in.raw = &sensing;
+  in.stance = sensing.stance;
   Sanitize(sensing.phase_progress, bad);  // counted like every input; the peel runs on time
-  const double bonded = std::clamp(Sanitize(sensing.bonded_fraction, bad), 0.0, 1.0);
-  const double normal_load_n = Sanitize(sensing.normal_load_n, bad);
-  const double preload_n = Sanitize(sensing.preload_n, bad);
-  const bool swing_onset = st.prev_stance && !stance;
-  const bool stance_onset = !st.prev_stance && stance;
-  const bool touchdown = stance && sensing.touching && !(st.prev_stance && st.prev_touching);
-  const bool attach_edge = sensing.attached && !st.prev_attached;
+  in.bonded = std::clamp(Sanitize(sensing.bonded_fraction, bad), 0.0, 1.0);
+  in.normal_load_n = Sanitize(sensing.normal_load_n, bad);
+  in.preload_n = Sanitize(sensing.preload_n, bad);
+  in.swing_onset = st.prev_stance && !in.stance;
+  in.stance_onset = !st.prev_stance && in.stance;
+  in.touchdown = in.stance && sensing.touching && !(st.prev_stance && st.prev_touching);
+  in.attach_edge = sensing.attached && !st.prev_attached;
+  return in;
+}
 
-  // The laws run every period (when enabled) so that their delays stay exact.
-  double hold_u = 0.0;
-  double press_u = 0.0;
+// The laws run every period (when enabled) so that their delays stay exact.
+LegReflex::Laws LegReflex::RunLaws(const Sensed& in) {
+  const LegReflexParams& p = params_;
+  int64_t* bad = &state_.nonfinite_inputs;
+  Laws laws;
   if (p.gto.enabled) {
-    const double hold_load_n =
-        p.gto.count_compression ? std::max(std::abs(normal_load_n), preload_n) : normal_load_n;
-    hold_u = hold_gto_.Update(hold_load_n);
-    press_u = press_gto_.Update(preload_n);
+    const double hold_load_n = p.gto.count_compression
+                                   ? std::max(std::abs(in.normal_load_n), in.preload_n)
+                                   : in.normal_load_n;
+    laws.hold_u = hold_gto_.Update(hold_load_n);
+    laws.press_u = press_gto_.Update(in.preload_n);
+    laws.unload_u = unload_gto_.Update(Sanitize(in.raw->utilisation, bad));
+    support_gto_.Update(Sanitize(in.raw->support_utilisation, bad));
   }
-  Eigen::Vector3d spindle_rad = Eigen::Vector3d::Zero();
   if (p.spindle.enabled) {
     for (int j = 0; j < kLegJoints; ++j) {
-      spindle_rad[j] = spindles_[j].Update(Sanitize(sensing.stretch_rad[j], bad),
-                                           Sanitize(sensing.stretch_velocity_rad_per_s[j], bad));
+      laws.spindle_rad[j] =
+          spindles_[j].Update(Sanitize(in.raw->stretch_rad[j], bad) - state_.other_offset_rad[j],
+                              Sanitize(in.raw->stretch_velocity_rad_per_s[j], bad));
     }
   }
+  return laws;
+}
 
-  const auto start_release = [&] {
-    st.search_holding = false;
-    st.search_release_left = search_release_samples_;
-  };
-
-  // Swing onset ends the stance reflexes and starts a peel if the pad is still attached.
-  if (swing_onset) {
-    if (st.preloading) {
-      st.preloading = false;
-      Emit(&out, LegEventType::kPreloadEnd, LegEventReason::kSwingStarted);
-    }
-    if (st.searching) {
-      st.searching = false;
-      Emit(&out, LegEventType::kSearchEnd, LegEventReason::kSwingStarted);
-      start_release();
-    } else if (st.search_holding) {
-      start_release();
-    }
-    if (p.peel.enabled && sensing.attached) {
-      st.peeling = true;
-      st.peel_samples = 0;
-      st.peel_release_left = 0;
-      Emit(&out, LegEventType::kPeel);
-    }
-  }
-
-  // Preload limits, from the period after the start on.
+// Swing onset ends the stance reflexes and starts a peel if the pad is still attached.
+void LegReflex::SwingOnset(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  if (!in.swing_onset) return;
   if (st.preloading) {
-    ++st.preload_samples;
-    LegEventReason reason = LegEventReason::kNone;
-    if (attach_edge) {
-      reason = LegEventReason::kAttached;
-    } else if (preload_n >= p.preload.force_limit_n) {
-      reason = LegEventReason::kForceLimit;
-    } else if (st.preload_samples >= preload_max_samples_) {
-      reason = LegEventReason::kTimeLimit;
-    }
-    if (reason != LegEventReason::kNone) {
-      st.preloading = false;
-      Emit(&out, LegEventType::kPreloadEnd, reason);
-    }
+    st.preloading = false;
+    Emit(out, LegEventType::kPreloadEnd, LegEventReason::kSwingStarted);
   }
+  if (st.searching) {
+    st.searching = false;
+    Emit(out, LegEventType::kSearchEnd, LegEventReason::kSwingStarted);
+    StartSearchRelease();
+  } else if (st.search_holding) {
+    StartSearchRelease();
+  }
+  if (params_.peel.enabled && in.raw->attached) {
+    st.peeling = true;
+    st.peel_samples = 0;
+    st.peel_release_left = 0;
+    Emit(out, LegEventType::kPeel);
+  }
+}
 
-  // Search: found, or out of attempts; a new one at a stance onset without touchdown.
+// Preload limits, from the period after the start on.
+void LegReflex::PreloadLimits(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  if (!st.preloading) return;
+  ++st.preload_samples;
+  LegEventReason reason = LegEventReason::kNone;
+  if (in.attach_edge) {
+    reason = LegEventReason::kAttached;
+  } else if (in.preload_n >= params_.preload.force_limit_n) {
+    reason = LegEventReason::kForceLimit;
+  } else if (st.preload_samples >= preload_max_samples_) {
+    reason = LegEventReason::kTimeLimit;
+  }
+  if (reason != LegEventReason::kNone) {
+    st.preloading = false;
+    Emit(out, LegEventType::kPreloadEnd, reason);
+  }
+}
+
+// Search: found, or out of attempts; a new one at a stance onset without touchdown. Reach
+// ρ = m/(N·n_a) plus a lift bump sin(π·s) within each attempt; held once found; released.
+Eigen::Vector3d LegReflex::Search(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const SearchParams& p = params_.search;
+  const LegSensing& sensing = *in.raw;
   if (st.searching) {
     ++st.search_samples;
     if (sensing.touching || sensing.attached) {
       st.searching = false;
       st.search_holding = true;  // keep the foot where it found the surface
-      Emit(&out, LegEventType::kSearchEnd, LegEventReason::kFound);
-    } else if (st.search_samples >= p.search.max_attempts * search_attempt_samples_) {
+      Emit(out, LegEventType::kSearchEnd, LegEventReason::kFound);
+    } else if (st.search_samples >= p.max_attempts * search_attempt_samples_) {
       st.searching = false;
-      Emit(&out, LegEventType::kSearchEnd, LegEventReason::kAttemptsExhausted);
-      start_release();
+      Emit(out, LegEventType::kSearchEnd, LegEventReason::kAttemptsExhausted);
+      StartSearchRelease();
     }
   }
-  if (p.search.enabled && stance_onset && !sensing.touching && !sensing.attached) {
+  if (p.enabled && in.stance_onset && !sensing.touching && !sensing.attached) {
     st.searching = true;
     st.search_samples = 0;
     st.search_holding = false;
     st.search_release_left = 0;
     st.search_offset_rad.setZero();
-    Emit(&out, LegEventType::kSearchStart);
+    Emit(out, LegEventType::kSearchStart);
   }
 
-  // Re-grip: bonds lost in stance by a pad that was holding. A new episode (no re-grip hold or
-  // re-grip preload running) emits regrip and starts a preload; a running one is extended.
-  if (p.regrip.enabled && stance && sensing.bonds_lost && st.prev_attached) {
-    const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
-    if (st.regrip_left == 0 && !regrip_preload) Emit(&out, LegEventType::kRegrip);
-    st.regrip_left = regrip_samples_;
-    if (!st.preloading) {
-      st.preloading = true;
-      st.preload_samples = 0;
-      st.preload_trigger = LegEventReason::kRegrip;
-      Emit(&out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
+  if (st.searching) {
+    const int m = st.search_samples;
+    const double rho = static_cast<double>(m) / (p.max_attempts * search_attempt_samples_);
+    const double s = static_cast<double>(m % search_attempt_samples_) / search_attempt_samples_;
+    const double lift = p.lift_rad * std::sin(std::numbers::pi * s);
+    st.search_offset_rad = {p.reach_yaw_rad * rho, lift - p.reach_pitch_rad * rho,
+                            lift - p.reach_knee_rad * rho};
+    Fire(out, Reflex::kSearch);
+    return st.search_offset_rad;
+  }
+  if (st.search_holding) {
+    Fire(out, Reflex::kSearch);
+    return st.search_offset_rad;
+  }
+  if (st.search_release_left > 0) {
+    --st.search_release_left;
+    if (st.search_release_left > 0) {
+      Fire(out, Reflex::kSearch);
+      return st.search_offset_rad *
+             (static_cast<double>(st.search_release_left) / search_release_samples_);
     }
   }
+  return Eigen::Vector3d::Zero();
+}
 
-  // Touchdown preload.
-  if (p.preload.enabled && touchdown && !sensing.attached && !st.preloading) {
+void LegReflex::StartSearchRelease() {
+  state_.search_holding = false;
+  state_.search_release_left = search_release_samples_;
+}
+
+// Re-grip: bonds lost in stance by a pad that was holding. A new episode (no re-grip hold or
+// re-grip preload running) emits regrip and starts a preload; a running one is extended.
+void LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  if (!(params_.regrip.enabled && in.stance && in.raw->bonds_lost && st.prev_attached)) return;
+  const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
+  if (st.regrip_left == 0 && !regrip_preload) Emit(out, LegEventType::kRegrip);
+  st.regrip_left = regrip_samples_;
+  if (!st.preloading) {
+    st.preloading = true;
+    st.preload_samples = 0;
+    st.preload_trigger = LegEventReason::kRegrip;
+    Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
+  }
+}
+
+// Touchdown preload; the press is a linear ramp, (m + 1)/n_ramp of full at the m-th period.
+Eigen::Vector3d LegReflex::Preload(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const PreloadParams& p = params_.preload;
+  if (p.enabled && in.touchdown && !in.raw->attached && !st.preloading) {
     st.preloading = true;
     st.preload_samples = 0;
     st.preload_trigger = LegEventReason::kTouchdown;
-    Emit(&out, LegEventType::kPreloadStart, LegEventReason::kTouchdown);
+    Emit(out, LegEventType::kPreloadStart, LegEventReason::kTouchdown);
   }
+  if (!st.preloading) return Eigen::Vector3d::Zero();
+  const double ramp = preload_ramp_samples_ == 0
+                          ? 1.0
+                          : std::min(1.0, (st.preload_samples + 1.0) / preload_ramp_samples_);
+  Fire(out, st.preload_trigger == LegEventReason::kRegrip ? Reflex::kRegrip : Reflex::kPreload);
+  return {0.0, 0.0 - p.hip_pitch_press_rad * ramp, 0.0 - p.knee_press_rad * ramp};
+}
 
-  // Offsets. Preload: linear ramp, (m + 1)/n_ramp of full at the m-th period.
+// Peel: pull back and lift with a smooth step while the pad holds, the phase held; then
+// fade out. A stance (the CPG went on regardless) ends it too.
+Eigen::Vector3d LegReflex::Peel(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const PeelParams& p = params_.peel;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
-  if (st.preloading) {
-    const double ramp = preload_ramp_samples_ == 0
-                            ? 1.0
-                            : std::min(1.0, (st.preload_samples + 1.0) / preload_ramp_samples_);
-    offset[kHipPitch] -= p.preload.hip_pitch_press_rad * ramp;
-    offset[kKnee] -= p.preload.knee_press_rad * ramp;
-    Fire(&out, st.preload_trigger == LegEventReason::kRegrip ? Reflex::kRegrip : Reflex::kPreload);
-  }
-
-  // Search: reach ρ = m/(N·n_a) plus a lift bump sin(π·s) within each attempt.
-  if (st.searching) {
-    const int m = st.search_samples;
-    const double rho = static_cast<double>(m) / (p.search.max_attempts * search_attempt_samples_);
-    const double s = static_cast<double>(m % search_attempt_samples_) / search_attempt_samples_;
-    const double lift = p.search.lift_rad * std::sin(std::numbers::pi * s);
-    st.search_offset_rad = {p.search.reach_yaw_rad * rho, lift - p.search.reach_pitch_rad * rho,
-                            lift - p.search.reach_knee_rad * rho};
-    offset += st.search_offset_rad;
-    Fire(&out, Reflex::kSearch);
-  } else if (st.search_holding) {
-    offset += st.search_offset_rad;
-    Fire(&out, Reflex::kSearch);
-  } else if (st.search_release_left > 0) {
-    --st.search_release_left;
-    if (st.search_release_left > 0) {
-      offset += st.search_offset_rad *
-                (static_cast<double>(st.search_release_left) / search_release_samples_);
-      Fire(&out, Reflex::kSearch);
-    }
-  }
-
-  // Peel: pull back and lift with a smooth step while the pad holds, the phase held; then
-  // fade out. A stance (the CPG went on regardless) ends it too.
   if (st.peeling) {
-    const double u = std::min(1.0, st.peel_samples * dt_s_ / p.peel.ramp_s);
+    const double u = std::min(1.0, st.peel_samples * dt_s_ / p.ramp_s);
     const double r = u * u * (3.0 - 2.0 * u);
-    const Eigen::Vector3d peel(p.peel.hip_yaw_rad * r, p.peel.hip_pitch_lift_rad * r,
-                               p.peel.knee_lift_rad * r);
+    const Eigen::Vector3d peel(p.hip_yaw_rad * r, p.hip_pitch_lift_rad * r, p.knee_lift_rad * r);
     LegEventReason reason = LegEventReason::kNone;
-    if (!sensing.attached || stance) {
+    if (!in.raw->attached || in.stance) {
       reason = LegEventReason::kDetached;
     } else if (st.peel_samples >= peel_max_samples_) {
       reason = LegEventReason::kTimeLimit;
     }
     if (reason == LegEventReason::kNone) {
-      offset += peel;
-      out.hold_phase = true;
+      offset = peel;
+      out->hold_phase = true;
       ++st.peel_samples;
     } else {
       st.peeling = false;
       st.peel_offset_rad = peel;
       st.peel_release_left = peel_release_samples_;
-      Emit(&out, LegEventType::kPeelEnd, reason);
+      Emit(out, LegEventType::kPeelEnd, reason);
     }
-    Fire(&out, Reflex::kPeel);
+    Fire(out, Reflex::kPeel);
   }
   if (!st.peeling && st.peel_release_left > 0) {
-    offset += st.peel_offset_rad * (static_cast<double>(st.peel_release_left) /
-                                    (peel_release_samples_ + 1));
+    offset = st.peel_offset_rad *
+             (static_cast<double>(st.peel_release_left) / (peel_release_samples_ + 1));
     --st.peel_release_left;
-    Fire(&out, Reflex::kPeel);
+    Fire(out, Reflex::kPeel);
   }
+  return offset;
+}
 
-  // GTO: a loaded leg (or one whose partner has no grip) holds stance and presses; a pad
-  // building its bond is pressed in proportion to its preload.
-  bool gto_holding = false;
-  if (p.gto.enabled && stance) {
-    const bool loaded = hold_gto_.loaded();
-    const bool partner_hold = p.gto.require_partner_attached && !sensing.partner_attached;
-    gto_holding = loaded || partner_hold;
-    if (loaded) offset[kHipPitch] -= std::min(hold_u, p.gto.hold_max_offset_rad);
-    if (gto_holding) Fire(&out, Reflex::kGtoHold);
-    if (gto_holding && !st.gto_holding) {
-      Emit(&out, LegEventType::kGtoHold,
-           loaded ? LegEventReason::kLoad : LegEventReason::kPartnerDetached);
+// GTO: a loaded leg (or one whose partner has no grip, or whose support pads are near their
+// limit) holds stance, and presses if its foot can move; a pad building its bond is pressed
+// in proportion to its preload; a pad near its bond limit is unloaded (the leg yields).
+Eigen::Vector3d LegReflex::Gto(const Sensed& in, const Laws& laws, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const GtoHoldParams& p = params_.gto;
+  const bool attached = in.raw->attached;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  bool holding = false;
+  bool unloading = false;
+  if (p.enabled && in.stance) {
+    const bool loaded = hold_gto_.loaded() && (!attached || p.load_attached);
+    const bool partner_hold = p.require_partner_attached && !in.raw->partner_attached;
+    const bool support_hold = support_gto_.loaded();
+    holding = loaded || partner_hold || support_hold;
+    if (loaded) offset[kHipPitch] -= std::min(laws.hold_u, p.hold_max_offset_rad);
+    if (holding) Fire(out, Reflex::kGtoHold);
+    if (holding && !st.gto_holding) {
+      Emit(out, LegEventType::kGtoHold,
+           loaded         ? LegEventReason::kLoad
+           : partner_hold ? LegEventReason::kPartnerDetached
+                          : LegEventReason::kSupport);
     }
-    if (sensing.attached && bonded < p.gto.full_bond_fraction && press_u > 0.0) {
-      offset[kHipPitch] -= std::min(press_u, p.gto.press_max_offset_rad);
-      Fire(&out, Reflex::kGtoPress);
+    if (attached && in.bonded < p.full_bond_fraction && laws.press_u > 0.0) {
+      offset[kHipPitch] -= std::min(laws.press_u, p.press_max_offset_rad);
+      Fire(out, Reflex::kGtoPress);
+    }
+    unloading = attached && laws.unload_u > 0.0;
+    if (unloading) {
+      out->kp_fraction *= std::max(p.unload_min_kp_fraction, 1.0 - laws.unload_u);
+      Fire(out, Reflex::kGtoUnload);
+      if (!st.gto_unloading) Emit(out, LegEventType::kGtoUnload);
     }
   }
-  st.gto_holding = gto_holding;
+  st.gto_holding = holding;
+  st.gto_unloading = unloading;
+  return offset;
+}
 
-  // Spindles: one event at the onset of activity on any joint.
-  bool spindle_active = false;
-  if (p.spindle.enabled) {
-    spindle_active = (spindle_rad.array() != 0.0).any();
-    if (spindle_active) {
-      offset += spindle_rad;
-      Fire(&out, Reflex::kSpindle);
-      if (!st.spindle_active) Emit(&out, LegEventType::kSpindle);
+// Spindles. Pad attached: no offset (also in a peel); in stance a stretch beyond the stance
+// band (the body pushed) holds every leg in stance. Foot in the air: a stretch beyond the
+// swing threshold lifts the foot (stumble); with resist, a stance foot in the air gets the
+// stretch law on each joint instead. A foot touching without a bond: nothing (the preload
+// presses it). One event at the onset of activity.
+Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const LegSpindleParams& p = params_.spindle;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  bool active = false;
+  if (p.enabled) {
+    if (in.raw->attached) {
+      bool pushed = false;
+      for (int j = 0; j < kLegJoints; ++j) {
+        pushed |= std::abs(spindles_[j].delayed_stretch_rad()) > p.stance_band_rad;
+      }
+      pushed &= in.stance;
+      if (pushed) {
+        st.pushed_left = pushed_hold_samples_ + 1;
+        if (!st.spindle_active) Emit(out, LegEventType::kSpindle, LegEventReason::kPushed);
+        active = true;
+      }
+    } else if (!in.raw->touching && !(in.stance && p.resist)) {
+      double excess = 0.0;
+      for (int j = 0; j < kLegJoints; ++j) {
+        excess = std::max(
+            excess, std::abs(spindles_[j].delayed_stretch_rad()) - p.swing_threshold_rad);
+      }
+      if (excess > 0.0) {
+        offset[kHipPitch] = p.joints[kHipPitch].length_gain * excess;
+        offset[kKnee] = p.joints[kKnee].length_gain * excess;
+      }
+      active = offset[kHipPitch] != 0.0 || offset[kKnee] != 0.0;  // a lift, not zero gains
+      if (active) {
+        if (!st.spindle_active) Emit(out, LegEventType::kSpindle, LegEventReason::kStumble);
+      }
+    } else if (!in.raw->touching) {  // resist: a stance foot in the air
+      active = (laws.spindle_rad.array() != 0.0).any();
+      if (active) {
+        offset = laws.spindle_rad;
+        if (!st.spindle_active) Emit(out, LegEventType::kSpindle);
+      }
     }
+    if (active) Fire(out, Reflex::kSpindle);
   }
-  st.spindle_active = spindle_active;
+  st.spindle_active = active;
+  return offset;
+}
 
+// Stance compliance: the stiffness fraction moves towards its target (stance fraction while
+// attached in stance, 1 otherwise) by at most dt/ramp_s per period.
+void LegReflex::Compliance(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const ComplianceParams& p = params_.compliance;
+  if (!p.enabled) return;
+  const double target = in.stance && in.raw->attached ? p.stance_kp_fraction : 1.0;
+  const double step = p.ramp_s > 0.0 ? dt_s_ / p.ramp_s : 1.0;
+  st.kp_fraction = st.kp_fraction < target ? std::min(target, st.kp_fraction + step)
+                                           : std::max(target, st.kp_fraction - step);
+  out->kp_fraction *= st.kp_fraction;
+  if (st.kp_fraction < 1.0) Fire(out, Reflex::kCompliance);
+}
+
+// The summed offset clamped; the holds; the state the next period compares against.
+void LegReflex::Finish(const Sensed& in, const Eigen::Vector3d& summed, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const LegReflexParams& p = params_;
+  Eigen::Vector3d offset = summed;
   // The inputs are finite (sanitised), but gains and amounts have no upper bound: two opposing
   // terms that each overflow to ±inf sum to NaN, which no clamp would catch. They cancel.
   for (int j = 0; j < kLegJoints; ++j) {
     if (std::isnan(offset[j])) offset[j] = 0.0;
   }
-  out.target_offset_rad = offset.cwiseMax(-p.max_offset_rad).cwiseMin(p.max_offset_rad);
-  out.hold_stance = stance && (st.preloading || st.searching || gto_holding);
-  out.hold_others = st.regrip_left > 0;
+  out->target_offset_rad = offset.cwiseMax(-p.max_offset_rad).cwiseMin(p.max_offset_rad);
+  out->hold_stance = in.stance && (st.preloading || st.searching || st.gto_holding);
+  out->hold_others = st.regrip_left > 0 || st.pushed_left > 0;
   if (st.regrip_left > 0) {
     --st.regrip_left;
-    Fire(&out, Reflex::kRegrip);
+    Fire(out, Reflex::kRegrip);
   }
+  if (st.pushed_left > 0) --st.pushed_left;
 
-  st.prev_stance = stance;
-  st.prev_touching = sensing.touching;
-  st.prev_attached = sensing.attached;
-  return out;
+  st.prev_stance = in.stance;
+  st.prev_touching = in.raw->touching;
+  st.prev_attached = in.raw->attached;
 }
 
 bool LegEvents::Contains(LegEventType type) const {
@@ -384,6 +525,8 @@ std::string_view EventName(LegEventType type) {
       return "gto_hold";
     case LegEventType::kSpindle:
       return "spindle";
+    case LegEventType::kGtoUnload:
+      return "gto_unload";
   }
   return "unknown";
 }
@@ -414,6 +557,12 @@ std::string_view ReasonName(LegEventReason reason) {
       return "partner_detached";
     case LegEventReason::kDetached:
       return "detached";
+    case LegEventReason::kSupport:
+      return "support";
+    case LegEventReason::kPushed:
+      return "pushed";
+    case LegEventReason::kStumble:
+      return "stumble";
   }
   return "unknown";
 }
@@ -434,6 +583,10 @@ std::string_view ReflexName(Reflex reflex) {
       return "gto_press";
     case Reflex::kSpindle:
       return "spindle";
+    case Reflex::kGtoUnload:
+      return "gto_unload";
+    case Reflex::kCompliance:
+      return "compliance";
   }
   return "unknown";
 }

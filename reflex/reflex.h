@@ -121,6 +121,8 @@ class SpindleReflex {
   // The two terms of the last Update, signed as in the offset: offset = length + velocity.
   double length_term_rad() const { return length_term_rad_; }
   double velocity_term_rad() const { return velocity_term_rad_; }
+  // q̃(t−Δ) seen by the last Update (rad).
+  double delayed_stretch_rad() const { return delayed_stretch_rad_; }
   // Number of non-finite inputs replaced by 0 since construction or Reset.
   int64_t nonfinite_inputs() const { return nonfinite_inputs_; }
 
@@ -128,6 +130,7 @@ class SpindleReflex {
   SpindleParams params_;
   DelayLine stretch_delay_;
   DelayLine velocity_delay_;
+  double delayed_stretch_rad_ = 0.0;
   double length_term_rad_ = 0.0;
   double velocity_term_rad_ = 0.0;
   int64_t nonfinite_inputs_ = 0;
@@ -248,13 +251,25 @@ struct RegripParams {
   double hold_others_s = 0.2;  // how long hold_others stays raised, >= 0
 };
 
-// GTO stance holding (Ekeberg and Pearson 2005's load rule; Geyer and Herr 2010's positive
-// force feedback), two channels on the pad:
-//  hold:  F̃ = the adhesive load normal_load_n (or, with count_compression, the larger of
-//         |normal_load_n| and preload_n). Loaded (F̃(t−Δ) > F0) ⇒ hold_stance; unloaded ⇒ the
-//         leg may swing. In stance the leg also presses: hip_pitch −= min(u, hold_max_offset).
-//  press: F̃ = the compressive preload_n. While the pad is building its bond (stance,
-//         attached, bonded_fraction < full_bond_fraction): hip_pitch −= min(u, press_max_offset).
+// GTO load reflexes (Ekeberg and Pearson 2005's load rule; Geyer and Herr 2010's positive
+// force feedback), four channels on the pad:
+//  hold:    F̃ = the adhesive load normal_load_n (or, with count_compression, the larger of
+//           |normal_load_n| and preload_n). Loaded (F̃(t−Δ) > F0) ⇒ hold_stance and press:
+//           hip_pitch −= min(u, hold_max_offset); unloaded ⇒ the leg may swing. Only for a
+//           pad that is not attached (a foot that can still move: floors), unless
+//           load_attached: on a welded foot the press is only internal force between the pads
+//           (CONTROL.md "Reflexes on a closed chain"), and on a wall the front pads hang in
+//           tension all the time, so the hold stalled the gait; the support channel decides
+//           for attached pads instead.
+//  press:   F̃ = the compressive preload_n. While the pad is building its bond (stance,
+//           attached, bonded_fraction < full_bond_fraction): hip_pitch −= min(u, press_max).
+//  unload:  F̃ = the pad's utilisation U (peak bond demand over threshold, 1 breaks). While
+//           the pad is attached in stance, u = K_U·[U(t−Δ) − U0]₊ lowers the leg's servo
+//           stiffness: kp_fraction ×= max(unload_min_kp_fraction, 1 − u). The leg yields and
+//           the pads with margin take its load (load sharing through stiffness).
+//  support: F̃ = support_utilisation, the largest utilisation among the pads that carry this
+//           leg's swing. Above its threshold (delayed) a stance leg holds stance: lifting it
+//           would shift its load onto pads already near their limit.
 // With require_partner_attached, a leg whose partner is not attached also holds stance (lifting
 // it would leave the pair without a grip).
 struct GtoHoldParams {
@@ -262,16 +277,52 @@ struct GtoHoldParams {
   GtoParams hold{.gain = 0.2, .threshold = 0.15, .delay_s = 0.01};  // rad/N, N, s; gain >= 0
   double hold_max_offset_rad = 0.15;                                // >= 0
   bool count_compression = false;  // true on floors: a weight-bearing leg is loaded too
+  bool load_attached = false;     // the hold channel acts on an attached (welded) pad too
   GtoParams press{.gain = 0.1, .threshold = 0.05, .delay_s = 0.01};  // rad/N, N, s; gain >= 0
   double press_max_offset_rad = 0.10;                                // >= 0
   double full_bond_fraction = 0.95;  // bond counts as built from here, in (0, 1]
   bool require_partner_attached = true;
+  GtoParams unload{.gain = 2.0, .threshold = 0.8, .delay_s = 0.01};  // 1/utilisation, -, s
+  double unload_min_kp_fraction = 0.2;                               // in (0, 1]
+  GtoParams support{.gain = 1.0, .threshold = 0.8, .delay_s = 0.01};  // gain unused; -, s
 };
 
-// The spindle law on each joint, indexed by Joint.
+// The spindle law on each joint, indexed by Joint. Where the stretch of a joint means what:
+//  * foot in the air (swing, or a stance foot searching): a stretch beyond
+//    swing_threshold_rad on any joint means the leg is
+//    blocked or tripping (Forssberg's stumbling-corrective reaction: lift and re-place). With
+//    s = max_j [|q̃_j(t−Δ)| − swing_threshold]₊ the foot is lifted: hip_pitch += K_L,pitch·s,
+//    knee += K_L,knee·s. (Resisting every stretch in swing, the law below, set the free foot
+//    chattering against its own servo lag with the 10 ms delay.)
+//  * with `resist` (off by default), a stance foot in the air gets instead the law of
+//    SpindleReflex on each joint, against the stretch. Off because resisting the lag of a
+//    commanded motion speeds it up: a searching foot hit the ceiling at 0.45 m/s (too fast to
+//    attach) and the gait stalled. A foot that touches without a bond gets nothing: the
+//    preload presses it, and resisting the contact's stretch bounced the spider's feet off
+//    the wall (it fell).
+//  * pad attached (stance or a peel): no offset (a welded foot cannot follow one; it would
+//    only load the other pads). In stance a delayed stretch |q̃(t−Δ)| beyond stance_band_rad
+//    on any joint means the body is being pushed: the leg asks every leg to stay in stance
+//    (hold_others) while it lasts and for hold_s after, so that no pad leaves the surface
+//    while the body is pushed.
 struct LegSpindleParams {
   bool enabled = true;
   std::array<SpindleParams, kLegJoints> joints{};
+  double swing_threshold_rad = 0.3;  // >= 0
+  bool resist = false;               // the per-joint law on a stance foot in the air
+  double stance_band_rad = 0.15;     // >= 0
+  double hold_s = 0.2;               // >= 0
+};
+
+// Stance compliance (CONTROL.md, "Reflexes on a closed chain"): the servos' stiffness is
+// scheduled by phase, full in swing (accurate placement) and lowered to stance_kp_fraction
+// while the pad is attached in stance, so that welded feet and the body settle without
+// internal force. LegReflexOutput::kp_fraction (per joint, in (0, 1]) multiplies each
+// servo's kp; it moves towards its target at 1/ramp_s per second (no jump in torque).
+struct ComplianceParams {
+  bool enabled = false;  // off by default: see docs/climbing.md for what it did on the wall
+  double stance_kp_fraction = 0.5;  // in (0, 1]
+  double ramp_s = 0.02;             // >= 0 (0: at once)
 };
 
 struct LegReflexParams {
@@ -281,6 +332,7 @@ struct LegReflexParams {
   RegripParams regrip;
   GtoHoldParams gto;
   LegSpindleParams spindle;
+  ComplianceParams compliance;
   double max_offset_rad = 0.4;  // |summed offset| per joint is clamped to this, > 0
 };
 
@@ -299,9 +351,13 @@ struct LegSensing {
   double normal_load_n = 0.0;    // pad normal force, N; + pulls the pad off (adhesive load)
   double preload_n = 0.0;        // compressive contact force pressing the pad on, N, >= 0
   bool bonds_lost = false;       // the pad lost bonds this period
-  Eigen::Vector3d stretch_rad = Eigen::Vector3d::Zero();  // q − q_cpg per Joint
+  // q − q_cpg per Joint; the spindles see it less the other reflexes' offsets of the last
+  // period (the stretch from the target the leg was given).
+  Eigen::Vector3d stretch_rad = Eigen::Vector3d::Zero();
   Eigen::Vector3d stretch_velocity_rad_per_s = Eigen::Vector3d::Zero();
   bool partner_attached = true;  // the partner leg's pad is attached
+  double utilisation = 0.0;       // the pad's peak bond demand / threshold, >= 0 (1 breaks)
+  double support_utilisation = 0.0;  // the largest utilisation among the support legs' pads
 };
 
 enum class LegEventType : uint8_t {
@@ -312,8 +368,9 @@ enum class LegEventType : uint8_t {
   kPeel,     // a peel starts: swing onset with the pad attached
   kPeelEnd,  // it ends: the pad let go (detached) or time ran out (time_limit)
   kRegrip,
-  kGtoHold,  // onset of GTO stance holding
-  kSpindle,  // onset of spindle activity on any joint
+  kGtoHold,    // onset of GTO stance holding
+  kSpindle,    // onset of spindle activity on any joint (reason pushed: stance, attached)
+  kGtoUnload,  // onset of GTO unloading (the pad's utilisation above its threshold)
 };
 
 enum class LegEventReason : uint8_t {
@@ -329,9 +386,22 @@ enum class LegEventReason : uint8_t {
   kLoad,               // gto_hold: the delayed load is above threshold
   kPartnerDetached,    // gto_hold: the partner is not attached (and the leg is not loaded)
   kDetached,           // peel_end: the pad let go
+  kSupport,            // gto_hold: the support pads' utilisation is above threshold
+  kPushed,             // spindle: stretch beyond the stance band on an attached leg
+  kStumble,            // spindle: stretch beyond the swing threshold on a free swing leg
 };
 
-enum class Reflex : uint8_t { kPreload, kSearch, kPeel, kRegrip, kGtoHold, kGtoPress, kSpindle };
+enum class Reflex : uint8_t {
+  kPreload,
+  kSearch,
+  kPeel,
+  kRegrip,
+  kGtoHold,
+  kGtoPress,
+  kSpindle,
+  kGtoUnload,
+  kCompliance,
+};
 
 // Names as logged in events.csv: "preload_start", "search_end", "gto_hold", ...; reasons as
 // "touchdown", "force_limit", "attempts_exhausted", ...; "" for kNone.
@@ -345,11 +415,11 @@ struct LegEvent {
   friend bool operator==(const LegEvent&, const LegEvent&) = default;
 };
 
-// Each event type occurs at most once per Update, so 8 slots always suffice.
-inline constexpr int kMaxLegEvents = 9;
+// Each event type occurs at most once per Update, so one slot per type always suffices.
+inline constexpr int kMaxLegEvents = 10;
 
 // This period's events, in the order: preload_end, search_end, peel, search_start, regrip,
-// preload_start, gto_hold, spindle.
+// preload_start, gto_hold, gto_unload, spindle.
 struct LegEvents {
   std::array<LegEvent, kMaxLegEvents> items{};
   int count = 0;
@@ -363,7 +433,10 @@ struct LegReflexOutput {
   Eigen::Vector3d target_offset_rad = Eigen::Vector3d::Zero();  // add to the CPG's targets
   bool hold_stance = false;  // only ever true in stance: do not let this leg leave stance yet
   bool hold_phase = false;   // hold this leg's phase where it is (a peel that has not let go)
-  bool hold_others = false;  // re-grip: the other legs should stay in stance
+  bool hold_others = false;  // re-grip, or a pushed stance leg: every leg should stay in stance
+  // Servo stiffness per joint as a fraction of the servo's own kp, in (0, 1] (compliance and
+  // GTO unloading; 1 when both are off).
+  Eigen::Vector3d kp_fraction = Eigen::Vector3d::Ones();
   uint32_t fired = 0;        // bit (1 << Reflex) for each reflex that acted this period
   LegEvents events;
   bool Fired(Reflex reflex) const { return fired & (1u << static_cast<int>(reflex)); }
@@ -388,7 +461,13 @@ struct LegReflexState {
   int peel_release_left = 0;
   int regrip_left = 0;  // periods of hold_others left
   bool gto_holding = false;
+  bool gto_unloading = false;
   bool spindle_active = false;
+  int pushed_left = 0;        // periods of the spindle's hold_others left
+  // The last period's offsets of every reflex but the spindles: the spindles measure the
+  // stretch from the target so commanded (a peel or a search is not a stretch).
+  Eigen::Vector3d other_offset_rad = Eigen::Vector3d::Zero();
+  double kp_fraction = 1.0;   // compliance: the stiffness fraction reached (before unloading)
   // The last period's sensing; the first Update behaves as if the leg had been in stance, in
   // the air, detached: a leg that starts in swing with its pad attached (a robot placed on a
   // wall) peels it like any other swing onset.
@@ -416,14 +495,24 @@ struct LegReflexState {
 //  regrip    | stance ∧ bonds_lost ∧ attached  | preload (regrip),    | hold_others_s elapsed
 //            | last period                     | hold_others          |
 //  gto hold  | stance ∧ (delayed load > F0 ∨   | hold_stance, press   | unloaded ∧ partner
-//            | partner detached)               | if loaded            | attached
+//            | partner detached ∨ delayed      | if loaded and not    | attached ∧ support
+//            | support utilisation > U_s)      | attached             | below U_s
 //  gto press | stance ∧ attached ∧             | press ∝ delayed      | bond built
 //            | bonded < full_bond_fraction     | preload              |
-//  spindle   | |q̃(t−Δ)| > L0 ∨ |q̇(t−Δ)| > V0   | resist the stretch   | inside the dead zones
+//  gto unload| stance ∧ attached ∧ delayed     | kp_fraction ×        | utilisation <= U0
+//            | utilisation > U0                | max(min, 1 − u)      |
+//  spindle   | in the air: |q̃(t−Δ)| > L_sw     | lift (stumble)       | inside L_sw
+//            | with resist, stance in the air: | resist the stretch   | inside the dead zones
+//            | |q̃(t−Δ)| > L0 ∨
+//            | |q̇(t−Δ)| > V0                   |                      |
+//            | attached in stance: |q̃(t−Δ)| >  | hold_others (no      | inside the band, then
+//            | stance_band_rad (pushed)        | offset)              | hold_s
+//  compliance| stance ∧ attached               | kp_fraction → stance | swing or detached
+//            |                                 | fraction, ramped     | (ramped back to 1)
 //
-// A reflex whose `enabled` is false never acts and emits nothing. gto_hold and spindle emit
-// one event at onset (not every period); `fired` says every period which reflexes act.
-// The summed offset is clamped to ±max_offset_rad per joint.
+// A reflex whose `enabled` is false never acts and emits nothing. gto_hold, gto_unload and
+// spindle emit one event at onset (not every period); `fired` says every period which
+// reflexes act. The summed offset is clamped to ±max_offset_rad per joint.
 class LegReflex {
  public:
   // Throws std::invalid_argument via Validate().
@@ -448,10 +537,39 @@ class LegReflex {
   int regrip_samples_;
   int peel_max_samples_;
   int peel_release_samples_;
+  int pushed_hold_samples_;
   GtoReflex hold_gto_;
   GtoReflex press_gto_;
+  GtoReflex unload_gto_;
+  GtoReflex support_gto_;
   std::array<SpindleReflex, kLegJoints> spindles_;
   LegReflexState state_;
+
+  // One period's sensing, sanitised, with its edges; and the laws' outputs.
+  struct Sensed {
+    const LegSensing* raw;
+    bool stance, swing_onset, stance_onset, touchdown, attach_edge;
+    double bonded, normal_load_n, preload_n;
+  };
+  struct Laws {
+    double hold_u = 0.0, press_u = 0.0, unload_u = 0.0;
+    Eigen::Vector3d spindle_rad = Eigen::Vector3d::Zero();
+  };
+  // One function per reflex, in the order Update composes them (their events keep the order
+  // of LegEvents).
+  Sensed Sense(const LegSensing& sensing);
+  Laws RunLaws(const Sensed& in);
+  void SwingOnset(const Sensed& in, LegReflexOutput* out);
+  void PreloadLimits(const Sensed& in, LegReflexOutput* out);
+  Eigen::Vector3d Search(const Sensed& in, LegReflexOutput* out);
+  void Regrip(const Sensed& in, LegReflexOutput* out);
+  Eigen::Vector3d Preload(const Sensed& in, LegReflexOutput* out);
+  Eigen::Vector3d Peel(const Sensed& in, LegReflexOutput* out);
+  Eigen::Vector3d Gto(const Sensed& in, const Laws& laws, LegReflexOutput* out);
+  Eigen::Vector3d Spindle(const Sensed& in, const Laws& laws, LegReflexOutput* out);
+  void Compliance(const Sensed& in, LegReflexOutput* out);
+  void StartSearchRelease();
+  void Finish(const Sensed& in, const Eigen::Vector3d& offset, LegReflexOutput* out);
 };
 
 }  // namespace climbsim::reflex

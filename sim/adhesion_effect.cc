@@ -131,6 +131,8 @@ AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& p
   }
   fail_at_s_.assign(system_->size(), std::numeric_limits<double>::infinity());
   attach_count_.assign(system_->size(), 0);
+  utilisation_.assign(system_->size(), 0.0);
+  peak_utilisation_.assign(system_->size(), 0.0);
 }
 
 void AdhesionEffect::Reset(World& world, RunContext& ctx) {
@@ -139,6 +141,8 @@ void AdhesionEffect::Reset(World& world, RunContext& ctx) {
   std::fill(fail_at_s_.begin(), fail_at_s_.end(), std::numeric_limits<double>::infinity());
   std::fill(attach_count_.begin(), attach_count_.end(), 0);
   system_->Reset(world.model(), world.data(), this);
+  std::fill(peak_utilisation_.begin(), peak_utilisation_.end(), 0.0);
+  UpdateUtilisation();
   FillSignals();
 }
 
@@ -157,6 +161,7 @@ void AdhesionEffect::AfterStep(World& world, RunContext&) {
       system_->pad(i).Fail(m, d, d->time, this);
     }
   }
+  UpdateUtilisation();
   FillSignals();
 }
 
@@ -175,9 +180,27 @@ void AdhesionEffect::DrawDisturbances(int pad, double time_s) {
   }
 }
 
+// One scan of each attached pad's bonds (BondGrid::Summary), once per step after the bonds
+// have seen the step's load; a pad that let go reads 0.
+void AdhesionEffect::UpdateUtilisation() {
+  for (int i = 0; i < system_->size(); ++i) {
+    const adhesion::StickyPad& p = system_->pad(i);
+    double u = 0.0;
+    if (p.attached() && p.params().model == adhesion::AdhesionModel::kBonds) {
+      u = std::min(p.grid().Summary().peak_utilisation, kUtilisationCap);
+      if (!(u >= 0.0)) u = kUtilisationCap;  // NaN: no field the bonds could carry
+    }
+    utilisation_[i] = u;
+    peak_utilisation_[i] = std::max(peak_utilisation_[i], u);
+  }
+}
+
 bool AdhesionEffect::RequestRelease(int pad) {
   const bool released = system_->Release(pad, world_->model(), world_->data(), this);
-  if (released) FillSignals();
+  if (released) {
+    utilisation_[pad] = 0.0;
+    FillSignals();
+  }
   return released;
 }
 
@@ -203,6 +226,7 @@ void AdhesionEffect::FillSignals() {
     // Latched until a controller reads it (the reflex effect clears it): a loss in this
     // step's AfterStep must survive the next BeforeStep's refresh.
     s.bonds_lost = s.bonds_lost || p.bonds_lost_this_step();
+    s.utilisation = p.attached() ? utilisation_[i] : 0.0;
   }
 }
 
@@ -225,10 +249,14 @@ void AdhesionEffect::OnPadEvent(int pad, const adhesion::PadEvent& e) {
 void AdhesionEffect::TrajectoryColumns(std::vector<std::string>* names) const {
   for (int i = 0; i < system_->size(); ++i)
     names->push_back(system_->pad_name(i) + "_bonded_fraction");
+  for (int i = 0; i < system_->size(); ++i)
+    names->push_back(system_->pad_name(i) + "_utilisation");
 }
 
 void AdhesionEffect::TrajectoryValues(const World&, double* out) const {
-  for (int i = 0; i < system_->size(); ++i) out[i] = system_->pad(i).bonded_fraction();
+  const int n = system_->size();
+  for (int i = 0; i < n; ++i) out[i] = system_->pad(i).bonded_fraction();
+  for (int i = 0; i < n; ++i) out[n + i] = system_->pad(i).attached() ? utilisation_[i] : 0.0;
 }
 
 void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {
@@ -252,6 +280,7 @@ void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {
     j["detach_failure"] = c.detach_failure;
     j["attached_at_end"] = p.attached();
     j["bonded_fraction_at_end"] = p.bonded_fraction();
+    j["peak_utilisation"] = peak_utilisation_[i];
     pads[system_->pad_name(i)] = j;
   }
   (*summary)["adhesion"] = {{"model", params_.model}, {"pads", pads}};

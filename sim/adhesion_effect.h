@@ -6,11 +6,16 @@
 //   AfterStep   the weld's wrench of this step → bond stresses → broken bonds → detach;
 //               LegSignals again
 //
-// It writes events.csv rows (touchdown, attach, attach_rejected, bonds_lost, detach), one
-// trajectory column per pad (<pad>_bonded_fraction) and summary.json's "adhesion" block (per
-// pad counts). The controller side reads each leg's pad through LegSignals (touching,
-// attached, bonded_fraction, normal_load_n, preload_n, bonds_lost) and lets a pad go with
-// RequestRelease.
+// It writes events.csv rows (touchdown, attach, attach_rejected, bonds_lost, detach), two
+// trajectory columns per pad (<pad>_bonded_fraction, <pad>_utilisation) and summary.json's
+// "adhesion" block (per pad counts, peak utilisation). The controller side reads each leg's
+// pad through LegSignals (touching, attached, bonded_fraction, normal_load_n, preload_n,
+// bonds_lost, utilisation) and lets a pad go with RequestRelease.
+//
+// Utilisation: the peak over the pad's bonds of demand over threshold in the field of the
+// last AfterStep (adhesion::StressSummary::peak_utilisation: σ_vM/σ_T for a bond in tension,
+// √3·τ/(σ_T + μ·|σ|) in compression), 1 where a bond breaks; 0 for a pad not attached or with
+// model mujoco (no bonds); a load the grid cannot carry at all (+inf) is kUtilisationCap.
 //
 // Disturbances (`climbsim bench robustness`): with adhesion.pad_failure_probability p each
 // attach draws (from the seed, the pad and its attach count) whether it fails and when
@@ -82,6 +87,10 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
     const int pad = pad_of_leg(leg);
     if (pad >= 0) system_->pad(pad).SetPeeling(peeling);
   }
+  // Pad `pad`'s utilisation after the last step (see above).
+  double utilisation(int pad) const { return utilisation_[pad]; }
+  // Its largest value over the run so far.
+  double peak_utilisation(int pad) const { return peak_utilisation_[pad]; }
   // The pad of a leg, or −1; the leg of a pad, or −1.
   int pad_of_leg(int leg) const {
     return leg < 0 || leg >= static_cast<int>(pad_of_leg_.size()) ? -1 : pad_of_leg_[leg];
@@ -93,6 +102,7 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
  private:
   void OnPadEvent(int pad, const adhesion::PadEvent& e) override;
   void FillSignals();
+  void UpdateUtilisation();
 
   void DrawDisturbances(int pad, double time_s);
 
@@ -105,6 +115,8 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
   std::unique_ptr<adhesion::AdhesionSystem> system_;
   std::vector<int> pad_of_leg_;
   std::vector<int> leg_of_pad_;
+  std::vector<double> utilisation_;       // per pad, sized once
+  std::vector<double> peak_utilisation_;  // per pad, over the run
   std::vector<LegSignals>* legs_ = nullptr;
   EventLog* events_ = nullptr;
 };

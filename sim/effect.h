@@ -24,6 +24,7 @@ struct LegSignals {
   double progress = 0.0;                   // within the current stance or swing, 0..1
   std::array<double, 3> cpg_target_rad{};  // hip_yaw, hip_pitch, knee before reflexes
   std::array<double, 3> offset_rad{};      // reflex offsets added to the targets
+  std::array<double, 3> kp_fraction{1, 1, 1};  // servo stiffness over its own kp (reflexes)
   // Adhesion.
   bool touching = false;
   bool attached = false;
@@ -31,10 +32,18 @@ struct LegSignals {
   double normal_load_n = 0.0;              // pad load along its normal, + pulls it off
   double preload_n = 0.0;                  // compressive contact force on the pad
   bool bonds_lost = false;                 // lost bonds since the reflexes last looked
+  double utilisation = 0.0;                // the pad's peak bond demand / threshold (σ_vM/σ_T
+                                           // in tension, √3τ/(σ_T + μ|σ|) in compression) in
+                                           // the last step; a bond breaks at 1; 0 when not
+                                           // attached; capped at kUtilisationCap
   // Reflexes → CPG.
   bool hold_stance = false;                // do not leave stance yet
   bool hold_phase = false;                 // hold the phase where it is (a peel in progress)
 };
+
+// The largest utilisation a LegSignals or trajectory.csv carries (a load the bond model cannot
+// hold at all, adhesion's +inf, is written as this).
+inline constexpr double kUtilisationCap = 10.0;
 
 struct RunContext {
   long step = 0;          // steps completed before this one

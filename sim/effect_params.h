@@ -237,26 +237,50 @@ struct GtoKeys : reflex::GtoHoldParams {
     a->Visit({"hold_delay_s", "s", "transmission delay of the stance-holding channel", Range::NonNegative()}, &hold.delay_s);
     a->Visit({"hold_max_offset_rad", "rad", "largest press of the stance-holding channel", Range::NonNegative()}, &hold_max_offset_rad);
     a->Visit({"count_compression", "", "a leg pressed onto the surface counts as loaded too (floors)"}, &count_compression);
+    a->Visit({"load_attached", "", "the stance-holding channel (hold and press on the pad load) acts on an attached (welded) pad too; off: on a welded foot the press is only internal force between the pads, and on a wall the always-loaded front pads would never swing (the support channel decides instead)"}, &load_attached);
     a->Visit({"press_gain_rad_per_n", "rad/N", "K_F of the channel that presses a pad building its bond (preload)", Range::NonNegative()}, &press.gain);
     a->Visit({"press_threshold_n", "N", "F_0 of the pressing channel"}, &press.threshold);
     a->Visit({"press_delay_s", "s", "transmission delay of the pressing channel", Range::NonNegative()}, &press.delay_s);
     a->Visit({"press_max_offset_rad", "rad", "largest press of the pressing channel", Range::NonNegative()}, &press_max_offset_rad);
     a->Visit({"full_bond_fraction", "", "a bond counts as built from this bonded fraction on", Range::OpenClosed(0, 1)}, &full_bond_fraction);
     a->Visit({"require_partner_attached", "", "a leg also holds stance while the legs that support its swing are not attached"}, &require_partner_attached);
+    a->Visit({"unload_gain", "1", "K_U of the unloading channel: a pad at utilisation U (peak bond demand / threshold) above U_0 lowers its leg's servo stiffness by the factor max(min, 1 - K_U [U(t-D) - U_0]+), so the other pads take its load", Range::NonNegative()}, &unload.gain);
+    a->Visit({"unload_threshold", "", "U_0 of the unloading channel (utilisation; a bond breaks at 1)"}, &unload.threshold);
+    a->Visit({"unload_delay_s", "s", "transmission delay of the unloading channel", Range::NonNegative()}, &unload.delay_s);
+    a->Visit({"unload_min_kp_fraction", "", "the least stiffness fraction unloading leaves a leg", Range::OpenClosed(0, 1)}, &unload_min_kp_fraction);
+    a->Visit({"support_threshold", "", "a stance leg also holds stance while the largest utilisation of the pads that support its swing is above this"}, &support.threshold);
+    a->Visit({"support_delay_s", "s", "transmission delay of the support channel", Range::NonNegative()}, &support.delay_s);
   }
 };
 // One spindle law for the three joints of every leg.
 struct SpindleKeys {
   bool enabled = true;
   reflex::SpindleParams law;
+  double swing_threshold_rad = reflex::LegSpindleParams{}.swing_threshold_rad;
+  bool resist = reflex::LegSpindleParams{}.resist;
+  double stance_band_rad = reflex::LegSpindleParams{}.stance_band_rad;
+  double hold_s = reflex::LegSpindleParams{}.hold_s;
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "muscle-spindle-like stretch reflex on each joint: u = K_L [stretch(t-D) - L_0]+ + K_V [rate(t-D) - V_0]+, against the stretch"}, &enabled);
+    a->Visit({"enabled", "", "muscle-spindle-like stretch reflex: a foot in the air stretched beyond swing_threshold_rad is lifted (stumbling correction); with the pad attached, no offset, and in stance a stretch beyond stance_band_rad holds every leg in stance; with resist, the law u = K_L [stretch(t-D) - L_0]+ + K_V [rate(t-D) - V_0]+ against the stretch on a stance foot in the air"}, &enabled);
+    a->Visit({"swing_threshold_rad", "rad", "free swing leg: a delayed stretch beyond this on any joint means it is blocked, and lifts the foot by K_L times the excess (stumbling correction)", Range::NonNegative()}, &swing_threshold_rad);
+    a->Visit({"resist", "", "a stance foot in the air (a search) resists its stretch with the law above instead of lifting only when blocked (off: resisting the lag of a commanded reach sped the foot into the surface too fast to attach)"}, &resist);
+    a->Visit({"stance_band_rad", "rad", "attached stance leg: a delayed stretch beyond this on any joint means the body is pushed", Range::NonNegative()}, &stance_band_rad);
+    a->Visit({"hold_s", "s", "how long every leg stays in stance after a push ends", Range::NonNegative()}, &hold_s);
     a->Visit({"length_gain", "rad/rad", "K_L", Range::NonNegative()}, &law.length_gain);
     a->Visit({"velocity_gain_s", "s", "K_V", Range::NonNegative()}, &law.velocity_gain_s);
     a->Visit({"length_threshold_rad", "rad", "L_0", Range::NonNegative()}, &law.length_threshold_rad);
     a->Visit({"velocity_threshold_rad_per_s", "rad/s", "V_0", Range::NonNegative()}, &law.velocity_threshold_rad_per_s);
     a->Visit({"delay_s", "s", "transmission delay D", Range::NonNegative()}, &law.delay_s);
+  }
+};
+
+struct ComplianceKeys : reflex::ComplianceParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "", "stance compliance: servo stiffness scheduled by phase, full in swing, stance_kp_fraction of kp while the pad is attached in stance (smart servos expose this; mjcf/README.md)"}, &enabled);
+    a->Visit({"stance_kp_fraction", "", "kp in attached stance over the servo's kp", Range::OpenClosed(0, 1)}, &stance_kp_fraction);
+    a->Visit({"ramp_s", "s", "time to change between the two stiffnesses", Range::NonNegative()}, &ramp_s);
   }
 };
 
@@ -267,6 +291,7 @@ struct ReflexParams {
   RegripKeys regrip;
   GtoKeys gto;
   SpindleKeys spindle;
+  ComplianceKeys compliance;
   double max_offset_rad = 0.4;
   bool release_failed_peel = false;
 
@@ -278,6 +303,7 @@ struct ReflexParams {
     a->Visit({"regrip", "", "press again after an unexpected bond loss"}, &regrip);
     a->Visit({"gto", "", "load reflexes"}, &gto);
     a->Visit({"spindle", "", "stretch reflexes"}, &spindle);
+    a->Visit({"compliance", "", "servo stiffness by phase"}, &compliance);
     a->Visit({"max_offset_rad", "rad", "the reflexes' summed offset per joint is clamped to this", Range::Positive()}, &max_offset_rad);
     a->Visit({"release_failed_peel", "", "when a peel runs out of time, let the pad go (detach cause released), as a foot with an active release mechanism would"}, &release_failed_peel);
   }
@@ -292,6 +318,11 @@ struct ReflexParams {
     p.gto = gto;
     p.spindle.enabled = spindle.enabled;
     p.spindle.joints = {spindle.law, spindle.law, spindle.law};
+    p.spindle.swing_threshold_rad = spindle.swing_threshold_rad;
+    p.spindle.resist = spindle.resist;
+    p.spindle.stance_band_rad = spindle.stance_band_rad;
+    p.spindle.hold_s = spindle.hold_s;
+    p.compliance = compliance;
     p.max_offset_rad = max_offset_rad;
     return p;
   }

@@ -1,5 +1,6 @@
 #include "sim/reflex_effect.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -11,7 +12,14 @@ constexpr reflex::LegEventType kEventTypes[] = {
     reflex::LegEventType::kSearchStart,  reflex::LegEventType::kSearchEnd,
     reflex::LegEventType::kPeel,         reflex::LegEventType::kPeelEnd,
     reflex::LegEventType::kRegrip,       reflex::LegEventType::kGtoHold,
-    reflex::LegEventType::kSpindle};
+    reflex::LegEventType::kSpindle,      reflex::LegEventType::kGtoUnload};
+
+// A position servo's stiffness: force = gain·ctrl + bias1·q + bias2·q̇ with gain = kp,
+// bias1 = −kp.
+void SetKp(mjModel* m, int actuator, double kp) {
+  m->actuator_gainprm[actuator * mjNGAIN] = kp;
+  m->actuator_biasprm[actuator * mjNBIAS + 1] = -kp;
+}
 
 }  // namespace
 
@@ -31,15 +39,41 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     if (key.rfind("reflex.spindle.joints", 0) == 0) key = "reflex.spindle";
     throw ScenarioError(scenario, key, msg.substr(msg.find(' ') + 1));
   }
-  for (size_t i = 0; i < world.robot().legs.size(); ++i) legs_.emplace_back(leg, dt);
+  const mjModel* m = world.model();
+  for (size_t i = 0; i < world.robot().legs.size(); ++i) {
+    legs_.emplace_back(leg, dt);
+    const LegInfo& info = world.robot().legs[i];
+    std::array<int, 3> a{};
+    std::array<double, 3> kp{};
+    for (int k = 0; k < 3; ++k) {
+      a[k] = info.actuator[k];
+      kp[k] = m->actuator_gainprm[a[k] * mjNGAIN];
+      // Only a position servo (gain kp, bias −kp·q) can have its stiffness scaled.
+      if (m->actuator_biastype[a[k]] != mjBIAS_AFFINE ||
+          m->actuator_biasprm[a[k] * mjNBIAS + 1] != -kp[k]) {
+        if (leg.compliance.enabled || leg.gto.enabled) {
+          throw ScenarioError(scenario, "reflex.compliance",
+                              std::string("actuator '") + mj_id2name(m, mjOBJ_ACTUATOR, a[k]) +
+                                  "' is not a position servo (gain kp, bias -kp q): its "
+                                  "stiffness cannot be scheduled");
+        }
+      }
+    }
+    actuator_.push_back(a);
+    kp_.push_back(kp);
+  }
   counts_.assign(legs_.size(), {});
 }
 
-void ReflexEffect::Reset(World&, RunContext& ctx) {
+void ReflexEffect::Reset(World& world, RunContext& ctx) {
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    for (int k = 0; k < 3; ++k) SetKp(world.model(), actuator_[i][k], kp_[i][k]);
+  }
   for (auto& l : legs_) l.Reset();
   for (auto& c : counts_) c.fill(0);
   for (LegSignals& s : *ctx.legs) {
     s.offset_rad = {0, 0, 0};
+    s.kp_fraction = {1, 1, 1};
     s.hold_stance = s.hold_phase = false;
   }
   ctx.hold_all_stance = false;
@@ -70,10 +104,19 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
       in.stretch_velocity_rad_per_s[k] = d->qvel[info.dof_adr[k]];
     }
     in.partner_attached = true;
-    for (int j : support_[i]) in.partner_attached &= signals[j].attached;
+    in.utilisation = s.utilisation;
+    in.support_utilisation = 0.0;
+    for (int j : support_[i]) {
+      in.partner_attached &= signals[j].attached;
+      in.support_utilisation = std::max(in.support_utilisation, signals[j].utilisation);
+    }
 
     const reflex::LegReflexOutput out = legs_[i].Update(in);
-    for (int k = 0; k < 3; ++k) s.offset_rad[k] = out.target_offset_rad[k];
+    for (int k = 0; k < 3; ++k) {
+      s.offset_rad[k] = out.target_offset_rad[k];
+      s.kp_fraction[k] = out.kp_fraction[k];
+      SetKp(world.model(), actuator_[i][k], kp_[i][k] * out.kp_fraction[k]);
+    }
     s.hold_stance = out.hold_stance;
     s.hold_phase = out.hold_phase;
     // While the peel pulls (phase held), a let-go is the peel it meant.

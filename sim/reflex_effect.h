@@ -8,6 +8,10 @@
 //   RunContext::hold_all_stance  a re-grip asks every leg to stay in stance,
 // and one events.csv row per reflex event, on the leg's pad. With release_failed_peel, a
 // peel that runs out of time lets the pad go through the adhesion effect (cause released).
+// Stance compliance and GTO unloading set each leg servo's stiffness on the run's own model
+// copy: a position servo's force is kp·(ctrl − q), so kp' = f·kp is gainprm[0] = f·kp and
+// biasprm[1] = −f·kp (f = LegReflexOutput::kp_fraction); the servo's forcerange, its damping
+// and its target are unchanged. Reset restores every kp.
 #ifndef CLIMBSIM_SIM_REFLEX_EFFECT_H_
 #define CLIMBSIM_SIM_REFLEX_EFFECT_H_
 
@@ -40,7 +44,9 @@ class ReflexEffect final : public Effect {
   std::vector<std::vector<int>> support_;
   std::vector<int> event_pad_;
   std::vector<reflex::LegReflex> legs_;
-  std::vector<std::array<long, 10>> counts_;  // per leg, per LegEventType
+  std::vector<std::array<long, reflex::kMaxLegEvents>> counts_;  // per leg, per LegEventType
+  std::vector<std::array<int, 3>> actuator_;   // per leg, hip_yaw, hip_pitch, knee servo
+  std::vector<std::array<double, 3>> kp_;      // their kp as compiled
   int period_steps_ = 1;
 };
 

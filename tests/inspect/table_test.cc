@@ -158,6 +158,35 @@ json Recompute(const std::vector<Ev>& all, const std::string& pad, double a, dou
           {"reflexes", reflexes}};
 }
 
+// The largest `<pad>_utilisation` of trajectory.csv over rows with a <= t <= b (null when
+// the column is absent), read independently of inspect.
+json PeakUtilisation(const std::string& dir, const std::string& pad, double a, double b) {
+  std::istringstream in(ReadFile(dir + "/trajectory.csv"));
+  std::string line;
+  std::getline(in, line);
+  int column = -1;
+  {
+    std::istringstream h(line);
+    std::string name;
+    for (int c = 0; std::getline(h, name, ','); ++c) {
+      if (name == pad + "_utilisation") column = c;
+    }
+  }
+  if (column < 0) return nullptr;
+  std::optional<double> peak;
+  while (std::getline(in, line)) {
+    std::istringstream f(line);
+    std::string cell;
+    double t = 0, u = 0;
+    for (int c = 0; std::getline(f, cell, ','); ++c) {
+      if (c == 0) t = std::stod(cell);
+      if (c == column) u = std::stod(cell);
+    }
+    if (t >= a && t <= b) peak = std::max(peak.value_or(-INFINITY), u);
+  }
+  return peak ? json(*peak) : json(nullptr);
+}
+
 // Runs inspect --json on `dir` and compares every leg with the recomputed table.
 void ExpectTableMatches(const std::string& dir, const std::string& window_args, double from,
                         double to) {
@@ -174,6 +203,7 @@ void ExpectTableMatches(const std::string& dir, const std::string& window_args, 
   int attachments = 0;
   for (const json& leg : got["legs"]) {
     json want = Recompute(events, leg["pad"], a, b, duration);
+    want["peak_utilisation"] = PeakUtilisation(dir, leg["pad"], a, b);
     json have = leg;
     have.erase("leg");
     EXPECT_EQ(have, want) << "leg " << leg["leg"] << "\n got: " << have.dump()
@@ -212,6 +242,9 @@ TEST(InspectTable, CountsAgreeWithTheRunSummary) {
       EXPECT_EQ(leg["attachments"], p["attach"]);
       EXPECT_EQ(leg["rejected"], p["attach_rejected"]);
       EXPECT_EQ(leg["bonds_lost_steps"], p["bonds_lost_steps"]);
+      // trajectory.csv samples the utilisation that the summary's peak sees every step.
+      EXPECT_GT(leg["peak_utilisation"].get<double>(), 0.0);
+      EXPECT_LE(leg["peak_utilisation"].get<double>(), p["peak_utilisation"].get<double>());
       for (const char* cause : {"peel", "overload", "released", "contact_lost"}) {
         EXPECT_EQ(leg["detached_by"].value(cause, 0), p["detach_" + std::string(cause)]) << cause;
       }

@@ -441,7 +441,9 @@ LegReflexParams GtoOnly() {
 // A loaded leg holds stance and presses from exactly Δ after the load rises, and may swing
 // from exactly Δ after it falls; at the threshold itself it is unloaded.
 TEST(ReflexGtoHold, LoadedLegHoldsStanceUnloadedLegReleases) {
-  LegReflex leg(GtoOnly(), kDt);
+  LegReflexParams p = GtoOnly();
+  p.gto.load_attached = true;  // the press on a welded pad, as Geyer and Herr's law
+  LegReflex leg(p, kDt);
   Recorder rec(&leg);
   LegSensing s = Attached(Stance());
   s.normal_load_n = 0.25;  // exactly F0: unloaded
@@ -460,7 +462,9 @@ TEST(ReflexGtoHold, LoadedLegHoldsStanceUnloadedLegReleases) {
 }
 
 TEST(ReflexGtoHold, PressIsCappedAndNeverHoldsInSwing) {
-  LegReflex leg(GtoOnly(), kDt);
+  LegReflexParams p = GtoOnly();
+  p.gto.load_attached = true;
+  LegReflex leg(p, kDt);
   Recorder rec(&leg);
   LegSensing s = Attached(Stance());
   s.normal_load_n = 10.0;
@@ -477,7 +481,7 @@ TEST(ReflexGtoHold, PressIsCappedAndNeverHoldsInSwing) {
 
 // On a floor (count_compression) a weight-bearing leg is loaded too.
 TEST(ReflexGtoHold, CompressionCountsWhenAsked) {
-  LegSensing s = Attached(Stance());
+  LegSensing s = Touching(Stance());  // a foot standing on a floor, not stuck
   s.preload_n = 0.5;
   s.normal_load_n = -0.5;
   LegReflexParams p = GtoOnly();
@@ -556,6 +560,7 @@ TEST(ReflexGtoHold, SilentWhenSwitchedOff) {
 LegReflexParams SpindleOnly() {
   LegReflexParams p = AllOff();
   p.spindle.enabled = true;
+  p.spindle.resist = true;  // the per-joint law on a stance foot in the air
   for (SpindleParams& j : p.spindle.joints) {
     j = {.length_gain = 0.5,
          .velocity_gain_s = 0.0,
@@ -569,7 +574,7 @@ LegReflexParams SpindleOnly() {
 TEST(ReflexLegSpindle, EachJointResistsItsOwnStretchAfterTheDelay) {
   LegReflex leg(SpindleOnly(), kDt);
   Recorder rec(&leg);
-  LegSensing s = Swing();
+  LegSensing s = Stance();  // a foot that is not stuck (in swing the law lifts instead)
   s.stretch_rad = {0.0, -0.3125, 0.5625};
   rec.Repeat(s, 4);  // #0..#3
   s.stretch_rad.setZero();

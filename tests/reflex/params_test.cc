@@ -109,6 +109,23 @@ TEST(ReflexParams, LegReflexNamesTheFieldAndTheValue) {
             "leg_reflex.spindle.joints[2].length_gain must be finite and >= 0, got -0.5");
   EXPECT_EQ(error([](auto& p) { p.max_offset_rad = 0.0; }),
             "leg_reflex.max_offset_rad must be finite and > 0, got 0");
+  // The closed-chain reflexes.
+  EXPECT_EQ(error([](auto& p) { p.gto.unload.gain = -1.0; }),
+            "leg_reflex.gto.unload.gain must be finite and >= 0, got -1");
+  EXPECT_EQ(error([](auto& p) { p.gto.unload_min_kp_fraction = 0.0; }),
+            "leg_reflex.gto.unload_min_kp_fraction must be in (0, 1], got 0");
+  EXPECT_EQ(error([](auto& p) { p.gto.support.delay_s = -0.01; }),
+            "leg_reflex.gto.support.delay_s must be finite and >= 0, got -0.01");
+  EXPECT_EQ(error([](auto& p) { p.spindle.swing_threshold_rad = -0.1; }),
+            "leg_reflex.spindle.swing_threshold_rad must be finite and >= 0, got -0.1");
+  EXPECT_EQ(error([](auto& p) { p.spindle.stance_band_rad = NAN; }),
+            "leg_reflex.spindle.stance_band_rad must be finite and >= 0, got nan");
+  EXPECT_EQ(error([](auto& p) { p.spindle.hold_s = -0.2; }),
+            "leg_reflex.spindle.hold_s must be finite and >= 0, got -0.2");
+  EXPECT_EQ(error([](auto& p) { p.compliance.stance_kp_fraction = 1.5; }),
+            "leg_reflex.compliance.stance_kp_fraction must be in (0, 1], got 1.5");
+  EXPECT_EQ(error([](auto& p) { p.compliance.ramp_s = -0.02; }),
+            "leg_reflex.compliance.ramp_s must be finite and >= 0, got -0.02");
 }
 
 // A switched-off reflex is still validated: Params are checked as a whole, once.

@@ -25,6 +25,7 @@ inline LegReflexParams AllOff() {
   p.regrip.enabled = false;
   p.gto.enabled = false;
   p.spindle.enabled = false;
+  p.compliance.enabled = false;
   return p;
 }
 

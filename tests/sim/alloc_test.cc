@@ -36,5 +36,26 @@ TEST(SimulationAllocation, StepLoopAllocatesNothing) {
   EXPECT_EQ(counts.mallocs, 0);
 }
 
+// The climbing example with every reflex on (spindle, GTO with its utilisation channels,
+// stance compliance setting the servos' kp), the adhesion effect's utilisation and the
+// trajectory's utilisation columns: still nothing allocated per step.
+TEST(SimulationAllocation, ClimbingReflexesAllocateNothing) {
+  std::string text = climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
+  text.replace(text.find("reflex:\n"), 8, "reflex:\n  compliance: {enabled: true}\n");
+  const Scenario s = LoadScenario(climbsim::testing::WriteFile("alloc_climb.yaml", text));
+  ASSERT_TRUE(s.reflex.has_value());
+  ASSERT_TRUE(s.reflex->spindle.enabled && s.reflex->gto.enabled && s.reflex->compliance.enabled);
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  ASSERT_TRUE(sim.Step());
+  bool ok = true;
+  const auto counts = climbsim::testing::CountAllocations([&] {
+    for (int i = 0; i < 2000; ++i) ok &= sim.Step();  // a peel, a swing and a landing
+  });
+  EXPECT_TRUE(ok);
+  EXPECT_EQ(counts.news, 0);
+  EXPECT_EQ(counts.mallocs, 0);
+}
+
 }  // namespace
 }  // namespace climbsim::sim

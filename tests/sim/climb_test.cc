@@ -1,5 +1,5 @@
-// Climbing control (issue: climbing gaits): the bundled wall and ceiling examples climb and
-// hang as documented, the gecko walks from the floor onto the wall round a fillet, the
+// Climbing control (issue: climbing gaits; issue 12: spindle and GTO on): the bundled wall and
+// ceiling examples climb and hang as documented, the gecko walks from the floor onto the wall round a fillet, the
 // climbing reflexes recover from a push that the same gait without them does not survive,
 // and every climbing reflex is logged on the leg that fired it.
 // Body lengths are those of mjcf/README.md: gecko 0.10 m, spider 0.16 m.
@@ -38,23 +38,53 @@ Scenario ExampleWith(const std::string& example, const std::string& name,
   return LoadScenario(WriteFile(name, text + append));
 }
 
+// The climbing examples run with the spindle and GTO reflexes on (issue 12).
+void ExpectSpindleAndGtoOn(const Scenario& s) {
+  ASSERT_TRUE(s.reflex.has_value());
+  EXPECT_TRUE(s.reflex->spindle.enabled);
+  EXPECT_TRUE(s.reflex->gto.enabled);
+}
+
 TEST(Climb, GeckoClimbsThreeBodyLengthsUpAWallIn20s) {
-  const RunResult r = RunScenario(LoadScenario(Source("examples/gecko_wall.yaml")));
+  const Scenario s = LoadScenario(Source("examples/gecko_wall.yaml"));
+  ExpectSpindleAndGtoOn(s);
+  const RunResult r = RunScenario(s);
   ASSERT_TRUE(r.stable) << r.failure;
   EXPECT_FALSE(r.fell) << r.fall_time_s;
   EXPECT_GE(r.distance_m, 3 * 0.10);
+  EXPECT_GE(r.distance_m, 0.34);  // issue 12: with spindle and GTO on
 }
 
 TEST(Climb, SpiderClimbsTwoBodyLengthsUpAWallIn20s) {
-  const RunResult r = RunScenario(LoadScenario(Source("examples/spider_wall.yaml")));
+  const Scenario s = LoadScenario(Source("examples/spider_wall.yaml"));
+  ExpectSpindleAndGtoOn(s);
+  const RunResult r = RunScenario(s);
   ASSERT_TRUE(r.stable) << r.failure;
   EXPECT_FALSE(r.fell) << r.fall_time_s;
   EXPECT_GE(r.distance_m, 2 * 0.16);
+  EXPECT_GE(r.distance_m, 0.46);  // issue 12: with spindle and GTO on
+}
+
+// GTO's load channel on a welded pad (load_attached, Ekeberg and Pearson's rule and Geyer and
+// Herr's press as they were): on a wall the front pads hang loaded all the time, so the loaded
+// legs press their welded feet and hold stance, and the gecko falls. The default leaves
+// attached pads to the support and unload channels (utilisation) and climbs.
+TEST(Climb, LoadChannelOnWeldedPadsLosesTheWall) {
+  const Scenario base = ExampleWith("examples/gecko_wall.yaml", "load_hold.yaml",
+                                    "duration_s: 20", "duration_s: 4");
+  Scenario welded = base;
+  welded.reflex->gto.load_attached = true;
+  const RunResult free = RunScenario(base);
+  const RunResult lost = RunScenario(welded);
+  EXPECT_FALSE(free.fell);
+  EXPECT_GT(free.distance_m, 0.05);
+  EXPECT_TRUE(lost.fell);
 }
 
 TEST(Climb, GeckoWalksUnderTheCeilingFor20sWithoutFalling) {
   const Scenario s = LoadScenario(Source("examples/gecko_ceiling.yaml"));
   ASSERT_EQ(s.duration_s, 20.0);
+  ExpectSpindleAndGtoOn(s);
   const RunResult r = RunScenario(s);
   ASSERT_TRUE(r.stable) << r.failure;
   EXPECT_FALSE(r.fell) << r.fall_time_s;
@@ -74,16 +104,16 @@ TEST(Climb, WithoutReflexesTheWallGaitFalls) {
 
 // The push: 0.6 N sideways on the right front tibia for 0.3 s (0.18 N s) at t = 3 s, while
 // that leg is in stance. It costs the pad a row of bonds; the re-grip reflex presses the pad
-// and holds the other legs, and the robot climbs on. The same gait and push with re-grip off
-// falls: the crack runs on through the pad and the robot peels off the wall.
+// and holds the other legs, and the robot climbs on. The same gait and push with re-grip and
+// GTO off falls: the crack runs on through the pad and the robot peels off the wall.
 const char* kPush =
     "perturbations:\n  - {time_s: 3.0, body: RF_tibia, impulse_ns: [0, 0.18, 0], duration_s: 0.3}\n";
 
 TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
   const Scenario with = ExampleWith("examples/gecko_wall.yaml", "push_on.yaml", "", "", kPush);
-  const Scenario without = ExampleWith("examples/gecko_wall.yaml", "push_off.yaml",
-                                       "  preload:", "  regrip: {enabled: false}\n  preload:",
-                                       kPush);
+  const Scenario without = ExampleWith(
+      "examples/gecko_wall.yaml", "push_off.yaml", "  preload:",
+      "  regrip: {enabled: false}\n  gto: {enabled: false}\n  preload:", kPush);
   std::string events;
   const RunResult on = RunScenario(with, &events);
   const RunResult off = RunScenario(without);
@@ -92,6 +122,20 @@ TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
   EXPECT_NE(events.find("RF_pad,regrip"), std::string::npos);
   EXPECT_TRUE(off.fell);
   EXPECT_LT(off.distance_m, on.distance_m - 0.1);
+}
+
+// GTO alone (re-grip off) on the same push and seed: the pushed pad passes utilisation 0.8, its
+// leg yields (gto_unload) and the legs that would lift wait (gto_hold, support): the gecko
+// climbs on. With GTO off as well it falls (the test above).
+TEST(Climb, GtoUnloadAndSupportSurviveThePushWithoutRegrip) {
+  const Scenario s = ExampleWith("examples/gecko_wall.yaml", "push_gto.yaml", "  preload:",
+                                 "  regrip: {enabled: false}\n  preload:", kPush);
+  std::string events;
+  const RunResult r = RunScenario(s, &events);
+  EXPECT_FALSE(r.fell) << r.fall_time_s;
+  EXPECT_GE(r.distance_m, 3 * 0.10);
+  EXPECT_NE(events.find("RF_pad,gto_unload"), std::string::npos);
+  EXPECT_NE(events.find("gto_hold,support"), std::string::npos);
 }
 
 // One events.csv row.
