@@ -155,11 +155,7 @@ void ControllerEffect::Observe(const World& world, const RunContext& ctx) {
     p.bonded_fraction = legs[i].bonded_fraction;
     p.normal_load_n = legs[i].normal_load_n;
     p.preload_n = legs[i].preload_n;
-    p.utilisation = 0.0;
-    if (adhesion_ != nullptr && p.attached) {
-      const int pad = adhesion_->pad_of_leg(static_cast<int>(i));
-      if (pad >= 0) p.utilisation = adhesion_->pad(pad).grid().Summary().peak_utilisation;
-    }
+    p.utilisation = legs[i].utilisation;  // the adhesion effect's, capped, 0 when not attached
   }
   ObservePhases(ctx);
 }

@@ -111,17 +111,6 @@ Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
   } else if (s.scene.incline_deg) {
     throw ScenarioError(s, "scene.incline_deg", "applies to the incline scene only");
   }
-  // A run is bounded: 10^9 steps of 1 ns would run for days and write nothing. (Without
-  // physics.timestep_s the scene's step applies: Simulation checks the same bound.)
-  if (const double steps = s.duration_s / s.physics.timestep_s.value_or(1.0);
-      s.physics.timestep_s && steps > kMaxScenarioSteps) {
-    throw ScenarioError(
-        s, "physics.timestep_s",
-        "duration_s / physics.timestep_s asks for " +
-            (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
-            " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
-            ": raise the time step or shorten the run");
-  }
   // A push that starts after the end of the run would silently never happen.
   for (size_t i = 0; i < s.perturbations.size(); ++i) {
     if (s.perturbations[i].time_s >= s.duration_s) {

@@ -92,12 +92,13 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
                        std::shared_ptr<Controller> controller)
     : scenario_(scenario), world_(compiled, scenario_) {
   InstallMujocoHandlers();
-  // Bounds before anything is sized for the run: steps, and rows of trajectory.csv.
+  // Bounds before anything is sized for the run: steps (10^9 steps of 1 ns would run for days
+  // and write nothing; the step may be the scene's), and rows of trajectory.csv.
   const double steps = scenario_.duration_s / world_.model()->opt.timestep;
   if (steps > kMaxScenarioSteps) {
     throw ScenarioError(
         scenario_, "physics.timestep_s",
-        "duration_s / timestep_s asks for " +
+        "duration_s / physics.timestep_s asks for " +
             (steps < 9e18 ? std::to_string(std::llround(steps)) : ExactNumber(steps)) +
             " steps; climbsim runs at most " + std::to_string(std::llround(kMaxScenarioSteps)) +
             ": raise the time step or shorten the run");

@@ -20,6 +20,7 @@ WALL = {
     "adhesion": {"start_attached": True},
     "cpg": {"gait": "trot", "frequency_hz": 1.0, "control_period_s": 0.01},
     "outputs": {"trajectory_rate_hz": 100},
+    "fall": {"stop": False},  # the trot without reflexes falls; the run goes on through it
 }
 
 

@@ -131,9 +131,15 @@ TEST_P(MjcfScene, HasDocumentedGravitySurfacesAndTravel) {
   ModelPtr m = Load(SceneFile(spec.scene), &error);
   ASSERT_NE(m, nullptr) << error;
   EXPECT_EQ(m->opt.timestep, 0.001);
-  // Elliptic cones with impratio 10 keep MuJoCo's soft-friction creep small (README).
-  EXPECT_EQ(m->opt.cone, mjCONE_ELLIPTIC);
-  EXPECT_EQ(m->opt.impratio, 10.0);
+  EXPECT_EQ(m->opt.integrator, mjINT_EULER);  // as accurate as implicit here, 2x faster
+  if (spec.scene == "floor") {
+    // Gravity along the normal: no creep to stop, and pyramidal cones halve the solver's time.
+    EXPECT_EQ(m->opt.cone, mjCONE_PYRAMIDAL);
+  } else {
+    // Elliptic cones with impratio 10 keep MuJoCo's soft-friction creep small (README).
+    EXPECT_EQ(m->opt.cone, mjCONE_ELLIPTIC);
+    EXPECT_EQ(m->opt.impratio, 10.0);
+  }
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(m->opt.gravity[i], spec.gravity[i], 1e-5) << i;
   EXPECT_NEAR(
       std::sqrt(m->opt.gravity[0] * m->opt.gravity[0] + m->opt.gravity[1] * m->opt.gravity[1] +

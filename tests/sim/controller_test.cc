@@ -19,7 +19,8 @@ using climbsim::testing::WriteFile;
 constexpr const char* kWall =
     "robot: gecko\nscene: wall\nduration_s: 1.5\nadhesion:\n  start_attached: true\n"
     "cpg:\n  gait: trot\n  frequency_hz: 1.0\n  control_period_s: 0.01\n"
-    "outputs:\n  trajectory_rate_hz: 100\n";
+    "outputs:\n  trajectory_rate_hz: 100\n"
+    "fall:\n  stop: false\n";  // the trot without reflexes falls; the interface runs on
 
 Scenario Load(const std::string& name, const std::string& text) {
   return LoadScenario(WriteFile(name, text));

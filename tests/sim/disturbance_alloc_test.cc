@@ -24,7 +24,8 @@ TEST(DisturbanceAllocation, StepLoopWithEveryDisturbanceAllocatesNothing) {
       "cpg:\n  gait: lateral_sequence\n  frequency_hz: 0.6\n  start_amplitude: 1\n"
       "  stride_m: 0.03\n  lift_m: 0.012\n  press_m: 0.002\n  lift_share: 0.25\n"
       "reflex: {spindle: {enabled: false}, gto: {enabled: false}}\n"
-      "perturbations:\n  - {time_s: 1.0, impulse_ns: [0, 0, 0.01]}\n"));
+      "perturbations:\n  - {time_s: 1.0, impulse_ns: [0, 0, 0.01]}\n"
+      "fall: {stop: false}\n"));  // every pad fails: the loop goes on past the fall
   auto model = CompileScenario(s);
   Simulation sim(s, *model);
   ASSERT_TRUE(sim.Step());
