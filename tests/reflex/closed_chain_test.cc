@@ -170,7 +170,8 @@ TEST(ReflexGtoHold, LoadChannelActsOnAFreeFootNotOnAWeldedOne) {
   p.gto.load_attached = true;
   {
     LegReflex leg(p, kDt);
-    const LegReflexOutput& a = Recorder(&leg).Repeat(welded, 3);
+    Recorder rec(&leg);  // Repeat returns a reference into the recorder: keep it alive
+    const LegReflexOutput& a = rec.Repeat(welded, 3);
     EXPECT_TRUE(a.hold_stance);
     EXPECT_EQ(a.target_offset_rad[kHipPitch], -0.125);
   }
