@@ -118,9 +118,8 @@ TEST(RunFolder, AMovedRunInspectsPlotsRendersAndCompiles) {
   EXPECT_EQ(render.code, 0) << render.err;
   EXPECT_GT(fs::file_size(still), 1000u);
 
-  if (std::system("command -v mujoco-compile >/dev/null 2>&1") != 0) {
-    GTEST_SKIP() << "mujoco-compile not installed (scripts/setup.sh installs libmujoco-samples)";
-  }
+  ASSERT_EQ(std::system("command -v mujoco-compile >/dev/null 2>&1"), 0)
+      << "mujoco-compile not installed (scripts/setup.sh installs libmujoco-samples)";
   const std::string mjb = TempDir() + "/travel.mjb";
   const std::string cmd = "cd " + fs::temp_directory_path().string() + " && mujoco-compile " + run +
                           "/model.xml " + mjb + " > " + TempDir() + "/compile.log 2>&1";
