@@ -1,4 +1,4 @@
-// Weld equalities used as adhesive bonds (MuJoCo 2.2.2; facts in ../shared/MUJOCO-2.2.2.md).
+// Weld equalities used as adhesive bonds (MuJoCo 2.2.2; facts in docs/mujoco.md).
 //
 // A pad is held by one weld equality, body1 = the pad body, body2 = the body it touched
 // (the world for a static surface). The weld is compiled inactive and switched at run time:

@@ -27,7 +27,7 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* kCli = "climbsim render";
 
 // A current OpenGL context without any window: EGL on Mesa's surfaceless platform
-// (../shared/MUJOCO-2.2.2.md, "Headless rendering").
+// (docs/mujoco.md, "Headless rendering").
 class EglContext {
  public:
   EglContext() {

@@ -36,7 +36,7 @@ py::array View(T* data, size_t n, py::handle owner, bool writable) {
   py::array_t<std::remove_const_t<T>> a({static_cast<py::ssize_t>(n)}, {sizeof(T)},
                                         const_cast<std::remove_const_t<T>*>(data), owner);
   if (!writable) a.attr("setflags")(py::arg("write") = false);
-  return std::move(a);
+  return a;  // moved implicitly (C++20)
 }
 
 // The trampoline: a Python subclass of climbsim.Controller overrides update (and optionally

@@ -235,7 +235,7 @@ TEST(AdhesionSim, WeldSwitchedOnUnderARobotDoesNotMoveThePad) {
 
 // The baseline on the same scene: MuJoCo's adhesion actuators (gain σ_T·A = 6.25 N per pad,
 // reach 1 mm) hold the gecko on the wall through friction once noslip stops the creep of
-// soft friction (mjcf/README.md, MUJOCO-2.2.2.md).
+// soft friction (mjcf/README.md, docs/mujoco.md).
 TEST(AdhesionSim, MujocoActuatorBaselineHoldsTheGeckoOnTheWall) {
   const Scenario s = Load("wall_mujoco.yaml",
                           "robot: gecko\nscene: wall\nduration_s: 2\nphysics:\n"

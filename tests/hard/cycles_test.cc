@@ -41,7 +41,7 @@ class CountingSink final : public PadEventSink {
   const char* last_rejection = "";
 };
 
-// The weld's residual from its eq_data and the current poses (MUJOCO-2.2.2.md):
+// The weld's residual from its eq_data and the current poses (docs/mujoco.md):
 // position (x1 + R1·d[3:6]) − (x2 + R2·d[0:3]), orientation vec(q2⁻¹·q1·d[6:10]).
 struct Residual {
   double pos_m, rot;
