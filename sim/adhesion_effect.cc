@@ -251,12 +251,22 @@ void AdhesionEffect::TrajectoryColumns(std::vector<std::string>* names) const {
     names->push_back(system_->pad_name(i) + "_bonded_fraction");
   for (int i = 0; i < system_->size(); ++i)
     names->push_back(system_->pad_name(i) + "_utilisation");
+  // The load the bond layer carries (PadLoad, pad frame; 0 when not attached).
+  static constexpr const char* kLoad[5] = {"_fn_n", "_fx_n", "_fy_n", "_mx_nm", "_my_nm"};
+  for (int i = 0; i < system_->size(); ++i)
+    for (const char* c : kLoad) names->push_back(system_->pad_name(i) + c);
 }
 
 void AdhesionEffect::TrajectoryValues(const World&, double* out) const {
   const int n = system_->size();
   for (int i = 0; i < n; ++i) out[i] = system_->pad(i).bonded_fraction();
   for (int i = 0; i < n; ++i) out[n + i] = system_->pad(i).attached() ? utilisation_[i] : 0.0;
+  for (int i = 0; i < n; ++i) {
+    const adhesion::StickyPad& p = system_->pad(i);
+    const adhesion::PadLoad l = p.attached() ? p.load() : adhesion::PadLoad{};
+    double* row = out + 2 * n + 5 * i;
+    row[0] = l.fn_n, row[1] = l.fx_n, row[2] = l.fy_n, row[3] = l.mx_nm, row[4] = l.my_nm;
+  }
 }
 
 void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {

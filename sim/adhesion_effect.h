@@ -6,8 +6,10 @@
 //   AfterStep   the weld's wrench of this step → bond stresses → broken bonds → detach;
 //               LegSignals again
 //
-// It writes events.csv rows (touchdown, attach, attach_rejected, bonds_lost, detach), two
-// trajectory columns per pad (<pad>_bonded_fraction, <pad>_utilisation) and summary.json's
+// It writes events.csv rows (touchdown, attach, attach_rejected, bonds_lost, detach), seven
+// trajectory columns per pad (<pad>_bonded_fraction, <pad>_utilisation, and the load the
+// bond layer carries, PadLoad in the pad frame: <pad>_fn_n, _fx_n, _fy_n, _mx_nm, _my_nm, 0
+// when not attached) and summary.json's
 // "adhesion" block (per pad counts, peak utilisation). The controller side reads each leg's
 // pad through LegSignals (touching, attached, bonded_fraction, normal_load_n, preload_n,
 // bonds_lost, utilisation) and lets a pad go with RequestRelease.

@@ -119,6 +119,50 @@ TEST(AdhesionSim, RunDirectoryHasEventsColumnsAndCounts) {
   EXPECT_EQ(j["effects"][0], "adhesion") << "first in the pipeline";
 }
 
+// The pad load columns of trajectory.csv carry the robot: the gecko hanging still on its four
+// welded pads (nothing else touches the wall) pulls them down the wall (pad x = world +x, up)
+// with its whole weight, and neither off the wall nor sideways in sum (the pads sit in their
+// neutral pose, so pad and world axes agree to within their small settling tilt).
+TEST(AdhesionSim, PadLoadColumnsSumToTheRobotsWeight) {
+  const Scenario s = Load("load_columns.yaml",
+                          "robot: gecko\nscene: wall\nduration_s: 1\nadhesion:\n"
+                          "  start_attached: true\n");
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  sim.Run();
+  const std::string dir = climbsim::testing::TempDir() + "/adhesion_load_columns";
+  WriteRunDirectory(dir, sim);
+  std::istringstream traj(ReadFile(dir + "/trajectory.csv"));
+  std::string header, line, last;
+  std::getline(traj, header);
+  while (std::getline(traj, line)) last = line;
+  auto split = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    for (std::string cell; std::getline(ss, cell, ',');) out.push_back(cell);
+    return out;
+  };
+  const std::vector<std::string> names = split(header), values = split(last);
+  ASSERT_EQ(names.size(), values.size());
+  auto column = [&](const std::string& name) {
+    for (size_t i = 0; i < names.size(); ++i)
+      if (names[i] == name) return std::stod(values[i]);
+    ADD_FAILURE() << "no column " << name;
+    return 0.0;
+  };
+  double fn = 0, fx = 0, fy = 0;
+  for (const char* pad : {"LF_pad", "RF_pad", "LH_pad", "RH_pad"}) {
+    fn += column(std::string(pad) + "_fn_n");
+    fx += column(std::string(pad) + "_fx_n");
+    fy += column(std::string(pad) + "_fy_n");
+    EXPECT_LT(column(std::string(pad) + "_fx_n"), 0.0) << pad << " carries part of the weight";
+  }
+  const double weight_n = 9.81 * sim.world().robot().mass_kg;
+  EXPECT_NEAR(fx, -weight_n, 0.02 * weight_n);
+  EXPECT_NEAR(fn, 0.0, 0.02 * weight_n);
+  EXPECT_NEAR(fy, 0.0, 0.02 * weight_n);
+}
+
 // RequestRelease (the reflexes' way to lift a leg): the pad lets go at once with cause
 // released, the leg's signals follow, and the pad does not re-attach while it still rests
 // on the wall. The gecko then hangs on three pads.
