@@ -28,8 +28,10 @@ bool Exists(const std::string& path) {
 }
 
 const std::vector<std::string>& BuiltinScenes() {
-  static const std::vector<std::string> k{"floor", "wall", "ceiling", "incline", "floor_to_wall",
-                                          "floor_to_wall_fillet"};
+  static const std::vector<std::string> k{"floor",         "wall",
+                                          "ceiling",       "incline",
+                                          "floor_to_wall", "floor_to_wall_fillet",
+                                          "wall_to_ceiling", "wall_to_top"};
   return k;
 }
 

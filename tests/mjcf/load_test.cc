@@ -23,7 +23,7 @@ std::vector<std::string> AllMjcfFiles() {
   return files;
 }
 
-// The file set is what the README lists: 2 robots, 6 scenes, one viewer file per pair.
+// The file set is what the README lists: 2 robots, 8 scenes, one viewer file per pair.
 TEST(MjcfFiles, TheDocumentedFilesExist) {
   std::set<std::string> files;
   for (const auto& f : AllMjcfFiles()) files.insert(f);
@@ -34,7 +34,7 @@ TEST(MjcfFiles, TheDocumentedFilesExist) {
     }
   }
   for (const auto& scene : SceneNames()) EXPECT_TRUE(files.count("scenes/" + scene + ".xml"));
-  EXPECT_EQ(files.size(), 2u + 6u + 12u) << "a file was added or removed: update the README";
+  EXPECT_EQ(files.size(), 2u + 8u + 16u) << "a file was added or removed: update the README";
 }
 
 class MjcfFileLoads : public testing::TestWithParam<std::string> {};
@@ -158,13 +158,19 @@ TEST_P(MjcfScene, HasDocumentedGravitySurfacesAndTravel) {
   const auto travel = CustomNumeric(m.get(), "climbsim_travel");
   ASSERT_EQ(travel.size(), 3u);
   for (int i = 0; i < 3; ++i) EXPECT_EQ(travel[i], spec.travel[i]) << i;
-  // The main surface is the plane z = 0 with normal +z, big enough to walk on (>= 4 m).
+  // The main surface is the plane z = 0 with normal +z, big enough to walk on (>= 4 m); at an
+  // outer corner it must end, so there it is the top face of an axis-aligned box.
   const int plane = mj_name2id(m.get(), mjOBJ_GEOM, spec.surfaces[0].c_str());
-  EXPECT_EQ(m->geom_type[plane], mjGEOM_PLANE);
-  EXPECT_EQ(m->geom_pos[3 * plane + 2], 0.0);
   EXPECT_EQ(m->geom_quat[4 * plane], 1.0);
   EXPECT_GE(m->geom_size[3 * plane], 2.0);
   EXPECT_GE(m->geom_size[3 * plane + 1], 2.0);
+  if (spec.scene == "wall_to_top") {
+    EXPECT_EQ(m->geom_type[plane], mjGEOM_BOX);
+    EXPECT_NEAR(m->geom_pos[3 * plane + 2] + m->geom_size[3 * plane + 2], 0.0, 1e-12);
+  } else {
+    EXPECT_EQ(m->geom_type[plane], mjGEOM_PLANE);
+    EXPECT_EQ(m->geom_pos[3 * plane + 2], 0.0);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -174,8 +180,54 @@ INSTANTIATE_TEST_SUITE_P(
                     SceneSpec{"ceiling", {0, 0, 9.81}, {"ceiling"}, {1, 0, 0}},
                     SceneSpec{"incline", {-4.905, 0, -8.49571}, {"incline"}, {1, 0, 0}},
                     SceneSpec{"floor_to_wall", {0, 0, -9.81}, {"floor", "wall"}, {1, 0, 1}},
-                    SceneSpec{"floor_to_wall_fillet", {0, 0, -9.81}, {"floor", "wall", "fillet0", "fillet17"}, {1, 0, 1}}),
+                    SceneSpec{"floor_to_wall_fillet", {0, 0, -9.81}, {"floor", "wall", "fillet0", "fillet17"}, {1, 0, 1}},
+                    SceneSpec{"wall_to_ceiling", {-9.81, 0, 0}, {"wall", "ceiling"}, {1, 0, 1}},
+                    SceneSpec{"wall_to_top", {-9.81, 0, 0}, {"wall", "top"}, {1, 0, -1}}),
     [](const testing::TestParamInfo<SceneSpec>& info) { return info.param.scene; });
+
+// The two corners of issue 17, both with gravity along -x (up the wall is +x) and the robot
+// spawned on the wall at x = 0, 0.30 m before the corner. Wall to ceiling: the ceiling's
+// underside is the plane x = 0.30 facing -x (down), reaching at least 1 m out from the wall.
+// Wall to top: the wall's face z = 0 ends at x = 0.30, where the top, the plane x = 0.30 facing
+// +x (up), runs at least 1 m back behind the wall; the top's block starts right under the
+// wall's thin slab, so no pad on the wall plane touches "top".
+TEST(MjcfCorners, CornerAtThirtyCentimetresUpTheWall) {
+  auto box = [](const mjModel* m, const char* name) {
+    const int g = mj_name2id(m, mjOBJ_GEOM, name);
+    EXPECT_GE(g, 0) << name;
+    EXPECT_EQ(m->geom_type[g], mjGEOM_BOX) << name;
+    EXPECT_EQ(m->geom_quat[4 * g], 1.0) << name;
+    std::array<double, 6> lo_hi{};
+    for (int k = 0; k < 3; ++k) {
+      lo_hi[k] = m->geom_pos[3 * g + k] - m->geom_size[3 * g + k];
+      lo_hi[3 + k] = m->geom_pos[3 * g + k] + m->geom_size[3 * g + k];
+    }
+    return lo_hi;  // x_lo, y_lo, z_lo, x_hi, y_hi, z_hi
+  };
+  std::string error;
+  ModelPtr w2c = Load(SceneFile("wall_to_ceiling"), &error);
+  ASSERT_NE(w2c, nullptr) << error;
+  const auto ceiling = box(w2c.get(), "ceiling");
+  EXPECT_NEAR(ceiling[0], 0.30, 1e-12);  // underside
+  EXPECT_LE(ceiling[2], 0.0);            // from the wall...
+  EXPECT_GE(ceiling[5], 1.0);            // ...1 m out
+  EXPECT_GE(ceiling[4] - ceiling[1], 1.0);
+  ModelPtr w2t = Load(SceneFile("wall_to_top"), &error);
+  ASSERT_NE(w2t, nullptr) << error;
+  const auto wall = box(w2t.get(), "wall");
+  const auto top = box(w2t.get(), "top");
+  EXPECT_NEAR(wall[3], 0.30, 1e-12);  // the wall ends at the edge...
+  EXPECT_NEAR(top[3], 0.30, 1e-12);   // ...where the top's face is
+  EXPECT_NEAR(top[5], wall[2], 1e-12);  // right under the wall's slab...
+  EXPECT_GE(top[5], -0.005);             // ...at most 5 mm from the edge...
+  EXPECT_LE(top[2], -1.0);            // ...1 m back
+  EXPECT_LE(wall[0], -2.0);           // a wall long enough to climb
+  for (const mjModel* m : {w2c.get(), w2t.get()}) {
+    const auto spawn = CustomNumeric(m, "climbsim_spawn");
+    ASSERT_EQ(spawn.size(), 3u);
+    EXPECT_EQ(spawn[0], 0.0);
+  }
+}
 
 // The floor-to-wall wall: a box whose -x face is the plane x = 0.30, at least 1 m tall from
 // the floor up, wide enough (>= 1 m) that a robot cannot walk around it; spawn at x = 0.

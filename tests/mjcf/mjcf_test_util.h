@@ -24,8 +24,9 @@ inline const std::vector<std::string>& RobotNames() {
   return kRobots;
 }
 inline const std::vector<std::string>& SceneNames() {
-  static const std::vector<std::string> kScenes = {"floor", "wall", "ceiling", "incline",
-                                                   "floor_to_wall", "floor_to_wall_fillet"};
+  static const std::vector<std::string> kScenes = {
+      "floor",         "wall",          "ceiling",         "incline",
+      "floor_to_wall", "floor_to_wall_fillet", "wall_to_ceiling", "wall_to_top"};
   return kScenes;
 }
 inline std::filesystem::path RobotFile(const std::string& robot) {

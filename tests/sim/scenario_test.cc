@@ -109,7 +109,7 @@ TEST(Scenario, MissingModelFile) {
 TEST(Scenario, UnknownBundledScene) {
   EXPECT_EQ(ErrorOf("scene.yaml", "robot: gecko\nscene: moon\nduration_s: 1\n"),
             "scene.yaml:2:8: scene.name: no bundled scene 'moon' (floor, wall, ceiling, "
-            "incline, floor_to_wall, floor_to_wall_fillet)");
+            "incline, floor_to_wall, floor_to_wall_fillet, wall_to_ceiling, wall_to_top)");
 }
 
 TEST(Scenario, BadYamlSyntax) {
