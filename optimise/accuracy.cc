@@ -8,7 +8,7 @@
 
 #include "adhesion/adhesion.h"
 #include "optimise/optimise.h"
-#include "sim/gnuplot.h"
+#include "common/common.h"
 
 namespace climbsim::optimise {
 namespace {
@@ -185,7 +185,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
     csv += line(r.knob, r.setting, r.run, r.distance_error_m, r.detach_time_error_s,
                 r.detach_count_diff, r.peak_load_error, r.pulloff_error);
   }
-  sim::WriteFileAtomic(dir + "/accuracy.csv", csv);
+  common::WriteFileAtomic(dir + "/accuracy.csv", csv);
 
   // One data block per knob (blank-line separated) so gnuplot draws one curve each.
   std::string data;
@@ -201,7 +201,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
             sim::ExactNumber(std::max(r.detach_time_error_s, 1e-7)) + " " +
             sim::ExactNumber(std::max(r.pulloff_error, 1e-7)) + "\n";
   }
-  sim::WriteFileAtomic(dir + "/accuracy.dat", data);
+  common::WriteFileAtomic(dir + "/accuracy.dat", data);
   std::string plot1, plot2, plot3;
   for (size_t k = 0; k < knobs.size(); ++k) {
     const std::string idx = std::to_string(k);
@@ -213,7 +213,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
   const std::string script =
       "set terminal pngcairo size 1400,480 noenhanced\nset output OUTPUT(0)\n"
       "set logscale xy\nset grid\nset key bottom left font ',8'\n"
-      "data = " + sim::GnuplotQuote(dir + "/accuracy.dat") + "\n"
+      "data = " + common::GnuplotQuote(dir + "/accuracy.dat") + "\n"
       "set multiplot layout 1,3 title 'climbsim bench accuracy: error against wall time, one "
       "curve per knob (errors against the finest setting; 1e-7 = exact)'\n"
       "set xlabel 'wall time of the run [s]'\n"
@@ -221,7 +221,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
       "set ylabel 'detach time error [s]'\nplot " + plot2 + "\n"
       "set ylabel 'pull-off error at 45 deg [relative]'\nplot " + plot3 + "\n"
       "unset multiplot\n";
-  return sim::RunGnuplot(script, {dir + "/accuracy.png"});
+  return common::RunGnuplot(script, {dir + "/accuracy.png"});
 }
 
 }  // namespace climbsim::optimise

@@ -410,15 +410,15 @@ std::vector<std::string> ScenarioInputs(const Scenario& s) {
 }
 
 void WriteRunFiles(const std::string& dir, const Simulation& sim, const nlohmann::json& extra) {
-  WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
-  WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
+  common::WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
+  common::WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
   const std::string traj = sim.TrajectoryCsv();
-  if (!traj.empty()) WriteFileAtomic(dir + "/trajectory.csv", traj);
-  WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());
+  if (!traj.empty()) common::WriteFileAtomic(dir + "/trajectory.csv", traj);
+  common::WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());
   // The summary last: its presence says the run directory is complete.
   nlohmann::json summary = sim.Summary();
   summary.update(extra);
-  WriteFileAtomic(dir + "/summary.json", summary.dump(2) + "\n");
+  common::WriteFileAtomic(dir + "/summary.json", summary.dump(2) + "\n");
 }
 
 void WriteRunDirectory(const std::string& dir, const Simulation& sim, const nlohmann::json& extra,

@@ -238,11 +238,6 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
   return xml;
 }
 
-mjModel* CompileMjcf(const std::string& xml, std::string* error) {
-  // One loader for the whole program: adhesion's, which serialises every load.
-  return adhesion::CompileMjcfString(xml, error);
-}
-
 std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
                                                     const MjcfAdditions& additions) {
   std::unique_ptr<CompiledModel> c(new CompiledModel());
@@ -253,7 +248,7 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
   } catch (const std::exception& e) {
     throw ScenarioError(s, "robot", e.what());
   }
-  c->model_ = CompileMjcf(c->xml_, &error);
+  c->model_ = common::CompileMjcfString(c->xml_, &error);
   if (c->model_ == nullptr) {
     throw ScenarioError(s, "robot", "MuJoCo cannot load the model: " + error);
   }

@@ -139,11 +139,6 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
 // (meshes, textures from files) are not copied: the bundled models use none.
 std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth = 0);
 
-// Compiles MJCF text through MuJoCo's VFS (no temporary files), with
-// adhesion::CompileMjcfString: the one loader of the program, serialised because MuJoCo's XML
-// loader keeps process-wide state. Returns nullptr and fills error on failure.
-mjModel* CompileMjcf(const std::string& xml, std::string* error);
-
 }  // namespace climbsim::sim
 
 #endif  // CLIMBSIM_SIM_WORLD_H_
