@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "adhesion/adhesion.h"
+#include "cpg/cpg.h"
 #include "reflex/reflex.h"
 #include "sim/archive.h"
 
@@ -15,10 +17,10 @@ namespace climbsim::sim {
 // Hopf oscillators (cpg/README.md, Righetti and Ijspeert 2008); their stance and swing
 // frequencies follow from cpg.frequency_hz and the duty factor.
 struct HopfParams {
-  double mu = 1.0;
-  double alpha_per_s = 50.0;
-  double beta_per_s = 50.0;
-  double switch_sharpness = 100.0;
+  double mu = cpg::HopfNetworkParams{}.mu;
+  double alpha_per_s = cpg::HopfNetworkParams{}.alpha_per_s;
+  double beta_per_s = cpg::HopfNetworkParams{}.beta_per_s;
+  double switch_sharpness = cpg::HopfNetworkParams{}.b;
 
   template <class A>
   void Serialize(A* a) {
@@ -39,14 +41,14 @@ struct CpgParams {
   std::vector<double> offsets_cycles;
   std::vector<std::vector<double>> phase_bias_rad;
   std::optional<double> duty_factor;
-  double frequency_hz = 1.0;
+  double frequency_hz = cpg::PhaseNetworkParams{}.frequency_hz;
   double coupling_per_s = 4.0;
   double amplitude = 1.0;
   double start_amplitude = 0.0;
-  double amplitude_rate_per_s = 5.0;
+  double amplitude_rate_per_s = cpg::PhaseNetworkParams{}.amplitude_rate_per_s;
   std::string stepper = "rk4";
-  double abs_tol = 1e-8;
-  double rel_tol = 1e-6;
+  double abs_tol = cpg::StepperParams{}.abs_tol;
+  double rel_tol = cpg::StepperParams{}.rel_tol;
   std::optional<double> control_period_s;
   std::vector<double> stride_rad;  // joint space; default [0.35, 0, 0]
   std::vector<double> lift_rad;    // joint space; default [0, 0.5, 0.5]
@@ -54,7 +56,7 @@ struct CpgParams {
   double lift_m = 0.015;
   double press_m = 0.0;
   double crouch_m = 0.0;
-  double lift_share = 0.0;
+  double lift_share = cpg::LegShape{}.lift_share;
   HopfParams hopf;
   double tegotae_sigma_rad_per_n_s = 0.0;
   bool wait_for_support = false;
@@ -104,7 +106,7 @@ struct CpgParams {
   }
 };
 
-// Dry adhesion (adhesion/README.md has the model; DESIGN.md section 3). Material and attach
+// Dry adhesion (adhesion/README.md has the model; docs/design.md section 3). Material and attach
 // keys apply to every pad; pad_overrides changes a few of them for one pad.
 struct AdhesionPadOverride {
   std::string pad;
@@ -121,28 +123,20 @@ struct AdhesionPadOverride {
   }
 };
 
-struct AdhesionParams {
+// The bond grid's keys (adhesion::PadParams: one declaration and one default each; width_m
+// and length_m are not keys, they come from each pad's box geom) and the attach conditions
+// (adhesion::AttachParams), plus what only the scenario has.
+struct AdhesionParams : adhesion::PadParams, adhesion::AttachParams {
   std::string model = "bonds";
   std::vector<std::string> pads;
   std::vector<std::string> surfaces;
-  bool start_attached = false;
-  double start_gap_m = 0.001;
-  double sigma_t_pa = 10e3;
-  double mu = 0.0;
-  int grid_x = 16;
-  int grid_y = 16;
-  int min_bonds = 1;
-  int min_contacts = 3;
-  double max_approach_speed_mps = 0.25;
-  double max_approach_angle_deg = 20.0;
-  double min_preload_n = 0.02;
-  double initial_fraction = 0.3;
-  double buildup_time_s = 0.1;
-  double attach_window_s = 0.1;
-  std::vector<double> weld_solref{0.002, 1.0};
+  bool start_attached = adhesion::AdhesionSystemParams{}.start_attached;
+  double start_gap_m = adhesion::AdhesionSystemParams{}.start_gap_m;
+  std::vector<double> weld_solref = std::vector<double>(adhesion::kDefaultWeldSolref.begin(),
+                                                        adhesion::kDefaultWeldSolref.end());
   std::optional<double> gain_n;
-  double ctrl = 1.0;
-  double reach_m = 0.001;
+  double ctrl = adhesion::StickyPadParams{}.actuator_ctrl;
+  double reach_m = adhesion::AdhesionSystemParams{}.reach_m;
   std::vector<AdhesionPadOverride> pad_overrides;
   double pad_failure_probability = 0.0;
   double pad_failure_window_s = 1.0;
@@ -254,7 +248,7 @@ struct GtoKeys : reflex::GtoHoldParams {
 };
 // One spindle law for the three joints of every leg.
 struct SpindleKeys {
-  bool enabled = true;
+  bool enabled = reflex::LegSpindleParams{}.enabled;
   reflex::SpindleParams law;
   double swing_threshold_rad = reflex::LegSpindleParams{}.swing_threshold_rad;
   bool resist = reflex::LegSpindleParams{}.resist;
@@ -292,7 +286,7 @@ struct ReflexParams {
   GtoKeys gto;
   SpindleKeys spindle;
   ComplianceKeys compliance;
-  double max_offset_rad = 0.4;
+  double max_offset_rad = reflex::LegReflexParams{}.max_offset_rad;
   bool release_failed_peel = false;
 
   template <class A>
