@@ -560,7 +560,7 @@ TEST(PadDegenerate, DiagonalLineIsAHingeAboutItself) {
   EXPECT_LT(g.stress(g.index(0, 0)).sigma_pa, 0.0);
 }
 
-// An L-shaped set has I_xy ≠ 0: a pure M_x then needs a gradient along x as well (DESIGN.md's
+// An L-shaped set has I_xy ≠ 0: a pure M_x then needs a gradient along x as well (docs/design.md's
 // uncoupled formula would leave −Σσx·dA ≠ 0, a moment M_y nobody applied).
 TEST(PadStress, AsymmetricSetCouplesTheMoments) {
   BondGrid g(Pad(0.02, 0.02, 8, 8));
