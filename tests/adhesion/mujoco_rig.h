@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "adhesion/adhesion.h"
+#include "common/common.h"
 
 namespace climbsim::adhesion::testing {
 

@@ -43,9 +43,9 @@ const std::vector<VerbCase>& Verbs() {
       {"optimise", {{"--max-evaluations", "2"}, {"--threads", "1"}}},
       {"sweep", {{"--step", "90"}, {"--threads", "1"}}},
       {"bench speed", {{"--duration", "0.2"}, {"--repetitions", "1"}}},
-      {"bench accuracy", {{"--duration", "0.2"}, {"--threads", "1"}}},
+      {"bench accuracy", {{"--duration", "0.1"}}},
       {"bench optimise", {{"--evaluations", "2"}}},
-      {"bench robustness", {{"--duration", "0.4"}, {"--threads", "1"}}},
+      {"bench robustness", {{"--duration", "0.2"}}},
       {"pulloff", {{"--step-deg", "45"}}},
       {"inspect", {{"--from", "0.1"}, {"--to", "0.3"}}},
       {"render", {{"--at", "0.2"}, {"--width", "64"}, {"--height", "48"}}},
@@ -53,6 +53,9 @@ const std::vector<VerbCase>& Verbs() {
   };
   return verbs;
 }
+
+// gtest names a failing case by its verb.
+void PrintTo(const VerbCase& c, std::ostream* out) { *out << c.verb; }
 
 std::vector<std::string> Split(const std::string& line) {
   std::istringstream in(line);
@@ -134,7 +137,9 @@ std::set<std::string> ListedVerbs() {
       ADD_FAILURE() << "no subcommand list in `climbsim " << parent << "--help`:\n" << r.out;
       continue;
     }
-    const std::string list = r.out.substr(from);
+    // The list ends at the first blank line (the example follows).
+    std::string list = r.out.substr(from);
+    list = list.substr(0, list.find("\n\n"));
     for (std::sregex_iterator it(list.begin(), list.end(), row), end; it != end; ++it) {
       const std::string verb = (*it)[1].str();
       if (parent.empty() && verb == "bench") continue;  // its own verbs are listed below
@@ -143,6 +148,9 @@ std::set<std::string> ListedVerbs() {
   }
   return verbs;
 }
+
+// gtest names a failing case by its verb.
+void PrintTo(const VerbCase& c, std::ostream* out) { *out << c.verb; }
 
 // The cases below cover every verb the executable has: a new verb needs its case.
 TEST(HelpExamples, EveryVerbHasACase) {
