@@ -4,7 +4,8 @@
 //   - a run folder it reads (runs/NAME) is first made by simulating a short copy of
 //     examples/NAME.yaml; everything it writes goes to a temporary folder;
 //   - the options that set the amount of work are turned down (replaced where the example
-//     gives them, added where it does not).
+//     gives them, added where it does not), and a verb that writes to a default folder is
+//     given one in the temporary folder.
 // The command is otherwise the help's own: a verb whose example names a file that does not
 // exist, or an option that the verb does not take, fails here with exit code 2.
 #include <gtest/gtest.h>
@@ -32,6 +33,10 @@ using climbsim::testing::WriteFile;
 // A scenario's simulated time in these runs (s): enough for a few steps of every effect.
 constexpr const char* kShortDuration = "0.4";
 
+// As a value in VerbCase::less_work: a folder in the temporary folder, for a verb that writes
+// to a default folder (runs/...) when the example gives no --out.
+constexpr const char* kTempOut = "(temporary folder)";
+
 struct VerbCase {
   std::string verb;                                // as typed: "bench speed"
   std::vector<std::pair<std::string, std::string>> less_work;  // option -> value
@@ -44,7 +49,7 @@ const std::vector<VerbCase>& Verbs() {
       {"sweep", {{"--step", "90"}, {"--threads", "1"}}},
       {"bench speed", {{"--duration", "0.2"}, {"--repetitions", "1"}}},
       {"bench accuracy", {{"--duration", "0.1"}}},
-      {"bench optimise", {{"--evaluations", "2"}}},
+      {"bench optimise", {{"--evaluations", "2"}, {"--out", kTempOut}}},
       {"bench robustness", {{"--duration", "0.2"}}},
       {"pulloff", {{"--step-deg", "45"}}},
       {"inspect", {{"--from", "0.1"}, {"--to", "0.3"}}},
@@ -111,7 +116,10 @@ std::string Shortened(const VerbCase& c, const std::string& example) {
       t = MadeRun(t);
     }
   }
-  for (const auto& [option, value] : c.less_work) {
+  for (const auto& [option, given_value] : c.less_work) {
+    const std::string value = given_value == kTempOut
+                                  ? TempDir() + "/help_examples/out/" + slug + "/default_out"
+                                  : given_value;
     bool given = false;
     for (size_t i = 0; i + 1 < tokens.size(); ++i) {
       if (tokens[i] == option) tokens[i + 1] = value, given = true;
@@ -148,9 +156,6 @@ std::set<std::string> ListedVerbs() {
   }
   return verbs;
 }
-
-// gtest names a failing case by its verb.
-void PrintTo(const VerbCase& c, std::ostream* out) { *out << c.verb; }
 
 // The cases below cover every verb the executable has: a new verb needs its case.
 TEST(HelpExamples, EveryVerbHasACase) {
