@@ -107,8 +107,8 @@ PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
   result.rounds = last.rounds;
   result.sequence.reserve(grid.last_broken().size());
   for (const BrokenBond& b : grid.last_broken()) {
-    result.sequence.push_back(
-        BrokenBondAt{.x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
+    result.sequence.push_back(BrokenBondAt{
+        .x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
   }
   return result;
 }

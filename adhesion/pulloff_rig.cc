@@ -138,8 +138,8 @@ void PulloffRig::Start(PadEventSink* sink) {
   system_->Reset(m, d, sink);
   mj_forward(m, d);
   bool kinematics_current = true;
-  system_->pad(0).ForceAttach(m, d, d->time, surface_geom_, 1.0, PadCause::kForced, &kinematics_current,
-                              sink);
+  system_->pad(0).ForceAttach(m, d, d->time, surface_geom_, 1.0, PadCause::kForced,
+                              &kinematics_current, sink);
   // kMujoco: let the actuator pull the block into its resting penetration first.
   if (model_type_ == AdhesionModel::kMujoco) {
     const long settle_steps = std::lround(params_.settle_time_s / m->opt.timestep);

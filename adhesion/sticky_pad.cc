@@ -290,7 +290,8 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
          static_cast<double>(r.broken) / grid_.size(), true);
   }
   if (r.detached) {
-    Detach(m, d, time_s, lost_since_attach_ > 0 || peeling_ ? PadCause::kPeel : PadCause::kOverload, sink);
+    Detach(m, d, time_s, lost_since_attach_ > 0 || peeling_ ? PadCause::kPeel : PadCause::kOverload,
+           sink);
   }
   lost_since_attach_ += r.broken;
 }

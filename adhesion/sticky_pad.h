@@ -60,9 +60,9 @@
 // On detach the weld is switched off, the grid released and the pad geom collides again.
 //
 // EVENTS go to a PadEventSink with the pad's index; kind and cause are enums (PadEventName and
-// PadCauseName give their text), so nothing allocates. The load columns are the PadLoad of the last step while welded; for an
-// unwelded pad F_n = −preload (compression is negative), the rest 0; for kMujoco while on,
-// F_n = gain·ctrl − preload (what the rest of the robot pulls with).
+// PadCauseName give their text), so nothing allocates. The load columns are the PadLoad of the last
+// step while welded; for an unwelded pad F_n = −preload (compression is negative), the rest 0; for
+// kMujoco while on, F_n = gain·ctrl − preload (what the rest of the robot pulls with).
 //
 // Nothing here allocates after construction; there are no name lookups in the step.
 #ifndef CLIMBSIM_ADHESION_STICKY_PAD_H_

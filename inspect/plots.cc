@@ -129,8 +129,8 @@ void GaitDiagram(const Run& run, const Report& report, const std::string& out_di
   body += buf;
   body += "set ytics (";
   for (int i = 0; i < n; ++i) {
-    body +=
-        (i ? ", " : "") + common::GnuplotQuote(report.legs[i].leg) + " " + std::to_string(n - 1 - i);
+    body += (i ? ", " : "") + common::GnuplotQuote(report.legs[i].leg) + " " +
+            std::to_string(n - 1 - i);
   }
   body += ")\nset xlabel \"time (s)\"\nset title " +
           common::GnuplotQuote("gait diagram: " + run.dir + "  (bar = pad attached)") +

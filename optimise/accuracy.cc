@@ -64,8 +64,10 @@ std::vector<Setting> Settings(const sim::Scenario& s) {
     out.push_back({"odeint stepper", "rk4", {{"cpg.stepper", "rk4"}}});
     out.push_back({"odeint stepper", "dopri5 1e-6",
                    {{"cpg.stepper", "dopri5"}, {"cpg.abs_tol", "1e-6"}, {"cpg.rel_tol", "1e-6"}}});
-    out.push_back({"odeint stepper", "dopri5 1e-10",
-                   {{"cpg.stepper", "dopri5"}, {"cpg.abs_tol", "1e-10"}, {"cpg.rel_tol", "1e-10"}}});
+    out.push_back(
+        {"odeint stepper",
+         "dopri5 1e-10",
+         {{"cpg.stepper", "dopri5"}, {"cpg.abs_tol", "1e-10"}, {"cpg.rel_tol", "1e-10"}}});
   }
   return out;
 }
@@ -84,7 +86,8 @@ AccuracyRun Measure(const sim::Scenario& s, ModelCache* cache) {
   for (const sim::Event& e : run.events().rows()) {
     if (e.pad < 0) continue;
     if (std::string_view(e.kind) == "detach") r.detach_s[e.pad].push_back(e.time_s);
-    const double f = std::sqrt(e.load[0] * e.load[0] + e.load[1] * e.load[1] + e.load[2] * e.load[2]);
+    const double f =
+        std::sqrt(e.load[0] * e.load[0] + e.load[1] * e.load[1] + e.load[2] * e.load[2]);
     r.peak_load_n[e.pad] = std::max(r.peak_load_n[e.pad], f);
   }
   // Pull-off at 45° of a pad of this material on this time step and grid (adhesion only).
@@ -155,8 +158,9 @@ AccuracyReport BenchAccuracy(const std::string& file, double duration_s, int thr
     row.detach_time_error_s = matched > 0 ? sum / matched : 0.0;
     for (size_t p = 0; p < r.peak_load_n.size() && p < ref.peak_load_n.size(); ++p) {
       if (ref.peak_load_n[p] > 0) {
-        row.peak_load_error = std::max(
-            row.peak_load_error, std::abs(r.peak_load_n[p] - ref.peak_load_n[p]) / ref.peak_load_n[p]);
+        row.peak_load_error =
+            std::max(row.peak_load_error,
+                     std::abs(r.peak_load_n[p] - ref.peak_load_n[p]) / ref.peak_load_n[p]);
       }
     }
     if (ref.pulloff_n > 0 && std::isfinite(ref.pulloff_n)) {
@@ -206,9 +210,12 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
   for (size_t k = 0; k < knobs.size(); ++k) {
     const std::string idx = std::to_string(k);
     const std::string sep = k ? ", " : "";
-    plot1 += sep + "data index " + idx + " using 1:2 with linespoints lw 2 title '" + knobs[k] + "'";
-    plot2 += sep + "data index " + idx + " using 1:3 with linespoints lw 2 title '" + knobs[k] + "'";
-    plot3 += sep + "data index " + idx + " using 1:4 with linespoints lw 2 title '" + knobs[k] + "'";
+    plot1 +=
+        sep + "data index " + idx + " using 1:2 with linespoints lw 2 title '" + knobs[k] + "'";
+    plot2 +=
+        sep + "data index " + idx + " using 1:3 with linespoints lw 2 title '" + knobs[k] + "'";
+    plot3 +=
+        sep + "data index " + idx + " using 1:4 with linespoints lw 2 title '" + knobs[k] + "'";
   }
   const std::string script =
       "set terminal pngcairo size 1400,480 noenhanced\nset output OUTPUT(0)\n"

@@ -742,7 +742,8 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   // The best: lowest J; ties go to the earlier start and evaluation (thread-independent).
   result.best = *std::min_element(result.history.begin(), result.history.end(),
                                   [](const Evaluation& a, const Evaluation& b) {
-                                    if (a.objective != b.objective) return a.objective < b.objective;
+                                    if (a.objective != b.objective)
+                                      return a.objective < b.objective;
                                     if (a.start != b.start) return a.start < b.start;
                                     return a.index < b.index;
                                   });

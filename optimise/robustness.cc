@@ -465,17 +465,18 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
       std::to_string(rows) + "," + std::to_string(cols) + " title " + title + " font ',10'\n";
   for (int i = 0; i < n; ++i) {
     const RobustnessRow& on = r.rows[2 * i];
-    script += "set title " + common::GnuplotQuote(on.family) + "\nset ylabel " +
-              common::GnuplotQuote(on.family == "pad_failure"  ? "failure probability per attachment"
-                                : on.family == "weak_patch" ? "share of sigma_T lost on a patch"
-                                : on.family == "payload"    ? "payload [kg]"
-                                : on.family == "roughness"  ? "bump height [m]"
-                                                           : "impulse in 10 ms [" + on.unit + "]") +
-              "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
-              "]\n"
-              "plot data index " +
-              std::to_string(i) +
-              " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
+    script +=
+        "set title " + common::GnuplotQuote(on.family) + "\nset ylabel " +
+        common::GnuplotQuote(on.family == "pad_failure"  ? "failure probability per attachment"
+                             : on.family == "weak_patch" ? "share of sigma_T lost on a patch"
+                             : on.family == "payload"    ? "payload [kg]"
+                             : on.family == "roughness"  ? "bump height [m]"
+                                                         : "impulse in 10 ms [" + on.unit + "]") +
+        "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
+        "]\n"
+        "plot data index " +
+        std::to_string(i) +
+        " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
   }
   script += "unset multiplot\n";
   return common::RunGnuplot(script, {dir + "/robustness.png"});

@@ -299,7 +299,8 @@ bool Simulation::Monitor() {
   // Mechanical work of the actuators (positive and negative alike cost a servo energy).
   const mjModel* m = world_.model();
   double power_w = 0.0;
-  for (int i = 0; i < m->nu; ++i) power_w += std::abs(d->actuator_force[i] * d->actuator_velocity[i]);
+  for (int i = 0; i < m->nu; ++i)
+    power_w += std::abs(d->actuator_force[i] * d->actuator_velocity[i]);
   result_.actuator_work_j += power_w * m->opt.timestep;
 
   const RobotInfo& r = world_.robot();

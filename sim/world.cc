@@ -257,7 +257,8 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
   // The scene's own gravity and travel direction; the scenario's options apply per World.
   c->scene_.gravity = Eigen::Vector3d(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
   double v[3];
-  if (CustomNumeric(m, "climbsim_travel", 3, v)) c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (CustomNumeric(m, "climbsim_travel", 3, v))
+    c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
   if (CustomNumeric(m, "climbsim_spawn", 3, v)) {
     for (int i = 0; i < 3; ++i) c->spawn_offset_[i] = v[i];
   }
@@ -387,8 +388,9 @@ std::string World::Xml() const {
   const char* integrator = m->opt.integrator == mjINT_EULER ? "Euler"
                            : m->opt.integrator == mjINT_RK4 ? "RK4"
                                                             : "implicit";
-  std::string run = "  <!-- climbsim: this run's values (the scenario's physics options win over the files';\n"
-                    "       key climbsim_start is the state the run started from) -->\n";
+  std::string run =
+      "  <!-- climbsim: this run's values (the scenario's physics options win over the files';\n"
+      "       key climbsim_start is the state the run started from) -->\n";
   run += "  <option timestep=\"" + numbers(&m->opt.timestep, 1) + "\" gravity=\"" +
          numbers(m->opt.gravity, 3) + "\" integrator=\"" + integrator + "\" iterations=\"" +
          std::to_string(m->opt.iterations) + "\" tolerance=\"" + numbers(&m->opt.tolerance, 1) +

@@ -77,8 +77,8 @@ std::string Script(const PulloffOptions& o, const std::string& data, const std::
   std::snprintf(title, sizeof(title),
                 "Pull-off of a weightless block: %g x %g mm pad, %d x %d bonds, sigma_T %g kPa, "
                 "mu %g, lever %g mm",
-                pad.width_m * 1e3, pad.length_m * 1e3, pad.grid_x, pad.grid_y, pad.sigma_t_pa * 1e-3,
-                pad.mu, o.rig.arm_m * 1e3);
+                pad.width_m * 1e3, pad.length_m * 1e3, pad.grid_x, pad.grid_y,
+                pad.sigma_t_pa * 1e-3, pad.mu, o.rig.arm_m * 1e3);
   std::ostringstream s;
   s << "set terminal pngcairo size 900,600 font \",11\"\n"
     << "set output " << output << "\n"
@@ -191,9 +191,10 @@ void Run(PulloffOptions o) {
     }
   }
   y_max = std::min(3.0, std::ceil(1.1 * y_max * 4.0) / 4.0);
-  common::WriteFileAtomic(dir + "/pulloff.gp", "# cd into this folder and run: gnuplot pulloff.gp\n" +
-                                                Script(o, "\"pulloff.csv\"", "\"pulloff.png\"",
-                                                       bonds, mujoco, capacity, y_max));
+  common::WriteFileAtomic(
+      dir + "/pulloff.gp",
+      "# cd into this folder and run: gnuplot pulloff.gp\n" +
+          Script(o, "\"pulloff.csv\"", "\"pulloff.png\"", bonds, mujoco, capacity, y_max));
   const std::string error = common::RunGnuplot(
       Script(o, common::GnuplotQuote(csv_path), "OUTPUT(0)", bonds, mujoco, capacity, y_max),
       {png_path});

@@ -43,7 +43,8 @@ TEST(PulloffRig, CentralPullStraightOffIsSigmaTTimesArea) {
     const double capacity = 10e3 * w * h;
     EXPECT_NEAR(r.force_n, capacity, 0.01 * capacity) << w << " x " << h << ", grid " << grid;
     EXPECT_GE(r.force_n, capacity * (1 - 1e-12)) << "it must not let go below sigma_T*A";
-    EXPECT_STREQ(r.cause, PadCauseName(PadCause::kOverload)) << "a uniform load breaks every bond in one step";
+    EXPECT_STREQ(r.cause, PadCauseName(PadCause::kOverload))
+        << "a uniform load breaks every bond in one step";
     EXPECT_EQ(r.steps_losing_bonds, 1);
   }
 }

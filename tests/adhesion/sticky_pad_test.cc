@@ -249,8 +249,8 @@ TEST(PadBuildup, DoesNotGrowWhilePulled) {
   mj_forward(rig.m(), rig.d());
   bool current = true;
   const int surface = mj_name2id(rig.m(), mjOBJ_GEOM, "surface");
-  ASSERT_TRUE(
-      rig.pad().ForceAttach(rig.m(), rig.d(), 0.0, surface, 0.5, PadCause::kForced, &current, nullptr));
+  ASSERT_TRUE(rig.pad().ForceAttach(rig.m(), rig.d(), 0.0, surface, 0.5, PadCause::kForced,
+                                    &current, nullptr));
   rig.Run(0.5);
   ASSERT_TRUE(rig.pad().attached());
   EXPECT_NEAR(rig.pad().load().fn_n, s.mass_kg * kG, 1e-3 * s.mass_kg * kG);
