@@ -1,4 +1,4 @@
-// climbsim::adhesion, the module's one public header: dry-adhesive pads (DESIGN.md section 3).
+// climbsim::adhesion, the module's one public header: dry-adhesive pads (docs/design.md section 3).
 //
 //   bond_grid.h        BondGrid, PadParams, PadLoad: stresses, rupture, the cascade (no MuJoCo)
 //   pulloff.h          PullOff, PulloffSweep: the figure-6 experiment as pure math

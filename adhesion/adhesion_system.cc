@@ -134,8 +134,8 @@ void AdhesionSystem::StartAttached(mjModel* m, mjData* d, PadEventSink* sink) {
   bool kinematics_current = true;  // mj_fwdPosition ran on the current qpos
   for (size_t i = 0; i < pads_.size(); ++i) {
     if (surface[i] < 0) continue;
-    pads_[i].ForceAttach(m, d, d->time, surface[i], 1.0, kCauseStartAttached, &kinematics_current,
-                         sink);
+    pads_[i].ForceAttach(m, d, d->time, surface[i], 1.0, PadCause::kStartAttached,
+                         &kinematics_current, sink);
   }
   // Leave mjData consistent with the true margins and the welds (contacts, efc forces).
   mj_forward(m, d);

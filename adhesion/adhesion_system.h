@@ -54,6 +54,9 @@ struct AdhesionSystemParams {
 
 // The MJCF lines the pads need (without the enclosing <equality>/<actuator> tags). Welds are
 // named WeldName(body), actuators AdhesionActuatorName(body) (weld.h).
+// (time constant s, damping ratio) of the welds that hold attached pads, unless given.
+inline constexpr std::array<double, 2> kDefaultWeldSolref{0.002, 1.0};
+
 struct AdhesionMjcfText {
   std::string equality;
   std::string actuator;

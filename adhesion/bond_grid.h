@@ -1,5 +1,5 @@
 // The bond grid of one dry-adhesive pad: bond stresses, rupture and progressive detachment
-// (DESIGN.md section 3, seed section 2.2.2). Pure math: no MuJoCo, testable alone.
+// (docs/design.md section 3, seed section 2.2.2). Pure math: no MuJoCo, testable alone.
 //
 // PAD FRAME. Origin at the centroid of the pad's contact face. n is the pad normal, from
 // the surface into the pad; x spans the width b, y the length h; (x, y, n) is right-handed
@@ -20,7 +20,7 @@
 //
 // A pull F_n applied at (0, y0) gives M_x = +y0·F_n and tensions the +y edge first; a pull
 // at (x0, 0) gives M_y = −x0·F_n and tensions the +x edge first (tests pin both). With
-// these signs DESIGN.md's  σ = F_n/A + M_x·y/I_x − M_y·x/I_y  holds. If instead one took
+// these signs docs/design.md's  σ = F_n/A + M_x·y/I_x − M_y·x/I_y  holds. If instead one took
 // the surface's own torque (−M) while flipping only F_n, both moment terms would change
 // sign: the formula holds for this one convention only.
 //
@@ -36,13 +36,13 @@
 //     [ I_xy  I_x ] [g_y] = [  M_x^c ].
 //
 //   When I_xy = 0 (a full pad, or any set symmetric about an axis through its centroid
-//   parallel to x or y) this is exactly DESIGN.md's
+//   parallel to x or y) this is exactly docs/design.md's
 //     σ_i = F_n/A_B + M_x^c·(y_i − y_c)/I_x − M_y^c·(x_i − x_c)/I_y;
-//   for other sets (a corner peeled off, a random patch) DESIGN.md's formula is not in
+//   for other sets (a corner peeled off, a random patch) docs/design.md's formula is not in
 //   equilibrium and the 2×2 solve (unsymmetric bending) is what makes it so. Either way the
 //   bonded points carry the load exactly: Σ σ_i dA = F_n, Σ σ_i y_i dA = M_x,
 //   −Σ σ_i x_i dA = M_y. Moving the moments to the bonded centroid is also left implicit in
-//   DESIGN.md; it changes nothing for a full pad (x_c = y_c = 0) and makes a central pull on
+//   docs/design.md; it changes nothing for a full pad (x_c = y_c = 0) and makes a central pull on
 //   a partly bonded pad load the bonds nearest the pull line hardest.
 //   For a full pad, I_x = b·h³/12·(1 − 1/N_y²) and I_y = h·b³/12·(1 − 1/N_x²): the point
 //   sums miss the continuous area moments by the midpoint-rule term dA·dy²/12 per bond, so
@@ -63,7 +63,7 @@
 //     σ ≥ 0 (tension):      σ² + 3τ_x² + 3τ_y² ≥ σ_T²
 //     σ < 0 (compression):  3τ_x² + 3τ_y² ≥ (σ_T + μ·|σ|)²
 //
-//   (squares of the DESIGN.md conditions; all terms are ≥ 0, so they are equivalent). The
+//   (squares of the docs/design.md conditions; all terms are ≥ 0, so they are equivalent). The
 //   UTILISATION of a bond is demand over threshold, sqrt(σ² + 3τ²)/σ_T in tension and
 //   sqrt(3τ²)/(σ_T + μ|σ|) in compression: a bond breaks at utilisation ≥ 1.
 //

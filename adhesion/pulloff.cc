@@ -107,14 +107,13 @@ PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
   result.rounds = last.rounds;
   result.sequence.reserve(grid.last_broken().size());
   for (const BrokenBond& b : grid.last_broken()) {
-    result.sequence.push_back(
-        BrokenBondAt{.x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
+    result.sequence.push_back(BrokenBondAt{
+        .x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
   }
   return result;
 }
 
-std::vector<SweepPoint> PulloffSweep(const PadParams& pad, const PullSetup& base,
-                                     const SweepRange& range, const PulloffOptions& options) {
+std::vector<double> SweepAnglesDeg(const SweepRange& range) {
   Check(std::isfinite(range.from_deg), "sweep from_deg must be finite", range.from_deg);
   Check(std::isfinite(range.to_deg) && range.to_deg >= range.from_deg,
         "sweep to_deg must be finite and >= from_deg", range.to_deg);
@@ -123,10 +122,25 @@ std::vector<SweepPoint> PulloffSweep(const PadParams& pad, const PullSetup& base
   const double span = range.to_deg - range.from_deg;
   const long steps = std::lround(std::floor(span / range.step_deg + 1e-3));
   Check(steps < 1000000, "sweep has too many angles; step_deg", range.step_deg);
-  std::vector<SweepPoint> points;
-  points.reserve(steps + 1);
+  std::vector<double> angles_deg;
+  angles_deg.reserve(steps + 1);
   for (long k = 0; k <= steps; ++k) {
-    const double angle_deg = std::min(range.from_deg + k * range.step_deg, range.to_deg);
+    angles_deg.push_back(std::min(range.from_deg + k * range.step_deg, range.to_deg));
+  }
+  return angles_deg;
+}
+
+double CentralPulloffPerCapacity(double angle_rad, double mu) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  if (c >= 0) return 1.0 / std::sqrt(c * c + 6.75 * s * s);
+  const double den = 1.5 * std::sqrt(3.0) * s - mu * std::abs(c);
+  return den > 0 ? 1.0 / den : std::numeric_limits<double>::infinity();
+}
+
+std::vector<SweepPoint> PulloffSweep(const PadParams& pad, const PullSetup& base,
+                                     const SweepRange& range, const PulloffOptions& options) {
+  std::vector<SweepPoint> points;
+  for (const double angle_deg : SweepAnglesDeg(range)) {
     PullSetup setup = base;
     setup.angle_rad = angle_deg * std::numbers::pi / 180.0;
     points.push_back(SweepPoint{.angle_deg = angle_deg, .result = PullOff(pad, setup, options)});

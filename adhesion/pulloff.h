@@ -91,6 +91,14 @@ struct SweepPoint {
   PulloffResult result;
 };
 
+// The angles of a sweep: from_deg, from_deg + step_deg, ... up to to_deg (the last one is
+// to_deg when it is within step_deg/1000 of it). Throws std::invalid_argument on a bad range.
+std::vector<double> SweepAnglesDeg(const SweepRange& range);
+
+// The closed forms of the file comment: pull-off of a central pull (L = 0) on a fully bonded
+// pad, fine-grid limit, over σ_T·A; +inf where a push (θ > 90°) never detaches.
+double CentralPulloffPerCapacity(double angle_rad, double mu);
+
 // PullOff over a range of angles θ, azimuth and arm from base (its angle is ignored): the
 // seed's figure 6. Throws like PullOff, and on a bad range.
 std::vector<SweepPoint> PulloffSweep(const PadParams& pad, const PullSetup& base,

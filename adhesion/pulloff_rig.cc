@@ -2,13 +2,12 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
 #include "adhesion/weld.h"
+#include "common/common.h"
 
 namespace climbsim::adhesion {
 namespace {
@@ -74,31 +73,11 @@ class PulloffRig::Sink final : public PadEventSink {
     if (e.kind == PadEventKind::kDetach) cause = e.cause;
     if (observer_ != nullptr) observer_->OnPadEvent(pad, e);
   }
-  const char* cause = "";
+  PadCause cause = PadCause::kNone;
 
  private:
   PadEventSink* observer_;
 };
-
-mjModel* CompileMjcfString(const std::string& xml, std::string* error) {
-  // MuJoCo's XML loader keeps process-wide state: one load at a time in the program. The
-  // top file has a bare name: 2.2.2 prefixes every include with the top file's folder.
-  static std::mutex mutex;
-  std::lock_guard<std::mutex> lock(mutex);
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const char* name = "climbsim_adhesion_model.xml";
-  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
-    *error = "cannot create the model in MuJoCo's VFS";
-    return nullptr;
-  }
-  std::memcpy(vfs->filedata[vfs->nfile - 1], xml.data(), xml.size());
-  char err[1024] = {0};
-  mjModel* m = mj_loadXML(name, vfs.get(), err, sizeof(err));
-  mj_deleteVFS(vfs.get());
-  if (m == nullptr) *error = err;
-  return m;
-}
 
 void ValidatePulloffRigParams(const PulloffRigParams& p) {
   ValidatePadParams(p.pad);
@@ -128,7 +107,7 @@ PulloffRig::PulloffRig(AdhesionModel model, const PulloffRigParams& params)
   ValidatePulloffRigParams(params_);
   xml_ = BlockXml(model, params_, gain_n());
   std::string error;
-  model_ = CompileMjcfString(xml_, &error);
+  model_ = common::CompileMjcfString(xml_, &error);
   Require(model_ != nullptr, "pull-off model: " + error);
   data_ = mj_makeData(model_);
   block_ = mj_name2id(model_, mjOBJ_BODY, kBlockName);
@@ -159,8 +138,8 @@ void PulloffRig::Start(PadEventSink* sink) {
   system_->Reset(m, d, sink);
   mj_forward(m, d);
   bool kinematics_current = true;
-  system_->pad(0).ForceAttach(m, d, d->time, surface_geom_, 1.0, kCauseForced, &kinematics_current,
-                              sink);
+  system_->pad(0).ForceAttach(m, d, d->time, surface_geom_, 1.0, PadCause::kForced,
+                              &kinematics_current, sink);
   // kMujoco: let the actuator pull the block into its resting penetration first.
   if (model_type_ == AdhesionModel::kMujoco) {
     const long settle_steps = std::lround(params_.settle_time_s / m->opt.timestep);
@@ -239,12 +218,12 @@ PulloffRun PulloffRig::Run(double angle_rad, PadEventSink* observer) {
       }
       if (!pad.attached()) {
         run.detached = true;
-        run.cause = sink.cause;
+        run.cause = PadCauseName(sink.cause);
       }
     } else {
       if (!pad.attached()) {
         run.detached = true;
-        run.cause = kCauseContactLost;
+        run.cause = PadCauseName(PadCause::kContactLost);
       } else {
         mj_kinematics(m, d);
         const std::array<Eigen::Vector3d, 4> c = Corners(d, pad.geometry());

@@ -53,7 +53,7 @@ struct PulloffRigParams {
   double timestep_s = 0.001;
   double block_mass_kg = 0.05;
   double max_force_factor = 8.0;  // holds up to this many σ_T·A: reported as never (> 1)
-  std::array<double, 2> weld_solref{0.002, 1.0};
+  std::array<double, 2> weld_solref = kDefaultWeldSolref;
   // kMujoco only.
   double gain_n = 0.0;     // 0: σ_T·A
   double friction = 1.0;   // pad sliding friction (the gecko's pads: 1.0)
@@ -123,11 +123,6 @@ class PulloffRig {
 // gives.
 double MujocoPulloffClosedForm(double gain_n, double friction, double width_m, double arm_m,
                                double angle_rad);
-
-// Compiles MJCF text through an in-memory file (includes by absolute path). Returns nullptr
-// and fills `error` on failure. MuJoCo's XML loader keeps process-wide state: every load of
-// the program goes through here (sim::CompileMjcf too), serialised by one mutex.
-mjModel* CompileMjcfString(const std::string& xml, std::string* error);
 
 }  // namespace climbsim::adhesion
 

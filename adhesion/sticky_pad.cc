@@ -65,6 +65,38 @@ const char* PadEventName(PadEventKind kind) {
   return "";
 }
 
+const char* PadCauseName(PadCause cause) {
+  switch (cause) {
+    case PadCause::kNone:
+      return "";
+    case PadCause::kApproachSpeed:
+      return "approach_speed_mps";
+    case PadCause::kApproachAngle:
+      return "approach_angle_deg";
+    case PadCause::kContacts:
+      return "contacts";
+    case PadCause::kPreload:
+      return "preload_n";
+    case PadCause::kFractionLost:
+      return "fraction_lost";
+    case PadCause::kStartAttached:
+      return "start_attached";
+    case PadCause::kForced:
+      return "forced";
+    case PadCause::kPeel:
+      return "peel";
+    case PadCause::kOverload:
+      return "overload";
+    case PadCause::kReleased:
+      return "released";
+    case PadCause::kContactLost:
+      return "contact_lost";
+    case PadCause::kFailure:
+      return "failure";
+  }
+  return "";
+}
+
 StickyPad::StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
                      const StickyPadParams& params, int weld_eq, int actuator)
     : index_(index),
@@ -141,7 +173,7 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
         grid_.Grow(buildup_);
       }
     } else if (sense_.contacts + sense_.contacts_in_gap == 0) {
-      Detach(m, d, time_s, kCauseContactLost, sink);
+      Detach(m, d, time_s, PadCause::kContactLost, sink);
     }
     return;
   }
@@ -163,48 +195,53 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
     touchdown_speed_mps_ = sense_.approach_speed_mps;
     touchdown_angle_deg_ = sense_.angle_rad * kRadToDeg;
     ++counts_.touchdown;
-    Emit(sink, time_s, PadEventKind::kTouchdown, "", 0.0, false);
+    Emit(sink, time_s, PadEventKind::kTouchdown, PadCause::kNone, 0.0, false);
   }
 
   // The conditions in their fixed order; the first that fails is the cause.
   const AttachParams& a = params_.attach;
-  const char* cause = nullptr;
+  PadCause cause = PadCause::kNone;
   double value = 0.0;
-  int which = -1;
-  bool final = false;  // a failure of the approach cannot improve in this episode
+  long* rejected = nullptr;  // the counter of that condition
+  bool final = false;        // a failure of the approach cannot improve in this episode
   if (touchdown_speed_mps_ > a.max_approach_speed_mps) {
-    cause = kCauseApproachSpeed, value = touchdown_speed_mps_, which = 0, final = true;
+    cause = PadCause::kApproachSpeed, value = touchdown_speed_mps_, final = true;
+    rejected = &counts_.rejected_approach_speed;
   } else if (touchdown_angle_deg_ > a.max_approach_angle_deg) {
-    cause = kCauseApproachAngle, value = touchdown_angle_deg_, which = 1, final = true;
+    cause = PadCause::kApproachAngle, value = touchdown_angle_deg_, final = true;
+    rejected = &counts_.rejected_approach_angle;
   } else if (sense_.contacts < a.min_contacts) {
-    cause = kCauseContacts, value = sense_.contacts, which = 2;
+    cause = PadCause::kContacts, value = sense_.contacts;
+    rejected = &counts_.rejected_contacts;
   } else if (sense_.preload_n < a.min_preload_n) {
-    cause = kCausePreload, value = sense_.preload_n, which = 3;
+    cause = PadCause::kPreload, value = sense_.preload_n;
+    rejected = &counts_.rejected_preload;
   }
-  if (cause == nullptr) {
-    Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, "", kinematics_current, sink);
+  if (cause == PadCause::kNone) {
+    Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
+           kinematics_current, sink);
     return;
   }
   if (final || time_s - touchdown_time_s_ >= a.attach_window_s) {
     episode_ = Episode::kClosed;
     ++counts_.attach_rejected;
-    ++counts_.rejected_by[which];
+    ++*rejected;
     Emit(sink, time_s, PadEventKind::kAttachRejected, cause, value, true);
   }
 }
 
 bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                            const char* cause, bool* kinematics_current, PadEventSink* sink) {
+                            PadCause cause, bool* kinematics_current, PadEventSink* sink) {
   if (attached_) return false;
   sense_.surface_geom = surface_geom;
   ++counts_.touchdown;
-  Emit(sink, time_s, PadEventKind::kTouchdown, "", 0.0, false);
+  Emit(sink, time_s, PadEventKind::kTouchdown, PadCause::kNone, 0.0, false);
   Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink);
   return true;
 }
 
 void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                       const char* cause, bool* kinematics_current, PadEventSink* sink) {
+                       PadCause cause, bool* kinematics_current, PadEventSink* sink) {
   attached_ = true;
   surface_geom_ = surface_geom;
   lost_since_attach_ = 0;
@@ -249,18 +286,19 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
   if (r.broken > 0) {
     bonds_lost_ = true;
     ++counts_.bonds_lost;
-    Emit(sink, time_s, PadEventKind::kBondsLost, kCauseFractionLost,
+    Emit(sink, time_s, PadEventKind::kBondsLost, PadCause::kFractionLost,
          static_cast<double>(r.broken) / grid_.size(), true);
   }
   if (r.detached) {
-    Detach(m, d, time_s, lost_since_attach_ > 0 || peeling_ ? kCausePeel : kCauseOverload, sink);
+    Detach(m, d, time_s, lost_since_attach_ > 0 || peeling_ ? PadCause::kPeel : PadCause::kOverload,
+           sink);
   }
   lost_since_attach_ += r.broken;
 }
 
 bool StickyPad::Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {
   if (!attached_) return false;
-  Detach(m, d, time_s, kCauseReleased, sink);
+  Detach(m, d, time_s, PadCause::kReleased, sink);
   return true;
 }
 
@@ -268,18 +306,32 @@ bool StickyPad::Fail(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {
   if (!attached_) return false;
   bonds_lost_ = true;
   ++counts_.bonds_lost;
-  Emit(sink, time_s, PadEventKind::kBondsLost, kCauseFractionLost, bonded_fraction(), true);
-  Detach(m, d, time_s, kCauseFailure, sink);
+  Emit(sink, time_s, PadEventKind::kBondsLost, PadCause::kFractionLost, bonded_fraction(), true);
+  Detach(m, d, time_s, PadCause::kFailure, sink);
   return true;
 }
 
-void StickyPad::Detach(mjModel* m, mjData* d, double time_s, const char* cause,
+void StickyPad::Detach(mjModel* m, mjData* d, double time_s, PadCause cause,
                        PadEventSink* sink) {
-  if (cause == kCausePeel) ++counts_.detach_peel;
-  if (cause == kCauseOverload) ++counts_.detach_overload;
-  if (cause == kCauseReleased) ++counts_.detach_released;
-  if (cause == kCauseContactLost) ++counts_.detach_contact_lost;
-  if (cause == kCauseFailure) ++counts_.detach_failure;
+  switch (cause) {
+    case PadCause::kPeel:
+      ++counts_.detach_peel;
+      break;
+    case PadCause::kOverload:
+      ++counts_.detach_overload;
+      break;
+    case PadCause::kReleased:
+      ++counts_.detach_released;
+      break;
+    case PadCause::kContactLost:
+      ++counts_.detach_contact_lost;
+      break;
+    case PadCause::kFailure:
+      ++counts_.detach_failure;
+      break;
+    default:
+      break;
+  }
   // The event carries the load and the bonds that ended the pad, before they are cleared.
   Emit(sink, time_s, PadEventKind::kDetach, cause, 0.0, false);
   if (params_.model == AdhesionModel::kBonds) {
@@ -298,7 +350,7 @@ void StickyPad::Detach(mjModel* m, mjData* d, double time_s, const char* cause,
   SetUnweldedLoad();
 }
 
-void StickyPad::Emit(PadEventSink* sink, double time_s, PadEventKind kind, const char* cause,
+void StickyPad::Emit(PadEventSink* sink, double time_s, PadEventKind kind, PadCause cause,
                      double value, bool has_value) const {
   if (sink == nullptr) return;
   PadEvent e;

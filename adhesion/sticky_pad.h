@@ -1,5 +1,5 @@
 // One sticky pad in MuJoCo: attachment decision, weld switching, bond build-up, load →
-// bonds → detachment, and the events (DESIGN.md section 3). Two models share the sensing and
+// bonds → detachment, and the events (docs/design.md section 3). Two models share the sensing and
 // the attachment conditions:
 //
 //   kBonds   this project's model: a weld per pad carries the load; the bond grid
@@ -59,10 +59,10 @@
 //   contact_lost  kMujoco only: the pad lost every contact with the surfaces while on.
 // On detach the weld is switched off, the grid released and the pad geom collides again.
 //
-// EVENTS go to a PadEventSink with the pad's index; kind and cause are string literals, so
-// nothing allocates. The load columns are the PadLoad of the last step while welded; for an
-// unwelded pad F_n = −preload (compression is negative), the rest 0; for kMujoco while on,
-// F_n = gain·ctrl − preload (what the rest of the robot pulls with).
+// EVENTS go to a PadEventSink with the pad's index; kind and cause are enums (PadEventName and
+// PadCauseName give their text), so nothing allocates. The load columns are the PadLoad of the last
+// step while welded; for an unwelded pad F_n = −preload (compression is negative), the rest 0; for
+// kMujoco while on, F_n = gain·ctrl − preload (what the rest of the robot pulls with).
 //
 // Nothing here allocates after construction; there are no name lookups in the step.
 #ifndef CLIMBSIM_ADHESION_STICKY_PAD_H_
@@ -81,7 +81,7 @@ namespace climbsim::adhesion {
 
 enum class AdhesionModel { kBonds, kMujoco };
 
-// The attachment conditions and the build-up (DESIGN.md section 3). Defaults: see
+// The attachment conditions and the build-up (docs/design.md section 3). Defaults: see
 // adhesion/README.md for where each comes from.
 struct AttachParams {
   int min_contacts = 3;                  // box on plane gives 4; 3 after the seed
@@ -107,24 +107,29 @@ void ValidateStickyPadParams(const StickyPadParams& params);
 enum class PadEventKind : uint8_t { kTouchdown, kAttach, kAttachRejected, kBondsLost, kDetach };
 const char* PadEventName(PadEventKind kind);  // "touchdown", "attach", ...
 
-// Causes (string literals; the measured quantity for a rejection).
-inline constexpr const char* kCauseApproachSpeed = "approach_speed_mps";
-inline constexpr const char* kCauseApproachAngle = "approach_angle_deg";
-inline constexpr const char* kCauseContacts = "contacts";
-inline constexpr const char* kCausePreload = "preload_n";
-inline constexpr const char* kCauseFractionLost = "fraction_lost";    // bonds_lost
-inline constexpr const char* kCauseStartAttached = "start_attached";  // attach at t = 0
-inline constexpr const char* kCauseForced = "forced";                 // ForceAttach otherwise
-inline constexpr const char* kCausePeel = "peel";
-inline constexpr const char* kCauseOverload = "overload";
-inline constexpr const char* kCauseReleased = "released";
-inline constexpr const char* kCauseContactLost = "contact_lost";
-inline constexpr const char* kCauseFailure = "failure";  // Fail(): every bond broken at once
+// Why an event happened. PadCauseName gives the text of events.csv's cause column and of
+// summary.json's keys (for a rejection, the measured quantity).
+enum class PadCause : uint8_t {
+  kNone,           // ""                    touchdown; an attach that met every condition
+  kApproachSpeed,  // "approach_speed_mps"  attach_rejected: condition 1
+  kApproachAngle,  // "approach_angle_deg"  attach_rejected: condition 2
+  kContacts,       // "contacts"            attach_rejected: condition 3
+  kPreload,        // "preload_n"           attach_rejected: condition 4
+  kFractionLost,   // "fraction_lost"       bonds_lost
+  kStartAttached,  // "start_attached"      attach at t = 0
+  kForced,         // "forced"              attach by ForceAttach otherwise
+  kPeel,           // "peel"                detach (see DETACHMENT CAUSES above)
+  kOverload,       // "overload"            detach
+  kReleased,       // "released"            detach
+  kContactLost,    // "contact_lost"        detach (kMujoco)
+  kFailure,        // "failure"             detach: Fail(), every bond broken at once
+};
+const char* PadCauseName(PadCause cause);
 
 struct PadEvent {
   double time_s = 0.0;
   PadEventKind kind = PadEventKind::kTouchdown;
-  const char* cause = "";
+  PadCause cause = PadCause::kNone;
   double cause_value = 0.0;
   bool has_cause_value = false;
   int surface_geom = -1;
@@ -145,8 +150,12 @@ struct PadCounts {
   long touchdown = 0;
   long attach = 0;
   long attach_rejected = 0;
-  std::array<long, 4> rejected_by{};  // approach speed, approach angle, contacts, preload
-  long bonds_lost = 0;                // steps that lost bonds
+  // attach_rejected events by the condition that failed first
+  long rejected_approach_speed = 0;
+  long rejected_approach_angle = 0;
+  long rejected_contacts = 0;
+  long rejected_preload = 0;
+  long bonds_lost = 0;  // steps that lost bonds
   long detach_peel = 0;
   long detach_overload = 0;
   long detach_released = 0;
@@ -176,7 +185,7 @@ class StickyPad {
   // Attaches to `surface_geom` now, skipping the conditions, with `fraction` of the bonds
   // (start_attached, the pull-off rig). False if already attached.
   bool ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                   const char* cause, bool* kinematics_current, PadEventSink* sink);
+                   PadCause cause, bool* kinematics_current, PadEventSink* sink);
   // The controller is peeling this pad (a detach while it is counts as "peel").
   void SetPeeling(bool peeling) { peeling_ = peeling; }
   // Detaches with cause "released". False (and nothing happens) when not attached.
@@ -218,9 +227,9 @@ class StickyPad {
   enum class Episode : uint8_t { kNone, kPending, kClosed };
 
   void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-              const char* cause, bool* kinematics_current, PadEventSink* sink);
-  void Detach(mjModel* m, mjData* d, double time_s, const char* cause, PadEventSink* sink);
-  void Emit(PadEventSink* sink, double time_s, PadEventKind kind, const char* cause, double value,
+              PadCause cause, bool* kinematics_current, PadEventSink* sink);
+  void Detach(mjModel* m, mjData* d, double time_s, PadCause cause, PadEventSink* sink);
+  void Emit(PadEventSink* sink, double time_s, PadEventKind kind, PadCause cause, double value,
             bool has_value) const;
   void SetUnweldedLoad();
 

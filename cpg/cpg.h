@@ -88,7 +88,7 @@ struct Gait {
   double duty_factor;
 };
 
-// Presets of CONTROL.md's table, for the robots' leg orders:
+// Presets of docs/control.md's table, for the robots' leg orders:
 //   4 legs (LF, RF, LH, RH):
 //     "trot"              LF 0, RF ½, LH ½, RH 0                 D = ½
 //     "lateral_sequence"  LF ¼, RF ¾, LH 0, RH ½               D = ¾  (LH, LF, RH, RF)
@@ -168,7 +168,7 @@ class OscillatorNetwork {
 //   phase_bias_rad        φ_ij, n×n, rad (PhaseBiasFromOffsets).               no default
 //                         Its diagonal does not enter (w_ii = 0).
 //   target_amplitude      R_i ≥ 0, dimensionless (1 = nominal stride).         no default
-//   amplitude_rate_per_s  a ≥ 0, 1/s: r reaches R with time constant 1/a.      default 10
+//   amplitude_rate_per_s  a ≥ 0, 1/s: r reaches R with time constant 1/a.      default 5
 //   stepper               see StepperParams.
 // Two oscillators with w_12 = w_21 = w and φ_21 = −φ_12 = −φ, at equal amplitude r, have
 // ψ = θ_2 − θ_1 obeying dψ/dt = −2wr·sin(ψ − φ): tan((ψ−φ)/2) = tan((ψ0−φ)/2)·e^{−2wrt}.
@@ -179,7 +179,7 @@ struct PhaseNetworkParams {
   Eigen::MatrixXd coupling_per_s;
   Eigen::MatrixXd phase_bias_rad;
   Eigen::VectorXd target_amplitude;
-  double amplitude_rate_per_s = 10.0;
+  double amplitude_rate_per_s = 5.0;  // the scenario key cpg.amplitude_rate_per_s
   StepperParams stepper;
 };
 

@@ -15,7 +15,8 @@ struct Preset {
   Gait gait;
 };
 
-// CONTROL.md's table, in the robots' leg orders (4: LF, RF, LH, RH; 6: L1, L2, L3, R1, R2, R3).
+// docs/control.md's table, in the robots' leg orders (4: LF, RF, LH, RH; 6: L1, L2, L3, R1, R2,
+// R3).
 const std::vector<Preset>& Presets() {
   static const std::vector<Preset> presets = {
       {"trot", 4, {{0.0, 0.5, 0.5, 0.0}, 0.5}},

@@ -21,7 +21,7 @@
 #include <exception>
 #include <string>
 
-#include "sim/input_error.h"
+#include "common/common.h"
 #include "sim/scenario.h"
 
 namespace climbsim::fuzz {

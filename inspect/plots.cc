@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "inspect/inspect.h"
-#include "sim/gnuplot.h"
+#include "common/common.h"
 
 namespace climbsim::inspect {
 namespace {
@@ -69,7 +69,7 @@ std::string Script(const std::vector<const Block*>& blocks, const std::string& b
 
 void Run2(const std::string& script, const std::string& base, std::vector<std::string>* files) {
   const std::vector<std::string> outputs = {base + ".png", base + ".svg"};
-  const std::string error = sim::RunGnuplot(script, outputs);
+  const std::string error = common::RunGnuplot(script, outputs);
   if (!error.empty()) throw std::runtime_error(error);
   files->insert(files->end(), outputs.begin(), outputs.end());
 }
@@ -83,7 +83,7 @@ std::string Range(double a, double b) {
 // A panel with nothing to draw: gnuplot refuses `plot NaN` on an autoscaled axis ("all points
 // y value undefined"), so the y range is fixed for it and restored to autoscale after.
 std::string EmptyPanel(const std::string& what) {
-  return "set yrange [0:1]\nset label 1 " + sim::GnuplotQuote(what) +
+  return "set yrange [0:1]\nset label 1 " + common::GnuplotQuote(what) +
          " at graph 0.5, graph 0.5 center\nplot NaN notitle\nunset label 1\nset autoscale y\n";
 }
 
@@ -129,11 +129,11 @@ void GaitDiagram(const Run& run, const Report& report, const std::string& out_di
   body += buf;
   body += "set ytics (";
   for (int i = 0; i < n; ++i) {
-    body +=
-        (i ? ", " : "") + sim::GnuplotQuote(report.legs[i].leg) + " " + std::to_string(n - 1 - i);
+    body += (i ? ", " : "") + common::GnuplotQuote(report.legs[i].leg) + " " +
+            std::to_string(n - 1 - i);
   }
   body += ")\nset xlabel \"time (s)\"\nset title " +
-          sim::GnuplotQuote("gait diagram: " + run.dir + "  (bar = pad attached)") +
+          common::GnuplotQuote("gait diagram: " + run.dir + "  (bar = pad attached)") +
           "\nset key outside right top\nset grid xtics\n";
   std::vector<std::string> plots;
   std::vector<const Block*> blocks;
@@ -153,7 +153,7 @@ void GaitDiagram(const Run& run, const Report& report, const std::string& out_di
     const CauseStyle st = DetachStyle(cause);
     std::snprintf(buf, sizeof(buf), "%s using 1:2 with points pt %d ps 1.1 lc rgb \"%s\" title %s",
                   block.name().c_str(), st.point_type, st.colour,
-                  sim::GnuplotQuote("detach: " + cause).c_str());
+                  common::GnuplotQuote("detach: " + cause).c_str());
     plots.push_back(buf);
     blocks.push_back(&block);
   }
@@ -190,7 +190,7 @@ void PadPlot(const Run& run, const Report& report, const LegReport& leg, const s
   std::string body = Range(a, b);
   body += AttachDetachArrows(run, leg.pad, a, b);
   body += "set multiplot layout 2,1 title " +
-          sim::GnuplotQuote("leg " + leg.leg + " (" + leg.pad + "): " + run.dir +
+          common::GnuplotQuote("leg " + leg.leg + " (" + leg.pad + "): " + run.dir +
                             "   green: attach, red: detach") +
           "\n";
   body += "set lmargin 10\nset rmargin 26\nset grid\nset key outside right top\n";
@@ -249,7 +249,7 @@ void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
   }
   const double mean = run.summary.value("mean_speed_mps", 0.0);
   std::string body =
-      "set multiplot layout 1,2 title " + sim::GnuplotQuote("body: " + run.dir) + "\nset grid\n";
+      "set multiplot layout 1,2 title " + common::GnuplotQuote("body: " + run.dir) + "\nset grid\n";
   // Equal scales on a square: the larger span (or 1 cm) sets both ranges.
   const double half = 0.55 * std::max({lat_hi - lat_lo, s_hi - s_lo, 0.01});
   char range[200];

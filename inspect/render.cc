@@ -106,7 +106,7 @@ class Renderer {
   Renderer(const Run& run, const RenderOptions& o, std::vector<std::string>* notes)
       : run_(run), o_(o), traj_(*run.trajectory) {
     std::string error;
-    model_owner_.reset(sim::CompileMjcf(run.model_xml, &error));
+    model_owner_.reset(common::CompileMjcfString(run.model_xml, &error));
     model_ = model_owner_.get();
     if (model_ == nullptr) {
       throw InputError(run.dir + "/model.xml", 0, 0, "", "MuJoCo cannot load it: " + error);
@@ -449,12 +449,6 @@ void CheckOptions(const Run& run, const RenderOptions& o, bool video) {
   if (!(o.distance_m >= 0)) throw InputError(kCli, 0, 0, "--distance-m", "must be >= 0");
 }
 
-std::string TempName(const fs::path& path) {
-  return (path.parent_path() /
-          (path.stem().string() + ".tmp." + std::to_string(::getpid()) + path.extension().string()))
-      .string();
-}
-
 void MakeParent(const fs::path& path) {
   if (!path.parent_path().empty()) fs::create_directories(path.parent_path());
 }
@@ -491,7 +485,7 @@ Eigen::Vector3d RunGravity(const Run& run, std::string* note) {
     return world.gravity();
   } catch (const InputError& e) {
     std::string error;
-    mjModel* m = sim::CompileMjcf(run.model_xml, &error);
+    mjModel* m = common::CompileMjcfString(run.model_xml, &error);
     if (m == nullptr)
       throw InputError(run.dir + "/model.xml", 0, 0, "", "MuJoCo cannot load it: " + error);
     const Eigen::Vector3d g(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
@@ -538,7 +532,7 @@ RenderStats RenderStill(const Run& run, const RenderOptions& o, double t_s,
   return Timed([&](RenderStats* stats) {
     Renderer r(run, o, &stats->notes);
     MakeParent(png_path);
-    const std::string tmp = TempName(png_path);
+    const std::string tmp = common::TempSiblingPath(png_path);
     {
       Encoder encoder(o, "-frames:v 1 -update 1 -c:v png -f image2 " + ShellQuote(tmp));
       RenderInto(r, {t_s}, encoder, stats, {});
@@ -555,7 +549,7 @@ RenderStats RenderVideo(const Run& run, const RenderOptions& o, const std::strin
   return Timed([&](RenderStats* stats) {
     Renderer r(run, o, &stats->notes);
     MakeParent(mp4_path);
-    const std::string tmp = TempName(mp4_path);
+    const std::string tmp = common::TempSiblingPath(mp4_path);
     try {
       Encoder encoder(o,
                       "-c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p "

@@ -6,7 +6,7 @@
 #include <set>
 
 #include "inspect/inspect.h"
-#include "sim/input_error.h"
+#include "common/common.h"
 
 namespace climbsim::inspect {
 namespace {

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "inspect/inspect.h"
-#include "sim/input_error.h"
+#include "common/common.h"
 #include "sim/world.h"
 
 namespace climbsim::inspect {
@@ -307,7 +307,7 @@ Run LoadRun(const std::string& dir_in) {
   const std::string model_path = dir + "/model.xml";
   run.model_xml = ReadWholeFile(model_path, "the composed model of the run");
   std::string error;
-  mjModel* m = sim::CompileMjcf(run.model_xml, &error);
+  mjModel* m = common::CompileMjcfString(run.model_xml, &error);
   if (m == nullptr) throw InputError(model_path, 0, 0, "", "MuJoCo cannot load it: " + error);
   const int legs_id = mj_name2id(m, mjOBJ_TEXT, "climbsim_legs");
   if (legs_id >= 0) {

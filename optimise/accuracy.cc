@@ -8,7 +8,7 @@
 
 #include "adhesion/adhesion.h"
 #include "optimise/optimise.h"
-#include "sim/gnuplot.h"
+#include "common/common.h"
 
 namespace climbsim::optimise {
 namespace {
@@ -64,8 +64,10 @@ std::vector<Setting> Settings(const sim::Scenario& s) {
     out.push_back({"odeint stepper", "rk4", {{"cpg.stepper", "rk4"}}});
     out.push_back({"odeint stepper", "dopri5 1e-6",
                    {{"cpg.stepper", "dopri5"}, {"cpg.abs_tol", "1e-6"}, {"cpg.rel_tol", "1e-6"}}});
-    out.push_back({"odeint stepper", "dopri5 1e-10",
-                   {{"cpg.stepper", "dopri5"}, {"cpg.abs_tol", "1e-10"}, {"cpg.rel_tol", "1e-10"}}});
+    out.push_back(
+        {"odeint stepper",
+         "dopri5 1e-10",
+         {{"cpg.stepper", "dopri5"}, {"cpg.abs_tol", "1e-10"}, {"cpg.rel_tol", "1e-10"}}});
   }
   return out;
 }
@@ -84,7 +86,8 @@ AccuracyRun Measure(const sim::Scenario& s, ModelCache* cache) {
   for (const sim::Event& e : run.events().rows()) {
     if (e.pad < 0) continue;
     if (std::string_view(e.kind) == "detach") r.detach_s[e.pad].push_back(e.time_s);
-    const double f = std::sqrt(e.load[0] * e.load[0] + e.load[1] * e.load[1] + e.load[2] * e.load[2]);
+    const double f =
+        std::sqrt(e.load[0] * e.load[0] + e.load[1] * e.load[1] + e.load[2] * e.load[2]);
     r.peak_load_n[e.pad] = std::max(r.peak_load_n[e.pad], f);
   }
   // Pull-off at 45° of a pad of this material on this time step and grid (adhesion only).
@@ -155,8 +158,9 @@ AccuracyReport BenchAccuracy(const std::string& file, double duration_s, int thr
     row.detach_time_error_s = matched > 0 ? sum / matched : 0.0;
     for (size_t p = 0; p < r.peak_load_n.size() && p < ref.peak_load_n.size(); ++p) {
       if (ref.peak_load_n[p] > 0) {
-        row.peak_load_error = std::max(
-            row.peak_load_error, std::abs(r.peak_load_n[p] - ref.peak_load_n[p]) / ref.peak_load_n[p]);
+        row.peak_load_error =
+            std::max(row.peak_load_error,
+                     std::abs(r.peak_load_n[p] - ref.peak_load_n[p]) / ref.peak_load_n[p]);
       }
     }
     if (ref.pulloff_n > 0 && std::isfinite(ref.pulloff_n)) {
@@ -185,7 +189,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
     csv += line(r.knob, r.setting, r.run, r.distance_error_m, r.detach_time_error_s,
                 r.detach_count_diff, r.peak_load_error, r.pulloff_error);
   }
-  sim::WriteFileAtomic(dir + "/accuracy.csv", csv);
+  common::WriteFileAtomic(dir + "/accuracy.csv", csv);
 
   // One data block per knob (blank-line separated) so gnuplot draws one curve each.
   std::string data;
@@ -201,19 +205,22 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
             sim::ExactNumber(std::max(r.detach_time_error_s, 1e-7)) + " " +
             sim::ExactNumber(std::max(r.pulloff_error, 1e-7)) + "\n";
   }
-  sim::WriteFileAtomic(dir + "/accuracy.dat", data);
+  common::WriteFileAtomic(dir + "/accuracy.dat", data);
   std::string plot1, plot2, plot3;
   for (size_t k = 0; k < knobs.size(); ++k) {
     const std::string idx = std::to_string(k);
     const std::string sep = k ? ", " : "";
-    plot1 += sep + "data index " + idx + " using 1:2 with linespoints lw 2 title '" + knobs[k] + "'";
-    plot2 += sep + "data index " + idx + " using 1:3 with linespoints lw 2 title '" + knobs[k] + "'";
-    plot3 += sep + "data index " + idx + " using 1:4 with linespoints lw 2 title '" + knobs[k] + "'";
+    plot1 +=
+        sep + "data index " + idx + " using 1:2 with linespoints lw 2 title '" + knobs[k] + "'";
+    plot2 +=
+        sep + "data index " + idx + " using 1:3 with linespoints lw 2 title '" + knobs[k] + "'";
+    plot3 +=
+        sep + "data index " + idx + " using 1:4 with linespoints lw 2 title '" + knobs[k] + "'";
   }
   const std::string script =
       "set terminal pngcairo size 1400,480 noenhanced\nset output OUTPUT(0)\n"
       "set logscale xy\nset grid\nset key bottom left font ',8'\n"
-      "data = " + sim::GnuplotQuote(dir + "/accuracy.dat") + "\n"
+      "data = " + common::GnuplotQuote(dir + "/accuracy.dat") + "\n"
       "set multiplot layout 1,3 title 'climbsim bench accuracy: error against wall time, one "
       "curve per knob (errors against the finest setting; 1e-7 = exact)'\n"
       "set xlabel 'wall time of the run [s]'\n"
@@ -221,7 +228,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
       "set ylabel 'detach time error [s]'\nplot " + plot2 + "\n"
       "set ylabel 'pull-off error at 45 deg [relative]'\nplot " + plot3 + "\n"
       "unset multiplot\n";
-  return sim::RunGnuplot(script, {dir + "/accuracy.png"});
+  return common::RunGnuplot(script, {dir + "/accuracy.png"});
 }
 
 }  // namespace climbsim::optimise

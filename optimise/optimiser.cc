@@ -21,7 +21,7 @@
 
 #include "optimise/comm.h"
 #include "optimise/optimise.h"
-#include "sim/gnuplot.h"
+#include "common/common.h"
 
 namespace climbsim::optimise {
 namespace {
@@ -130,7 +130,7 @@ void WriteCheckpoint(Shared& s) {
   const nlohmann::json j{{"fingerprint", s.fingerprint},
                          {"checksum", CheckpointChecksum(s.fingerprint, starts)},
                          {"starts", starts}};
-  sim::WriteFileAtomic(s.checkpoint_path, j.dump() + "\n");
+  common::WriteFileAtomic(s.checkpoint_path, j.dump() + "\n");
 }
 
 // Reads DIR/checkpoint.json for --resume: every value of the right type, the scenario's
@@ -617,7 +617,7 @@ void WriteConvergence(const std::string& dir, const Problem& problem,
     csv += std::to_string(e.index) + "," + std::to_string(e.start) + "," +
            sim::ExactNumber(e.objective) + "," + sim::ExactNumber(best[e.start]) + "\n";
   }
-  sim::WriteFileAtomic(dir + "/convergence.csv", csv);
+  common::WriteFileAtomic(dir + "/convergence.csv", csv);
   std::string plots;
   for (int s = 0; s < starts; ++s) {
     plots += std::string(s ? ", " : "") + "data using 1:($2 == " + std::to_string(s) +
@@ -628,9 +628,9 @@ void WriteConvergence(const std::string& dir, const Problem& problem,
       "set datafile separator ','\nset key top right\nset grid\n"
       "set title 'climbsim optimise: best cost so far (lower is better)'\n"
       "set xlabel 'evaluation (within its start)'\nset ylabel 'J [m/s] = -speed + penalties'\n"
-      "data = " + sim::GnuplotQuote(dir + "/convergence.csv") + "\n"
+      "data = " + common::GnuplotQuote(dir + "/convergence.csv") + "\n"
       "plot " + plots + "\n";
-  *warning = sim::RunGnuplot(script, {dir + "/convergence.png"});
+  *warning = common::RunGnuplot(script, {dir + "/convergence.png"});
 }
 
 }  // namespace
@@ -682,7 +682,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   const std::string resolved = sim::ScenarioToYamlText(problem.scenario());
   if (comm.root()) {
     fs::create_directories(options.out_dir);
-    sim::WriteFileAtomic(options.out_dir + "/scenario.yaml", resolved);
+    common::WriteFileAtomic(options.out_dir + "/scenario.yaml", resolved);
   }
 
   Shared shared;
@@ -742,7 +742,8 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   // The best: lowest J; ties go to the earlier start and evaluation (thread-independent).
   result.best = *std::min_element(result.history.begin(), result.history.end(),
                                   [](const Evaluation& a, const Evaluation& b) {
-                                    if (a.objective != b.objective) return a.objective < b.objective;
+                                    if (a.objective != b.objective)
+                                      return a.objective < b.objective;
                                     if (a.start != b.start) return a.start < b.start;
                                     return a.index < b.index;
                                   });
@@ -756,8 +757,8 @@ Result Optimise(const std::string& scenario_file, const Options& options,
     result.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
     return result;
   }
-  sim::WriteFileAtomic(options.out_dir + "/history.csv", HistoryCsv(problem, result.history));
-  sim::WriteFileAtomic(options.out_dir + "/best.yaml",
+  common::WriteFileAtomic(options.out_dir + "/history.csv", HistoryCsv(problem, result.history));
+  common::WriteFileAtomic(options.out_dir + "/best.yaml",
                        "# Best parameters found by climbsim optimise; replay with\n"
                        "#   climbsim simulate best.yaml --out DIR\n" +
                            sim::ScenarioToYamlText(problem.ScenarioFor(result.best.x, 0)));
@@ -797,7 +798,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
       {"best_parameters", best_params},
       {"plot_warning", plot_warning},
       {"checkpoint_warning", shared.error}};
-  sim::WriteFileAtomic(options.out_dir + "/summary.json", summary.dump(2) + "\n");
+  common::WriteFileAtomic(options.out_dir + "/summary.json", summary.dump(2) + "\n");
   folder->Commit();
   return result;
 }

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "optimise/optimise.h"
-#include "sim/gnuplot.h"
+#include "common/common.h"
 #include "sim/surface.h"
 
 namespace climbsim::optimise {
@@ -430,7 +430,7 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
            std::to_string(row.runs) + "," + quote(row.failing_case) + "," + quote(row.failing_how) +
            "," + (row.same_as_reflexes ? "1" : "0") + "\n";
   }
-  sim::WriteFileAtomic(dir + "/robustness.csv", csv);
+  common::WriteFileAtomic(dir + "/robustness.csv", csv);
 
   // One panel per family: survived magnitude as a share of the family's range top, on a log
   // axis from lo/hi to 1; two bars, reflexes and spindle + GTO off.
@@ -442,11 +442,11 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
     data += "0 \"reflexes\" " + Num(std::max(on.survived, on.lo * 0.5)) + "\n";
     data += "1 \"spindle+GTO off\" " + Num(std::max(off.survived, off.lo * 0.5)) + "\n\n\n";
   }
-  sim::WriteFileAtomic(dir + "/robustness.dat", data);
+  common::WriteFileAtomic(dir + "/robustness.dat", data);
   if (n == 0) return "no family to plot";
   const int cols = std::min(n, 4), rows = (n + cols - 1) / cols;
   // Two lines: gnuplot's "\n" inside a double-quoted string.
-  std::string title = sim::GnuplotQuote("robustness of " +
+  std::string title = common::GnuplotQuote("robustness of " +
                                         std::filesystem::path(r.scenario_file).filename().string() +
                                         ": largest magnitude survived");
   title.pop_back();
@@ -456,7 +456,7 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
       std::to_string(60 + 360 * rows) +
       " noenhanced\nset output OUTPUT(0)\n"
       "data = " +
-      sim::GnuplotQuote(dir + "/robustness.dat") +
+      common::GnuplotQuote(dir + "/robustness.dat") +
       "\n"
       "set style fill solid 0.8\nset boxwidth 0.6\nset grid ytics\nset logscale y\n"
       "set lmargin 11\nset rmargin 2\nset bmargin 4\n"
@@ -465,20 +465,21 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
       std::to_string(rows) + "," + std::to_string(cols) + " title " + title + " font ',10'\n";
   for (int i = 0; i < n; ++i) {
     const RobustnessRow& on = r.rows[2 * i];
-    script += "set title " + sim::GnuplotQuote(on.family) + "\nset ylabel " +
-              sim::GnuplotQuote(on.family == "pad_failure"  ? "failure probability per attachment"
-                                : on.family == "weak_patch" ? "share of sigma_T lost on a patch"
-                                : on.family == "payload"    ? "payload [kg]"
-                                : on.family == "roughness"  ? "bump height [m]"
-                                                           : "impulse in 10 ms [" + on.unit + "]") +
-              "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
-              "]\n"
-              "plot data index " +
-              std::to_string(i) +
-              " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
+    script +=
+        "set title " + common::GnuplotQuote(on.family) + "\nset ylabel " +
+        common::GnuplotQuote(on.family == "pad_failure"  ? "failure probability per attachment"
+                             : on.family == "weak_patch" ? "share of sigma_T lost on a patch"
+                             : on.family == "payload"    ? "payload [kg]"
+                             : on.family == "roughness"  ? "bump height [m]"
+                                                         : "impulse in 10 ms [" + on.unit + "]") +
+        "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
+        "]\n"
+        "plot data index " +
+        std::to_string(i) +
+        " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
   }
   script += "unset multiplot\n";
-  return sim::RunGnuplot(script, {dir + "/robustness.png"});
+  return common::RunGnuplot(script, {dir + "/robustness.png"});
 }
 
 }  // namespace climbsim::optimise

@@ -6,7 +6,7 @@
 
 #include "optimise/comm.h"
 #include "optimise/optimise.h"
-#include "sim/gnuplot.h"
+#include "common/common.h"
 
 namespace climbsim::optimise {
 namespace {
@@ -122,7 +122,7 @@ std::string WriteSweep(const std::string& dir, const std::vector<std::string>& f
     }
     csv += "\n";
   }
-  sim::WriteFileAtomic(dir + "/sweep.csv", csv);
+  common::WriteFileAtomic(dir + "/sweep.csv", csv);
   std::string plots;
   for (size_t f = 0; f < files.size(); ++f) {
     const int col = 3 + 4 * static_cast<int>(f);
@@ -137,10 +137,10 @@ std::string WriteSweep(const std::string& dir, const std::vector<std::string>& f
       "set terminal pngcairo size 900,560 noenhanced\nset output OUTPUT(0)\n"
       "set datafile separator ','\nset key top right\nset grid\n"
       "set title 'climbsim sweep: mean speed along the travel direction'\n"
-      "set xlabel " + sim::GnuplotQuote(o.key) + "\nset ylabel 'speed [cm/s]'\n"
-      "data = " + sim::GnuplotQuote(dir + "/sweep.csv") + "\n"
+      "set xlabel " + common::GnuplotQuote(o.key) + "\nset ylabel 'speed [cm/s]'\n"
+      "data = " + common::GnuplotQuote(dir + "/sweep.csv") + "\n"
       "plot " + plots + "\n";
-  return sim::RunGnuplot(script, {dir + "/sweep.png"});
+  return common::RunGnuplot(script, {dir + "/sweep.png"});
 }
 
 }  // namespace climbsim::optimise

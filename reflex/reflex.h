@@ -6,7 +6,7 @@
 // period with `Update(...)`, which never allocates and never throws. `Reset()` returns an
 // object to the state it had just after construction.
 //
-// Notation (CONTROL.md): [z]₊ = max(0, z); X(t−Δ) is X delayed by Δ.
+// Notation (docs/control.md): [z]₊ = max(0, z); X(t−Δ) is X delayed by Δ.
 //
 // Delays. The controller runs at a fixed period dt_s, so a transmission delay Δ is held as a
 // whole number of samples n = round(Δ / dt_s), rounded to nearest with ties away from zero
@@ -228,7 +228,7 @@ struct SearchParams {
 // the top of its ankle post: the pull puts a moment on the pad that lifts its front (toe)
 // edge first, the way a gecko peels its toes from the tips (Tian et al. 2006; Autumn et al.
 // 2006 find the release at a critical angle). Over a bonded b×h pad the edge stress is
-// F/(b·h) + 6·M/(b·h²) (DESIGN.md §3), so the edge row breaks and the crack runs across the
+// F/(b·h) + 6·M/(b·h²) (docs/design.md §3), so the edge row breaks and the crack runs across the
 // pad at a pull far below the normal pull-off σ_T·b·h (Kendall 1975; `climbsim pulloff`
 // with --arm-m shows it). The peel ends when the pad lets go (peel_end, detached) or after
 // max_duration_s (peel_end, time_limit); the offsets then fade to zero over release_s while
@@ -258,7 +258,7 @@ struct RegripParams {
 //           hip_pitch −= min(u, hold_max_offset); unloaded ⇒ the leg may swing. Only for a
 //           pad that is not attached (a foot that can still move: floors), unless
 //           load_attached: on a welded foot the press is only internal force between the pads
-//           (CONTROL.md "Reflexes on a closed chain"), and on a wall the front pads hang in
+//           (docs/control.md "Reflexes on a closed chain"), and on a wall the front pads hang in
 //           tension all the time, so the hold stalled the gait; the support channel decides
 //           for attached pads instead.
 //  press:   F̃ = the compressive preload_n. While the pad is building its bond (stance,
@@ -314,7 +314,7 @@ struct LegSpindleParams {
   double hold_s = 0.2;               // >= 0
 };
 
-// Stance compliance (CONTROL.md, "Reflexes on a closed chain"): the servos' stiffness is
+// Stance compliance (docs/control.md, "Reflexes on a closed chain"): the servos' stiffness is
 // scheduled by phase, full in swing (accurate placement) and lowered to stance_kp_fraction
 // while the pad is attached in stance, so that welded feet and the body settle without
 // internal force. LegReflexOutput::kp_fraction (per joint, in (0, 1]) multiplies each

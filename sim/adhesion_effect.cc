@@ -12,18 +12,8 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   adhesion::StickyPadParams s;
   s.model =
       p.model == "mujoco" ? adhesion::AdhesionModel::kMujoco : adhesion::AdhesionModel::kBonds;
-  s.bonds.grid_x = p.grid_x;
-  s.bonds.grid_y = p.grid_y;
-  s.bonds.sigma_t_pa = p.sigma_t_pa;
-  s.bonds.mu = p.mu;
-  s.bonds.min_bonds = p.min_bonds;
-  s.attach.min_contacts = p.min_contacts;
-  s.attach.max_approach_speed_mps = p.max_approach_speed_mps;
-  s.attach.max_approach_angle_deg = p.max_approach_angle_deg;
-  s.attach.min_preload_n = p.min_preload_n;
-  s.attach.initial_fraction = p.initial_fraction;
-  s.attach.buildup_time_s = p.buildup_time_s;
-  s.attach.attach_window_s = p.attach_window_s;
+  s.bonds = p;  // the pad's width and length are read from its geom
+  s.attach = p;
   s.actuator_ctrl = p.ctrl;
   return s;
 }
@@ -237,7 +227,7 @@ void AdhesionEffect::OnPadEvent(int pad, const adhesion::PadEvent& e) {
   row.time_s = e.time_s;
   row.pad = pad;
   row.kind = adhesion::PadEventName(e.kind);
-  row.cause = e.cause;
+  row.cause = adhesion::PadCauseName(e.cause);
   row.cause_value = e.cause_value;
   row.has_cause_value = e.has_cause_value;
   row.surface_geom = e.surface_geom;
@@ -278,10 +268,12 @@ void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {
     j["touchdown"] = c.touchdown;
     j["attach"] = c.attach;
     j["attach_rejected"] = c.attach_rejected;
-    j["attach_rejected_by"] = {{adhesion::kCauseApproachSpeed, c.rejected_by[0]},
-                               {adhesion::kCauseApproachAngle, c.rejected_by[1]},
-                               {adhesion::kCauseContacts, c.rejected_by[2]},
-                               {adhesion::kCausePreload, c.rejected_by[3]}};
+    using adhesion::PadCause, adhesion::PadCauseName;
+    j["attach_rejected_by"] = {
+        {PadCauseName(PadCause::kApproachSpeed), c.rejected_approach_speed},
+        {PadCauseName(PadCause::kApproachAngle), c.rejected_approach_angle},
+        {PadCauseName(PadCause::kContacts), c.rejected_contacts},
+        {PadCauseName(PadCause::kPreload), c.rejected_preload}};
     j["bonds_lost_steps"] = c.bonds_lost;
     j["detach_peel"] = c.detach_peel;
     j["detach_overload"] = c.detach_overload;

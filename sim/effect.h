@@ -1,6 +1,6 @@
 // Effects: the pieces a scenario composes around mj_step. Each is constructed only when the
 // scenario names it, sized in its constructor, and then never allocates. The order is fixed
-// (DESIGN.md §1): BeforeStep in pipeline order, mj_step, AfterStep in pipeline order.
+// (docs/design.md §1): BeforeStep in pipeline order, mj_step, AfterStep in pipeline order.
 #ifndef CLIMBSIM_SIM_EFFECT_H_
 #define CLIMBSIM_SIM_EFFECT_H_
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "adhesion/adhesion.h"
+#include "cpg/cpg.h"
 #include "reflex/reflex.h"
 #include "sim/archive.h"
 
@@ -15,17 +17,23 @@ namespace climbsim::sim {
 // Hopf oscillators (cpg/README.md, Righetti and Ijspeert 2008); their stance and swing
 // frequencies follow from cpg.frequency_hz and the duty factor.
 struct HopfParams {
-  double mu = 1.0;
-  double alpha_per_s = 50.0;
-  double beta_per_s = 50.0;
-  double switch_sharpness = 100.0;
+  double mu = cpg::HopfNetworkParams{}.mu;
+  double alpha_per_s = cpg::HopfNetworkParams{}.alpha_per_s;
+  double beta_per_s = cpg::HopfNetworkParams{}.beta_per_s;
+  double switch_sharpness = cpg::HopfNetworkParams{}.b;
 
   template <class A>
   void Serialize(A* a) {
     a->Visit({"mu", "", "squared radius of the limit cycle", Range::Positive()}, &mu);
-    a->Visit({"alpha_per_s", "1/s", "convergence rate to the limit cycle along x", Range::Positive()}, &alpha_per_s);
-    a->Visit({"beta_per_s", "1/s", "convergence rate to the limit cycle along y", Range::Positive()}, &beta_per_s);
-    a->Visit({"switch_sharpness", "", "b: sharpness of the switch between stance and swing frequency", Range::Positive()}, &switch_sharpness);
+    a->Visit(
+        {"alpha_per_s", "1/s", "convergence rate to the limit cycle along x", Range::Positive()},
+        &alpha_per_s);
+    a->Visit(
+        {"beta_per_s", "1/s", "convergence rate to the limit cycle along y", Range::Positive()},
+        &beta_per_s);
+    a->Visit({"switch_sharpness", "",
+              "b: sharpness of the switch between stance and swing frequency", Range::Positive()},
+             &switch_sharpness);
   }
 };
 
@@ -39,14 +47,14 @@ struct CpgParams {
   std::vector<double> offsets_cycles;
   std::vector<std::vector<double>> phase_bias_rad;
   std::optional<double> duty_factor;
-  double frequency_hz = 1.0;
+  double frequency_hz = cpg::PhaseNetworkParams{}.frequency_hz;
   double coupling_per_s = 4.0;
   double amplitude = 1.0;
   double start_amplitude = 0.0;
-  double amplitude_rate_per_s = 5.0;
+  double amplitude_rate_per_s = cpg::PhaseNetworkParams{}.amplitude_rate_per_s;
   std::string stepper = "rk4";
-  double abs_tol = 1e-8;
-  double rel_tol = 1e-6;
+  double abs_tol = cpg::StepperParams{}.abs_tol;
+  double rel_tol = cpg::StepperParams{}.rel_tol;
   std::optional<double> control_period_s;
   std::vector<double> stride_rad;  // joint space; default [0.35, 0, 0]
   std::vector<double> lift_rad;    // joint space; default [0, 0.5, 0.5]
@@ -54,7 +62,7 @@ struct CpgParams {
   double lift_m = 0.015;
   double press_m = 0.0;
   double crouch_m = 0.0;
-  double lift_share = 0.0;
+  double lift_share = cpg::LegShape{}.lift_share;
   HopfParams hopf;
   double tegotae_sigma_rad_per_n_s = 0.0;
   bool wait_for_support = false;
@@ -62,31 +70,96 @@ struct CpgParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Choice({"oscillator", "", "phase: phase oscillators with amplitude (Ijspeert 2007); hopf: Hopf oscillators with separate stance and swing frequencies (Righetti and Ijspeert 2008)"}, &oscillator, {"phase", "hopf"});
-    a->Visit({"gait", "", "gait preset: trot or lateral_sequence (4 legs); tripod, tetrapod or wave (6 legs); default trot / tripod"}, &gait);
-    a->Visit({"offsets_cycles", "cycle", "explicit gait: how far each leg lags, in the robot's leg order (instead of gait)", Range::Closed(-1, 1)}, &offsets_cycles, 0);
-    a->Visit({"phase_bias_rad", "rad", "explicit phase-bias matrix phi_ij (instead of gait)"}, &phase_bias_rad);
-    a->Visit({"duty_factor", "", "share of the cycle in stance; default from the gait (1/2 trot and tripod, 3/4 lateral sequence, 2/3 tetrapod, 5/6 wave)", Range::Closed(0.05, 0.95)}, &duty_factor);
-    a->Visit({"frequency_hz", "Hz", "stepping frequency f", Range::OpenClosed(0, 20)}, &frequency_hz);
-    a->Visit({"coupling_per_s", "1/s", "coupling weight w_ij between every pair of oscillators", Range::NonNegative()}, &coupling_per_s);
-    a->Visit({"amplitude", "", "target amplitude R: scales the stride (lift is not scaled, so a leg still clears the surface at small strides)", Range::Closed(0, 10)}, &amplitude);
-    a->Visit({"start_amplitude", "", "amplitude at t = 0; the gait fades in towards R with rate a (phase oscillators)", Range::Closed(0, 10)}, &start_amplitude);
-    a->Visit({"amplitude_rate_per_s", "1/s", "amplitude convergence rate a", Range::Positive()}, &amplitude_rate_per_s);
-    a->Choice({"stepper", "", "Odeint stepper integrating the oscillators"}, &stepper, {"euler", "rk4", "dopri5"});
+    a->Choice({"oscillator", "",
+               "phase: phase oscillators with amplitude (Ijspeert 2007); hopf: Hopf oscillators "
+               "with separate stance and swing frequencies (Righetti and Ijspeert 2008)"},
+              &oscillator, {"phase", "hopf"});
+    a->Visit({"gait", "",
+              "gait preset: trot or lateral_sequence (4 legs); tripod, tetrapod or wave (6 legs); "
+              "default trot / tripod"},
+             &gait);
+    a->Visit({"offsets_cycles", "cycle",
+              "explicit gait: how far each leg lags, in the robot's leg order (instead of gait)",
+              Range::Closed(-1, 1)},
+             &offsets_cycles, 0);
+    a->Visit({"phase_bias_rad", "rad", "explicit phase-bias matrix phi_ij (instead of gait)"},
+             &phase_bias_rad);
+    a->Visit({"duty_factor", "",
+              "share of the cycle in stance; default from the gait (1/2 trot and tripod, 3/4 "
+              "lateral sequence, 2/3 tetrapod, 5/6 wave)",
+              Range::Closed(0.05, 0.95)},
+             &duty_factor);
+    a->Visit({"frequency_hz", "Hz", "stepping frequency f", Range::OpenClosed(0, 20)},
+             &frequency_hz);
+    a->Visit({"coupling_per_s", "1/s", "coupling weight w_ij between every pair of oscillators",
+              Range::NonNegative()},
+             &coupling_per_s);
+    a->Visit({"amplitude", "",
+              "target amplitude R: scales the stride (lift is not scaled, so a leg still clears "
+              "the surface at small strides)",
+              Range::Closed(0, 10)},
+             &amplitude);
+    a->Visit({"start_amplitude", "",
+              "amplitude at t = 0; the gait fades in towards R with rate a (phase oscillators)",
+              Range::Closed(0, 10)},
+             &start_amplitude);
+    a->Visit({"amplitude_rate_per_s", "1/s", "amplitude convergence rate a", Range::Positive()},
+             &amplitude_rate_per_s);
+    a->Choice({"stepper", "", "Odeint stepper integrating the oscillators"}, &stepper,
+              {"euler", "rk4", "dopri5"});
     a->Visit({"abs_tol", "", "absolute tolerance (dopri5)", Range::Positive()}, &abs_tol);
     a->Visit({"rel_tol", "", "relative tolerance (dopri5)", Range::Positive()}, &rel_tol);
-    a->Visit({"control_period_s", "s", "controller period, a whole multiple of the time step; default: every step", Range::Positive()}, &control_period_s);
-    a->Visit({"stride_rad", "rad", "joint space: joint excursion per unit stride (+1 foot forward) of hip_yaw, hip_pitch, knee; default [0.35, 0, 0]"}, &stride_rad, 3);
-    a->Visit({"lift_rad", "rad", "joint space: joint excursion at full lift in swing of hip_yaw, hip_pitch, knee; default [0, 0.5, 0.5]"}, &lift_rad, 3);
-    a->Visit({"stride_m", "m", "foot space: foot travel along the body axis per stance (feet follow straight lines through the legs' inverse kinematics)", Range::OpenClosed(0, 0.2)}, &stride_m);
-    a->Visit({"lift_m", "m", "foot space: height of the swing above the surface", Range::Closed(0, 0.1)}, &lift_m);
-    a->Visit({"press_m", "m", "foot space: how far stance feet are aimed into the surface (a preload through the servos)", Range::Closed(0, 0.02)}, &press_m);
-    a->Visit({"crouch_m", "m", "foot space: feet held this much closer to the body than in the neutral pose, so the body rides lower (a climber's centre of mass near the wall pulls its front pads off less)", Range::Closed(0, 0.03)}, &crouch_m);
-    a->Visit({"lift_share", "", "0: smooth swing (stride and lift together); a > 0: lift-move-place swing, rising over the first share a of the swing and landing over the last (climbers: a peeled foot must clear the surface before it moves)", Range{0, 0.5, false, true}}, &lift_share);
+    a->Visit({"control_period_s", "s",
+              "controller period, a whole multiple of the time step; default: every step",
+              Range::Positive()},
+             &control_period_s);
+    a->Visit({"stride_rad", "rad",
+              "joint space: joint excursion per unit stride (+1 foot forward) of hip_yaw, "
+              "hip_pitch, knee; default [0.35, 0, 0]"},
+             &stride_rad, 3);
+    a->Visit({"lift_rad", "rad",
+              "joint space: joint excursion at full lift in swing of hip_yaw, hip_pitch, knee; "
+              "default [0, 0.5, 0.5]"},
+             &lift_rad, 3);
+    a->Visit({"stride_m", "m",
+              "foot space: foot travel along the body axis per stance (feet follow straight lines "
+              "through the legs' inverse kinematics)",
+              Range::OpenClosed(0, 0.2)},
+             &stride_m);
+    a->Visit(
+        {"lift_m", "m", "foot space: height of the swing above the surface", Range::Closed(0, 0.1)},
+        &lift_m);
+    a->Visit({"press_m", "m",
+              "foot space: how far stance feet are aimed into the surface (a preload through the "
+              "servos)",
+              Range::Closed(0, 0.02)},
+             &press_m);
+    a->Visit(
+        {"crouch_m", "m",
+         "foot space: feet held this much closer to the body than in the neutral pose, so the body "
+         "rides lower (a climber's centre of mass near the wall pulls its front pads off less)",
+         Range::Closed(0, 0.03)},
+        &crouch_m);
+    a->Visit({"lift_share", "",
+              "0: smooth swing (stride and lift together); a > 0: lift-move-place swing, rising "
+              "over the first share a of the swing and landing over the last (climbers: a peeled "
+              "foot must clear the surface before it moves)",
+              Range{0, 0.5, false, true}},
+             &lift_share);
     a->Visit({"hopf", "", "Hopf oscillator options (oscillator: hopf)"}, &hopf);
-    a->Visit({"tegotae_sigma_rad_per_n_s", "rad/(N s)", "Tegotae load feedback dtheta_i/dt += -sigma N_i cos(theta_i), N_i the pad's normal load; 0 = off (Owaki et al. 2013)", Range::NonNegative()}, &tegotae_sigma_rad_per_n_s);
-    a->Visit({"wait_for_support", "", "a leg does not start its swing until the legs that support the robot during that swing (the other diagonal in a trot) have their pads attached and bonded"}, &wait_for_support);
-    a->Visit({"support_bond_fraction", "", "wait_for_support: the bonded fraction a support pad must have built", Range::Closed(0, 1)}, &support_bond_fraction);
+    a->Visit({"tegotae_sigma_rad_per_n_s", "rad/(N s)",
+              "Tegotae load feedback dtheta_i/dt += -sigma N_i cos(theta_i), N_i the pad's normal "
+              "load; 0 = off (Owaki et al. 2013)",
+              Range::NonNegative()},
+             &tegotae_sigma_rad_per_n_s);
+    a->Visit({"wait_for_support", "",
+              "a leg does not start its swing until the legs that support the robot during that "
+              "swing (the other diagonal in a trot) have their pads attached and bonded"},
+             &wait_for_support);
+    a->Visit({"support_bond_fraction", "",
+              "wait_for_support: the bonded fraction a support pad must have built",
+              Range::Closed(0, 1)},
+             &support_bond_fraction);
   }
 
   void Validate(const Checker& c) const {
@@ -99,12 +172,14 @@ struct CpgParams {
       c.Fail("phase_bias_rad", "must be a square matrix");
     }
     if (stride_m && (!stride_rad.empty() || !lift_rad.empty())) {
-      c.Fail("stride_m", "give the gait in joint space (stride_rad, lift_rad) or in foot space (stride_m, lift_m), not both");
+      c.Fail("stride_m",
+             "give the gait in joint space (stride_rad, lift_rad) or in foot space (stride_m, "
+             "lift_m), not both");
     }
   }
 };
 
-// Dry adhesion (adhesion/README.md has the model; DESIGN.md section 3). Material and attach
+// Dry adhesion (adhesion/README.md has the model; docs/design.md section 3). Material and attach
 // keys apply to every pad; pad_overrides changes a few of them for one pad.
 struct AdhesionPadOverride {
   std::string pad;
@@ -117,62 +192,126 @@ struct AdhesionPadOverride {
     a->Visit({"pad", "", "the pad body this entry changes (one of adhesion.pads)", {}, true}, &pad);
     a->Visit({"sigma_t_pa", "Pa", "this pad's rupture threshold", Range::Positive()}, &sigma_t_pa);
     a->Visit({"mu", "", "this pad's compression gain", Range::NonNegative()}, &mu);
-    a->Visit({"gain_n", "N", "this pad's adhesion-actuator gain (model mujoco)", Range::Positive()}, &gain_n);
+    a->Visit({"gain_n", "N", "this pad's adhesion-actuator gain (model mujoco)", Range::Positive()},
+             &gain_n);
   }
 };
 
-struct AdhesionParams {
+// The bond grid's keys (adhesion::PadParams: one declaration and one default each; width_m
+// and length_m are not keys, they come from each pad's box geom) and the attach conditions
+// (adhesion::AttachParams), plus what only the scenario has.
+struct AdhesionParams : adhesion::PadParams, adhesion::AttachParams {
   std::string model = "bonds";
   std::vector<std::string> pads;
   std::vector<std::string> surfaces;
-  bool start_attached = false;
-  double start_gap_m = 0.001;
-  double sigma_t_pa = 10e3;
-  double mu = 0.0;
-  int grid_x = 16;
-  int grid_y = 16;
-  int min_bonds = 1;
-  int min_contacts = 3;
-  double max_approach_speed_mps = 0.25;
-  double max_approach_angle_deg = 20.0;
-  double min_preload_n = 0.02;
-  double initial_fraction = 0.3;
-  double buildup_time_s = 0.1;
-  double attach_window_s = 0.1;
-  std::vector<double> weld_solref{0.002, 1.0};
+  bool start_attached = adhesion::AdhesionSystemParams{}.start_attached;
+  double start_gap_m = adhesion::AdhesionSystemParams{}.start_gap_m;
+  std::vector<double> weld_solref = std::vector<double>(adhesion::kDefaultWeldSolref.begin(),
+                                                        adhesion::kDefaultWeldSolref.end());
   std::optional<double> gain_n;
-  double ctrl = 1.0;
-  double reach_m = 0.001;
+  double ctrl = adhesion::StickyPadParams{}.actuator_ctrl;
+  double reach_m = adhesion::AdhesionSystemParams{}.reach_m;
   std::vector<AdhesionPadOverride> pad_overrides;
   double pad_failure_probability = 0.0;
   double pad_failure_window_s = 1.0;
 
   template <class A>
   void Serialize(A* a) {
-    a->Choice({"model", "", "bonds: this project's weld-and-bond-grid model; mujoco: MuJoCo's built-in adhesion actuator (the baseline)"}, &model, {"bonds", "mujoco"});
-    a->Visit({"pads", "", "sticky pad bodies (each holds one box geom); default: every leg's pad body (LF_pad, RF_pad, ...)"}, &pads);
-    a->Visit({"surfaces", "", "bodies or geoms the pads may stick to; default: any geom that is not a sticky pad"}, &surfaces);
-    a->Visit({"start_attached", "", "pads within start_gap_m of a surface at t = 0 attach fully, without the attach conditions (a robot that starts on a wall or a ceiling)"}, &start_attached);
-    a->Visit({"start_gap_m", "m", "how far a pad face may be from a surface at t = 0 and still start attached (the robots start 0.5 mm above it)", Range::OpenClosed(0, 0.1)}, &start_gap_m);
-    a->Visit({"sigma_t_pa", "Pa", "sigma_T, bond rupture threshold (10 kPa: the seed authors' estimate for their dry adhesive)", Range::Positive()}, &sigma_t_pa);
-    a->Visit({"mu", "", "gain of compression on the shear threshold: a compressed bond breaks when sqrt(3) times its shear reaches sigma_T + mu times its compression", Range::NonNegative()}, &mu);
-    a->Visit({"grid_x", "", "bonds across the pad width (accuracy against time)", Range::Closed(1, 1024)}, &grid_x);
+    a->Choice({"model", "",
+               "bonds: this project's weld-and-bond-grid model; mujoco: MuJoCo's built-in adhesion "
+               "actuator (the baseline)"},
+              &model, {"bonds", "mujoco"});
+    a->Visit({"pads", "",
+              "sticky pad bodies (each holds one box geom); default: every leg's pad body (LF_pad, "
+              "RF_pad, ...)"},
+             &pads);
+    a->Visit({"surfaces", "",
+              "bodies or geoms the pads may stick to; default: any geom that is not a sticky pad"},
+             &surfaces);
+    a->Visit({"start_attached", "",
+              "pads within start_gap_m of a surface at t = 0 attach fully, without the attach "
+              "conditions (a robot that starts on a wall or a ceiling)"},
+             &start_attached);
+    a->Visit({"start_gap_m", "m",
+              "how far a pad face may be from a surface at t = 0 and still start attached (the "
+              "robots start 0.5 mm above it)",
+              Range::OpenClosed(0, 0.1)},
+             &start_gap_m);
+    a->Visit({"sigma_t_pa", "Pa",
+              "sigma_T, bond rupture threshold (10 kPa: the seed authors' estimate for their dry "
+              "adhesive)",
+              Range::Positive()},
+             &sigma_t_pa);
+    a->Visit({"mu", "",
+              "gain of compression on the shear threshold: a compressed bond breaks when sqrt(3) "
+              "times its shear reaches sigma_T + mu times its compression",
+              Range::NonNegative()},
+             &mu);
+    a->Visit({"grid_x", "", "bonds across the pad width (accuracy against time)",
+              Range::Closed(1, 1024)},
+             &grid_x);
     a->Visit({"grid_y", "", "bonds along the pad length", Range::Closed(1, 1024)}, &grid_y);
-    a->Visit({"min_bonds", "", "the pad detaches when fewer bonds than this remain", Range::Closed(1, 1048576)}, &min_bonds);
-    a->Visit({"min_contacts", "", "attach condition: contact points with the surface (box on plane gives 4)", Range::Closed(1, 1000)}, &min_contacts);
-    a->Visit({"max_approach_speed_mps", "m/s", "attach condition: normal speed towards the surface at touchdown", Range::NonNegative()}, &max_approach_speed_mps);
-    a->Visit({"max_approach_angle_deg", "deg", "attach condition: angle between pad normal and surface normal at touchdown", Range::Closed(0, 180)}, &max_approach_angle_deg);
-    a->Visit({"min_preload_n", "N", "attach condition: compressive contact force on the pad", Range::NonNegative()}, &min_preload_n);
-    a->Visit({"initial_fraction", "", "bonded fraction at attach (centre-out)", Range::Closed(0, 1)}, &initial_fraction);
-    a->Visit({"buildup_time_s", "s", "time constant of the growth of the bonded fraction towards 1 while the pad is not pulled; 0: full at once", Range::NonNegative()}, &buildup_time_s);
-    a->Visit({"attach_window_s", "s", "after touchdown, how long contacts and preload may take to meet their conditions before the attach is rejected", Range::NonNegative()}, &attach_window_s);
-    a->Visit({"weld_solref", "s, -", "solref (time constant, damping ratio) of the welds that hold attached pads; MuJoCo raises the time constant to 2 time steps", Range::Positive()}, &weld_solref, 2);
-    a->Visit({"gain_n", "N", "model mujoco: adhesion-actuator force at ctrl 1; default sigma_T times the pad area", Range::Positive()}, &gain_n);
-    a->Visit({"ctrl", "", "model mujoco: actuator ctrl while attached", Range::Closed(0, 1)}, &ctrl);
-    a->Visit({"reach_m", "m", "model mujoco: pad geom margin = gap, so the actuator pulls a pad this close to a surface", Range::Closed(0, 0.1)}, &reach_m);
-    a->Visit({"pad_overrides", "", "per-pad changes: a list of maps with pad and any of sigma_t_pa, mu, gain_n"}, &pad_overrides);
-    a->Visit({"pad_failure_probability", "", "each attachment fails with this probability (drawn from seed): all its bonds break at once (detach cause failure) at a time uniform in [0, pad_failure_window_s) after the attach, if the pad still holds then", Range::Closed(0, 1)}, &pad_failure_probability);
-    a->Visit({"pad_failure_window_s", "s", "pad failures: the window after an attach in which a failing pad fails (about one stance of the example gaits: 1.25 s gecko, 0.95 s spider)", Range::Positive()}, &pad_failure_window_s);
+    a->Visit({"min_bonds", "", "the pad detaches when fewer bonds than this remain",
+              Range::Closed(1, 1048576)},
+             &min_bonds);
+    a->Visit({"min_contacts", "",
+              "attach condition: contact points with the surface (box on plane gives 4)",
+              Range::Closed(1, 1000)},
+             &min_contacts);
+    a->Visit(
+        {"max_approach_speed_mps", "m/s",
+         "attach condition: normal speed towards the surface at touchdown", Range::NonNegative()},
+        &max_approach_speed_mps);
+    a->Visit({"max_approach_angle_deg", "deg",
+              "attach condition: angle between pad normal and surface normal at touchdown",
+              Range::Closed(0, 180)},
+             &max_approach_angle_deg);
+    a->Visit({"min_preload_n", "N", "attach condition: compressive contact force on the pad",
+              Range::NonNegative()},
+             &min_preload_n);
+    a->Visit(
+        {"initial_fraction", "", "bonded fraction at attach (centre-out)", Range::Closed(0, 1)},
+        &initial_fraction);
+    a->Visit({"buildup_time_s", "s",
+              "time constant of the growth of the bonded fraction towards 1 while the pad is not "
+              "pulled; 0: full at once",
+              Range::NonNegative()},
+             &buildup_time_s);
+    a->Visit({"attach_window_s", "s",
+              "after touchdown, how long contacts and preload may take to meet their conditions "
+              "before the attach is rejected",
+              Range::NonNegative()},
+             &attach_window_s);
+    a->Visit({"weld_solref", "s, -",
+              "solref (time constant, damping ratio) of the welds that hold attached pads; MuJoCo "
+              "raises the time constant to 2 time steps",
+              Range::Positive()},
+             &weld_solref, 2);
+    a->Visit({"gain_n", "N",
+              "model mujoco: adhesion-actuator force at ctrl 1; default sigma_T times the pad area",
+              Range::Positive()},
+             &gain_n);
+    a->Visit({"ctrl", "", "model mujoco: actuator ctrl while attached", Range::Closed(0, 1)},
+             &ctrl);
+    a->Visit(
+        {"reach_m", "m",
+         "model mujoco: pad geom margin = gap, so the actuator pulls a pad this close to a surface",
+         Range::Closed(0, 0.1)},
+        &reach_m);
+    a->Visit({"pad_overrides", "",
+              "per-pad changes: a list of maps with pad and any of sigma_t_pa, mu, gain_n"},
+             &pad_overrides);
+    a->Visit({"pad_failure_probability", "",
+              "each attachment fails with this probability (drawn from seed): all its bonds break "
+              "at once (detach cause failure) at a time uniform in [0, pad_failure_window_s) after "
+              "the attach, if the pad still holds then",
+              Range::Closed(0, 1)},
+             &pad_failure_probability);
+    a->Visit({"pad_failure_window_s", "s",
+              "pad failures: the window after an attach in which a failing pad fails (about one "
+              "stance of the example gaits: 1.25 s gecko, 0.95 s spider)",
+              Range::Positive()},
+             &pad_failure_window_s);
   }
 
   void Validate(const Checker& c) const {
@@ -188,73 +327,147 @@ struct AdhesionParams {
 struct PreloadKeys : reflex::PreloadParams {
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "press a pad that touched down without attaching until it attaches or a limit is reached"}, &enabled);
-    a->Visit({"hip_pitch_press_rad", "rad", "press on hip pitch at full preload", Range::NonNegative()}, &hip_pitch_press_rad);
-    a->Visit({"knee_press_rad", "rad", "press on the knee at full preload", Range::NonNegative()}, &knee_press_rad);
+    a->Visit(
+        {"enabled", "",
+         "press a pad that touched down without attaching until it attaches or a limit is reached"},
+        &enabled);
+    a->Visit(
+        {"hip_pitch_press_rad", "rad", "press on hip pitch at full preload", Range::NonNegative()},
+        &hip_pitch_press_rad);
+    a->Visit({"knee_press_rad", "rad", "press on the knee at full preload", Range::NonNegative()},
+             &knee_press_rad);
     a->Visit({"ramp_s", "s", "time to full press", Range::NonNegative()}, &ramp_s);
-    a->Visit({"force_limit_n", "N", "stop once the compressive preload reaches this", Range::Positive()}, &force_limit_n);
+    a->Visit(
+        {"force_limit_n", "N", "stop once the compressive preload reaches this", Range::Positive()},
+        &force_limit_n);
     a->Visit({"max_duration_s", "s", "stop after this long", Range::Positive()}, &max_duration_s);
   }
 };
 struct SearchKeys : reflex::SearchParams {
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "a swing that ends without touching reaches further and places the foot again"}, &enabled);
-    a->Visit({"reach_yaw_rad", "rad", "forward reach on hip yaw at full search", Range::NonNegative()}, &reach_yaw_rad);
-    a->Visit({"reach_pitch_rad", "rad", "extension towards the surface on hip pitch", Range::NonNegative()}, &reach_pitch_rad);
-    a->Visit({"reach_knee_rad", "rad", "extension towards the surface on the knee", Range::NonNegative()}, &reach_knee_rad);
+    a->Visit({"enabled", "",
+              "a swing that ends without touching reaches further and places the foot again"},
+             &enabled);
+    a->Visit(
+        {"reach_yaw_rad", "rad", "forward reach on hip yaw at full search", Range::NonNegative()},
+        &reach_yaw_rad);
+    a->Visit({"reach_pitch_rad", "rad", "extension towards the surface on hip pitch",
+              Range::NonNegative()},
+             &reach_pitch_rad);
+    a->Visit({"reach_knee_rad", "rad", "extension towards the surface on the knee",
+              Range::NonNegative()},
+             &reach_knee_rad);
     a->Visit({"lift_rad", "rad", "lift within each attempt", Range::NonNegative()}, &lift_rad);
     a->Visit({"attempt_duration_s", "s", "one attempt", Range::Positive()}, &attempt_duration_s);
-    a->Visit({"max_attempts", "", "attempts before giving up", Range::Closed(1, 1000)}, &max_attempts);
-    a->Visit({"release_s", "s", "fade of the reach once found, after the next swing starts", Range::NonNegative()}, &release_s);
+    a->Visit({"max_attempts", "", "attempts before giving up", Range::Closed(1, 1000)},
+             &max_attempts);
+    a->Visit({"release_s", "s", "fade of the reach once found, after the next swing starts",
+              Range::NonNegative()},
+             &release_s);
   }
 };
 struct PeelKeys : reflex::PeelParams {
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "at swing onset, draw an attached foot back and up until the pad peels, the leg's phase held"}, &enabled);
-    a->Visit({"hip_yaw_rad", "rad", "hip yaw at full peel (negative draws the foot back)"}, &hip_yaw_rad);
-    a->Visit({"hip_pitch_lift_rad", "rad", "hip pitch lift at full peel", Range::NonNegative()}, &hip_pitch_lift_rad);
-    a->Visit({"knee_lift_rad", "rad", "knee lift at full peel", Range::NonNegative()}, &knee_lift_rad);
+    a->Visit({"enabled", "",
+              "at swing onset, draw an attached foot back and up until the pad peels, the leg's "
+              "phase held"},
+             &enabled);
+    a->Visit({"hip_yaw_rad", "rad", "hip yaw at full peel (negative draws the foot back)"},
+             &hip_yaw_rad);
+    a->Visit({"hip_pitch_lift_rad", "rad", "hip pitch lift at full peel", Range::NonNegative()},
+             &hip_pitch_lift_rad);
+    a->Visit({"knee_lift_rad", "rad", "knee lift at full peel", Range::NonNegative()},
+             &knee_lift_rad);
     a->Visit({"ramp_s", "s", "time to full peel (smooth step)", Range::Positive()}, &ramp_s);
-    a->Visit({"max_duration_s", "s", "give up after this long", Range::Positive()}, &max_duration_s);
-    a->Visit({"release_s", "s", "fade of the peel offsets after it ends", Range::NonNegative()}, &release_s);
+    a->Visit({"max_duration_s", "s", "give up after this long", Range::Positive()},
+             &max_duration_s);
+    a->Visit({"release_s", "s", "fade of the peel offsets after it ends", Range::NonNegative()},
+             &release_s);
   }
 };
 struct RegripKeys : reflex::RegripParams {
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "a pad that loses bonds during stance is pressed again and the other legs hold stance"}, &enabled);
-    a->Visit({"hold_others_s", "s", "how long the other legs hold stance", Range::NonNegative()}, &hold_others_s);
+    a->Visit(
+        {"enabled", "",
+         "a pad that loses bonds during stance is pressed again and the other legs hold stance"},
+        &enabled);
+    a->Visit({"hold_others_s", "s", "how long the other legs hold stance", Range::NonNegative()},
+             &hold_others_s);
   }
 };
 struct GtoKeys : reflex::GtoHoldParams {
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "Golgi-tendon-organ-like load reflex: a loaded leg stays in stance and presses; a pad building its bond is pressed"}, &enabled);
-    a->Visit({"hold_gain_rad_per_n", "rad/N", "K_F of the stance-holding channel (pad adhesive load)", Range::NonNegative()}, &hold.gain);
+    a->Visit({"enabled", "",
+              "Golgi-tendon-organ-like load reflex: a loaded leg stays in stance and presses; a "
+              "pad building its bond is pressed"},
+             &enabled);
+    a->Visit({"hold_gain_rad_per_n", "rad/N",
+              "K_F of the stance-holding channel (pad adhesive load)", Range::NonNegative()},
+             &hold.gain);
     a->Visit({"hold_threshold_n", "N", "F_0 of the stance-holding channel"}, &hold.threshold);
-    a->Visit({"hold_delay_s", "s", "transmission delay of the stance-holding channel", Range::NonNegative()}, &hold.delay_s);
-    a->Visit({"hold_max_offset_rad", "rad", "largest press of the stance-holding channel", Range::NonNegative()}, &hold_max_offset_rad);
-    a->Visit({"count_compression", "", "a leg pressed onto the surface counts as loaded too (floors)"}, &count_compression);
-    a->Visit({"load_attached", "", "the stance-holding channel (hold and press on the pad load) acts on an attached (welded) pad too; off: on a welded foot the press is only internal force between the pads, and on a wall the always-loaded front pads would never swing (the support channel decides instead)"}, &load_attached);
-    a->Visit({"press_gain_rad_per_n", "rad/N", "K_F of the channel that presses a pad building its bond (preload)", Range::NonNegative()}, &press.gain);
+    a->Visit({"hold_delay_s", "s", "transmission delay of the stance-holding channel",
+              Range::NonNegative()},
+             &hold.delay_s);
+    a->Visit({"hold_max_offset_rad", "rad", "largest press of the stance-holding channel",
+              Range::NonNegative()},
+             &hold_max_offset_rad);
+    a->Visit(
+        {"count_compression", "", "a leg pressed onto the surface counts as loaded too (floors)"},
+        &count_compression);
+    a->Visit({"load_attached", "",
+              "the stance-holding channel (hold and press on the pad load) acts on an attached "
+              "(welded) pad too; off: on a welded foot the press is only internal force between "
+              "the pads, and on a wall the always-loaded front pads would never swing (the support "
+              "channel decides instead)"},
+             &load_attached);
+    a->Visit(
+        {"press_gain_rad_per_n", "rad/N",
+         "K_F of the channel that presses a pad building its bond (preload)", Range::NonNegative()},
+        &press.gain);
     a->Visit({"press_threshold_n", "N", "F_0 of the pressing channel"}, &press.threshold);
-    a->Visit({"press_delay_s", "s", "transmission delay of the pressing channel", Range::NonNegative()}, &press.delay_s);
-    a->Visit({"press_max_offset_rad", "rad", "largest press of the pressing channel", Range::NonNegative()}, &press_max_offset_rad);
-    a->Visit({"full_bond_fraction", "", "a bond counts as built from this bonded fraction on", Range::OpenClosed(0, 1)}, &full_bond_fraction);
-    a->Visit({"require_partner_attached", "", "a leg also holds stance while the legs that support its swing are not attached"}, &require_partner_attached);
-    a->Visit({"unload_gain", "1", "K_U of the unloading channel: a pad at utilisation U (peak bond demand / threshold) above U_0 lowers its leg's servo stiffness by the factor max(min, 1 - K_U [U(t-D) - U_0]+), so the other pads take its load", Range::NonNegative()}, &unload.gain);
-    a->Visit({"unload_threshold", "", "U_0 of the unloading channel (utilisation; a bond breaks at 1)"}, &unload.threshold);
-    a->Visit({"unload_delay_s", "s", "transmission delay of the unloading channel", Range::NonNegative()}, &unload.delay_s);
-    a->Visit({"unload_min_kp_fraction", "", "the least stiffness fraction unloading leaves a leg", Range::OpenClosed(0, 1)}, &unload_min_kp_fraction);
-    a->Visit({"support_threshold", "", "a stance leg also holds stance while the largest utilisation of the pads that support its swing is above this"}, &support.threshold);
-    a->Visit({"support_delay_s", "s", "transmission delay of the support channel", Range::NonNegative()}, &support.delay_s);
+    a->Visit(
+        {"press_delay_s", "s", "transmission delay of the pressing channel", Range::NonNegative()},
+        &press.delay_s);
+    a->Visit({"press_max_offset_rad", "rad", "largest press of the pressing channel",
+              Range::NonNegative()},
+             &press_max_offset_rad);
+    a->Visit({"full_bond_fraction", "", "a bond counts as built from this bonded fraction on",
+              Range::OpenClosed(0, 1)},
+             &full_bond_fraction);
+    a->Visit({"require_partner_attached", "",
+              "a leg also holds stance while the legs that support its swing are not attached"},
+             &require_partner_attached);
+    a->Visit({"unload_gain", "1",
+              "K_U of the unloading channel: a pad at utilisation U (peak bond demand / threshold) "
+              "above U_0 lowers its leg's servo stiffness by the factor max(min, 1 - K_U [U(t-D) - "
+              "U_0]+), so the other pads take its load",
+              Range::NonNegative()},
+             &unload.gain);
+    a->Visit(
+        {"unload_threshold", "", "U_0 of the unloading channel (utilisation; a bond breaks at 1)"},
+        &unload.threshold);
+    a->Visit({"unload_delay_s", "s", "transmission delay of the unloading channel",
+              Range::NonNegative()},
+             &unload.delay_s);
+    a->Visit({"unload_min_kp_fraction", "", "the least stiffness fraction unloading leaves a leg",
+              Range::OpenClosed(0, 1)},
+             &unload_min_kp_fraction);
+    a->Visit({"support_threshold", "",
+              "a stance leg also holds stance while the largest utilisation of the pads that "
+              "support its swing is above this"},
+             &support.threshold);
+    a->Visit(
+        {"support_delay_s", "s", "transmission delay of the support channel", Range::NonNegative()},
+        &support.delay_s);
   }
 };
 // One spindle law for the three joints of every leg.
 struct SpindleKeys {
-  bool enabled = true;
+  bool enabled = reflex::LegSpindleParams{}.enabled;
   reflex::SpindleParams law;
   double swing_threshold_rad = reflex::LegSpindleParams{}.swing_threshold_rad;
   bool resist = reflex::LegSpindleParams{}.resist;
@@ -262,15 +475,37 @@ struct SpindleKeys {
   double hold_s = reflex::LegSpindleParams{}.hold_s;
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "muscle-spindle-like stretch reflex: a foot in the air stretched beyond swing_threshold_rad is lifted (stumbling correction); with the pad attached, no offset, and in stance a stretch beyond stance_band_rad holds every leg in stance; with resist, the law u = K_L [stretch(t-D) - L_0]+ + K_V [rate(t-D) - V_0]+ against the stretch on a stance foot in the air"}, &enabled);
-    a->Visit({"swing_threshold_rad", "rad", "free swing leg: a delayed stretch beyond this on any joint means it is blocked, and lifts the foot by K_L times the excess (stumbling correction)", Range::NonNegative()}, &swing_threshold_rad);
-    a->Visit({"resist", "", "a stance foot in the air (a search) resists its stretch with the law above instead of lifting only when blocked (off: resisting the lag of a commanded reach sped the foot into the surface too fast to attach)"}, &resist);
-    a->Visit({"stance_band_rad", "rad", "attached stance leg: a delayed stretch beyond this on any joint means the body is pushed", Range::NonNegative()}, &stance_band_rad);
-    a->Visit({"hold_s", "s", "how long every leg stays in stance after a push ends", Range::NonNegative()}, &hold_s);
+    a->Visit({"enabled", "",
+              "muscle-spindle-like stretch reflex: a foot in the air stretched beyond "
+              "swing_threshold_rad is lifted (stumbling correction); with the pad attached, no "
+              "offset, and in stance a stretch beyond stance_band_rad holds every leg in stance; "
+              "with resist, the law u = K_L [stretch(t-D) - L_0]+ + K_V [rate(t-D) - V_0]+ against "
+              "the stretch on a stance foot in the air"},
+             &enabled);
+    a->Visit({"swing_threshold_rad", "rad",
+              "free swing leg: a delayed stretch beyond this on any joint means it is blocked, and "
+              "lifts the foot by K_L times the excess (stumbling correction)",
+              Range::NonNegative()},
+             &swing_threshold_rad);
+    a->Visit({"resist", "",
+              "a stance foot in the air (a search) resists its stretch with the law above instead "
+              "of lifting only when blocked (off: resisting the lag of a commanded reach sped the "
+              "foot into the surface too fast to attach)"},
+             &resist);
+    a->Visit(
+        {"stance_band_rad", "rad",
+         "attached stance leg: a delayed stretch beyond this on any joint means the body is pushed",
+         Range::NonNegative()},
+        &stance_band_rad);
+    a->Visit({"hold_s", "s", "how long every leg stays in stance after a push ends",
+              Range::NonNegative()},
+             &hold_s);
     a->Visit({"length_gain", "rad/rad", "K_L", Range::NonNegative()}, &law.length_gain);
     a->Visit({"velocity_gain_s", "s", "K_V", Range::NonNegative()}, &law.velocity_gain_s);
-    a->Visit({"length_threshold_rad", "rad", "L_0", Range::NonNegative()}, &law.length_threshold_rad);
-    a->Visit({"velocity_threshold_rad_per_s", "rad/s", "V_0", Range::NonNegative()}, &law.velocity_threshold_rad_per_s);
+    a->Visit({"length_threshold_rad", "rad", "L_0", Range::NonNegative()},
+             &law.length_threshold_rad);
+    a->Visit({"velocity_threshold_rad_per_s", "rad/s", "V_0", Range::NonNegative()},
+             &law.velocity_threshold_rad_per_s);
     a->Visit({"delay_s", "s", "transmission delay D", Range::NonNegative()}, &law.delay_s);
   }
 };
@@ -278,9 +513,16 @@ struct SpindleKeys {
 struct ComplianceKeys : reflex::ComplianceParams {
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"enabled", "", "stance compliance: servo stiffness scheduled by phase, full in swing, stance_kp_fraction of kp while the pad is attached in stance (smart servos expose this; mjcf/README.md)"}, &enabled);
-    a->Visit({"stance_kp_fraction", "", "kp in attached stance over the servo's kp", Range::OpenClosed(0, 1)}, &stance_kp_fraction);
-    a->Visit({"ramp_s", "s", "time to change between the two stiffnesses", Range::NonNegative()}, &ramp_s);
+    a->Visit(
+        {"enabled", "",
+         "stance compliance: servo stiffness scheduled by phase, full in swing, stance_kp_fraction "
+         "of kp while the pad is attached in stance (smart servos expose this; mjcf/README.md)"},
+        &enabled);
+    a->Visit({"stance_kp_fraction", "", "kp in attached stance over the servo's kp",
+              Range::OpenClosed(0, 1)},
+             &stance_kp_fraction);
+    a->Visit({"ramp_s", "s", "time to change between the two stiffnesses", Range::NonNegative()},
+             &ramp_s);
   }
 };
 
@@ -292,7 +534,7 @@ struct ReflexParams {
   GtoKeys gto;
   SpindleKeys spindle;
   ComplianceKeys compliance;
-  double max_offset_rad = 0.4;
+  double max_offset_rad = reflex::LegReflexParams{}.max_offset_rad;
   bool release_failed_peel = false;
 
   template <class A>
@@ -304,8 +546,13 @@ struct ReflexParams {
     a->Visit({"gto", "", "load reflexes"}, &gto);
     a->Visit({"spindle", "", "stretch reflexes"}, &spindle);
     a->Visit({"compliance", "", "servo stiffness by phase"}, &compliance);
-    a->Visit({"max_offset_rad", "rad", "the reflexes' summed offset per joint is clamped to this", Range::Positive()}, &max_offset_rad);
-    a->Visit({"release_failed_peel", "", "when a peel runs out of time, let the pad go (detach cause released), as a foot with an active release mechanism would"}, &release_failed_peel);
+    a->Visit({"max_offset_rad", "rad", "the reflexes' summed offset per joint is clamped to this",
+              Range::Positive()},
+             &max_offset_rad);
+    a->Visit({"release_failed_peel", "",
+              "when a peel runs out of time, let the pad go (detach cause released), as a foot "
+              "with an active release mechanism would"},
+             &release_failed_peel);
   }
 
   // The reflex module's parameters for one leg.
@@ -340,8 +587,11 @@ struct PushParams {
   void Serialize(A* a) {
     a->Visit({"time_s", "s", "when the push starts", Range::NonNegative(), true}, &time_s);
     a->Visit({"body", "", "the body pushed"}, &body);
-    a->Visit({"impulse_ns", "N s", "impulse in the world frame (x, y, z)", {}, true}, &impulse_ns, 3);
-    a->Visit({"duration_s", "s", "over how long the impulse is spread (rounded to whole steps)", Range::Positive()}, &duration_s);
+    a->Visit({"impulse_ns", "N s", "impulse in the world frame (x, y, z)", {}, true}, &impulse_ns,
+             3);
+    a->Visit({"duration_s", "s", "over how long the impulse is spread (rounded to whole steps)",
+              Range::Positive()},
+             &duration_s);
   }
 };
 

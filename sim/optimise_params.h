@@ -20,8 +20,19 @@ struct OptimisedParameter {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"key", "", "dotted key of this file: cpg.frequency_hz, cpg.stride_rad[0], reflex.preload.gain, cpg.phase_bias_rad[0][1]", {}, true}, &key);
-    a->Visit({"start", "", "start value (start 0 begins here; other starts are drawn in the bounds)", {}, true}, &start);
+    a->Visit({"key",
+              "",
+              "dotted key of this file: cpg.frequency_hz, cpg.stride_rad[0], reflex.preload.gain, "
+              "cpg.phase_bias_rad[0][1]",
+              {},
+              true},
+             &key);
+    a->Visit({"start",
+              "",
+              "start value (start 0 begins here; other starts are drawn in the bounds)",
+              {},
+              true},
+             &start);
     a->Visit({"min", "", "lower bound", {}, true}, &min);
     a->Visit({"max", "", "upper bound", {}, true}, &max);
   }
@@ -55,17 +66,43 @@ struct ObjectiveParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"fall_penalty_mps", "m/s", "added to J when the robot falls", Range::NonNegative()}, &fall_penalty_mps);
-    a->Visit({"overload_penalty_mps", "m/s", "added to J per pad detached by overload", Range::NonNegative()}, &overload_penalty_mps);
-    a->Visit({"energy_weight_mps", "m/s", "weight of the cost of transport in J", Range::NonNegative()}, &energy_weight_mps);
-    a->Visit({"runs", "", "rollouts per evaluation: 1 nominal and runs - 1 perturbed", Range::Closed(1, 100)}, &runs);
+    a->Visit({"fall_penalty_mps", "m/s", "added to J when the robot falls", Range::NonNegative()},
+             &fall_penalty_mps);
+    a->Visit({"overload_penalty_mps", "m/s", "added to J per pad detached by overload",
+              Range::NonNegative()},
+             &overload_penalty_mps);
+    a->Visit(
+        {"energy_weight_mps", "m/s", "weight of the cost of transport in J", Range::NonNegative()},
+        &energy_weight_mps);
+    a->Visit({"runs", "", "rollouts per evaluation: 1 nominal and runs - 1 perturbed",
+              Range::Closed(1, 100)},
+             &runs);
     a->Choice({"aggregate", "", "how the runs' costs combine"}, &aggregate, {"mean", "worst"});
-    a->Visit({"pose_noise_m", "m", "standard deviation of the initial x and y offset of perturbed runs", Range::NonNegative()}, &pose_noise_m);
-    a->Visit({"yaw_noise_deg", "deg", "standard deviation of the initial heading of perturbed runs", Range::NonNegative()}, &yaw_noise_deg);
-    a->Visit({"sigma_t_spread", "", "relative standard deviation of adhesion.sigma_t_pa in perturbed runs", Range::Closed(0, 0.9)}, &sigma_t_spread);
-    a->Visit({"stall_window_s", "s", "a rollout that climbs less than stall_distance_m in this long stops (scored as if it stayed put), 0 = off", Range::NonNegative()}, &stall_window_s);
-    a->Visit({"stall_distance_m", "m", "progress below which a rollout counts as stalled over stall_window_s", Range::NonNegative()}, &stall_distance_m);
-    a->Visit({"max_speed_mps", "m/s", "speed no gait exceeds: a rollout that could not beat the start's J even at this speed for the rest of the run stops, 0 = off", Range::NonNegative()}, &max_speed_mps);
+    a->Visit(
+        {"pose_noise_m", "m", "standard deviation of the initial x and y offset of perturbed runs",
+         Range::NonNegative()},
+        &pose_noise_m);
+    a->Visit({"yaw_noise_deg", "deg", "standard deviation of the initial heading of perturbed runs",
+              Range::NonNegative()},
+             &yaw_noise_deg);
+    a->Visit({"sigma_t_spread", "",
+              "relative standard deviation of adhesion.sigma_t_pa in perturbed runs",
+              Range::Closed(0, 0.9)},
+             &sigma_t_spread);
+    a->Visit({"stall_window_s", "s",
+              "a rollout that climbs less than stall_distance_m in this long stops (scored as if "
+              "it stayed put), 0 = off",
+              Range::NonNegative()},
+             &stall_window_s);
+    a->Visit({"stall_distance_m", "m",
+              "progress below which a rollout counts as stalled over stall_window_s",
+              Range::NonNegative()},
+             &stall_distance_m);
+    a->Visit({"max_speed_mps", "m/s",
+              "speed no gait exceeds: a rollout that could not beat the start's J even at this "
+              "speed for the rest of the run stops, 0 = off",
+              Range::NonNegative()},
+             &max_speed_mps);
   }
 };
 
@@ -89,24 +126,56 @@ struct OptimiseParams {
   void Serialize(A* a) {
     a->Visit({"parameters", "", "the tuned parameters (key, start, min, max)"}, &parameters);
     a->Visit({"objective", "", "the cost each evaluation minimises"}, &objective);
-    a->Choice({"algorithm", "", "NLopt algorithm; chain = GN_CRS2_LM, then local_algorithm from its best; cmaes = CMA-ES (pagmo), its population evaluated in parallel"}, &algorithm,
-              {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA", "GN_CRS2_LM", "GN_ISRES", "GN_ESCH", "chain", "cmaes"});
+    a->Choice({"algorithm", "",
+               "NLopt algorithm; chain = GN_CRS2_LM, then local_algorithm from its best; cmaes = "
+               "CMA-ES (pagmo), its population evaluated in parallel"},
+              &algorithm,
+              {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA", "GN_CRS2_LM", "GN_ISRES",
+               "GN_ESCH", "chain", "cmaes"});
     a->Choice({"local_algorithm", "", "the local stage of chain"}, &local_algorithm,
               {"LN_SBPLX", "LN_NELDERMEAD", "LN_BOBYQA", "LN_COBYLA"});
-    a->Visit({"global_share", "", "share of each start's evaluations spent in chain's global stage", Range::OpenClosed(0, 1)}, &global_share);
-    a->Visit({"max_evaluations", "", "evaluations in all, shared equally by the starts", Range::Closed(1, 1000000)}, &max_evaluations);
-    a->Visit({"max_time_s", "s", "wall-time limit per start, 0 = none (a time limit makes results depend on the machine)", Range::NonNegative()}, &max_time_s);
-    a->Visit({"xtol_rel", "", "stop when a step changes every parameter by less than this share of its range", Range::NonNegative()}, &xtol_rel);
-    a->Visit({"ftol_abs", "m/s", "stop when J improves by less than this, 0 = off", Range::NonNegative()}, &ftol_abs);
-    a->Visit({"initial_step", "", "first step of local algorithms, as a share of each parameter's range", Range::OpenClosed(0, 1)}, &initial_step);
-    a->Visit({"starts", "", "independent starts (start 0 at the given start values, the others drawn in the bounds); run side by side", Range::Closed(1, 1000)}, &starts);
-    a->Visit({"seed", "", "seed of NLopt's random numbers and of the random starts", Range::Closed(0, 2147483647)}, &seed);
-    a->Visit({"population", "", "cmaes: candidates per generation, 0 = 4 + 3 ln(parameters) (at least 5)", Range::Closed(0, 10000)}, &population);
-    a->Visit({"sigma0", "", "cmaes: first step size, as a share of each parameter's range", Range::OpenClosed(0, 1)}, &sigma0);
+    a->Visit({"global_share", "", "share of each start's evaluations spent in chain's global stage",
+              Range::OpenClosed(0, 1)},
+             &global_share);
+    a->Visit({"max_evaluations", "", "evaluations in all, shared equally by the starts",
+              Range::Closed(1, 1000000)},
+             &max_evaluations);
+    a->Visit(
+        {"max_time_s", "s",
+         "wall-time limit per start, 0 = none (a time limit makes results depend on the machine)",
+         Range::NonNegative()},
+        &max_time_s);
+    a->Visit({"xtol_rel", "",
+              "stop when a step changes every parameter by less than this share of its range",
+              Range::NonNegative()},
+             &xtol_rel);
+    a->Visit({"ftol_abs", "m/s", "stop when J improves by less than this, 0 = off",
+              Range::NonNegative()},
+             &ftol_abs);
+    a->Visit(
+        {"initial_step", "", "first step of local algorithms, as a share of each parameter's range",
+         Range::OpenClosed(0, 1)},
+        &initial_step);
+    a->Visit({"starts", "",
+              "independent starts (start 0 at the given start values, the others drawn in the "
+              "bounds); run side by side",
+              Range::Closed(1, 1000)},
+             &starts);
+    a->Visit({"seed", "", "seed of NLopt's random numbers and of the random starts",
+              Range::Closed(0, 2147483647)},
+             &seed);
+    a->Visit({"population", "",
+              "cmaes: candidates per generation, 0 = 4 + 3 ln(parameters) (at least 5)",
+              Range::Closed(0, 10000)},
+             &population);
+    a->Visit({"sigma0", "", "cmaes: first step size, as a share of each parameter's range",
+              Range::OpenClosed(0, 1)},
+             &sigma0);
   }
   void Validate(const Checker& c) const {
     if (parameters.empty()) c.Fail("parameters", "list at least one parameter to tune");
-    if (max_evaluations < starts) c.Fail("max_evaluations", "must be at least the number of starts");
+    if (max_evaluations < starts)
+      c.Fail("max_evaluations", "must be at least the number of starts");
   }
 };
 

@@ -14,7 +14,7 @@
 #include <set>
 #include <sstream>
 
-#include "sim/input_error.h"
+#include "common/common.h"
 
 namespace climbsim::sim {
 namespace {
@@ -319,7 +319,7 @@ void RunFolder::WriteMarker(const std::string& folder) const {
       {"note",
        "made by climbsim; climbsim replaces this folder whole only when given --force "
        "(docs/run-folders.md)"}};
-  WriteFileAtomic(folder + "/" + kRunMarker, marker.dump(2) + "\n");
+  common::WriteFileAtomic(folder + "/" + kRunMarker, marker.dump(2) + "\n");
 }
 
 void RunFolder::Commit() {
@@ -372,26 +372,6 @@ void CheckFileOutput(const std::string& path, const std::string& flag) {
       break;
     }
     if (a == a.root_path()) break;
-  }
-}
-
-void WriteFileAtomic(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << content;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("cannot write " + path);
-    }
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + path + ": " + why);
   }
 }
 

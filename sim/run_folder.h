@@ -22,7 +22,7 @@
 //
 // Live writing (optimise, which checkpoints while it runs and resumes after a kill): the
 // folder is made (or, with --force, replaced whole) at once with its marker, then written in
-// place file by file, each file atomically (WriteFileAtomic).
+// place file by file, each file atomically (common::WriteFileAtomic).
 //
 // Everything here throws climbsim::InputError (exit 2) for a refused path and
 // std::runtime_error for a failure of the file system after the checks (disk full).
@@ -99,10 +99,6 @@ class RunFolder {
 // data file of a run folder (the files its marker lists; in a folder without a marker that
 // holds summary.json, the names climbsim's verbs write). `flag` names the option in messages.
 void CheckFileOutput(const std::string& path, const std::string& flag);
-
-// Writes `content` to `path` atomically: a temporary file in the same folder, flushed, then
-// renamed over `path`, so a killed writer never leaves half a file.
-void WriteFileAtomic(const std::string& path, const std::string& content);
 
 }  // namespace climbsim::sim
 

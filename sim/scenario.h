@@ -30,9 +30,15 @@ struct WeakPatchParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"fraction", "", "sigma_T on a weak patch as a fraction of adhesion.sigma_t_pa (bonds model)", Range::OpenClosed(0, 1)}, &fraction);
-    a->Visit({"size_m", "m", "side of the square cells the surface is cut into", Range::Positive()}, &size_m);
-    a->Visit({"coverage", "", "share of the cells that are weak (which ones: drawn from seed)", Range::Closed(0, 1)}, &coverage);
+    a->Visit({"fraction", "",
+              "sigma_T on a weak patch as a fraction of adhesion.sigma_t_pa (bonds model)",
+              Range::OpenClosed(0, 1)},
+             &fraction);
+    a->Visit({"size_m", "m", "side of the square cells the surface is cut into", Range::Positive()},
+             &size_m);
+    a->Visit({"coverage", "", "share of the cells that are weak (which ones: drawn from seed)",
+              Range::Closed(0, 1)},
+             &coverage);
   }
 };
 
@@ -49,10 +55,14 @@ struct RoughnessParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"height_m", "m", "height of every bump above the surface", Range::OpenClosed(0, 0.1)}, &height_m);
+    a->Visit({"height_m", "m", "height of every bump above the surface", Range::OpenClosed(0, 0.1)},
+             &height_m);
     a->Visit({"spacing_m", "m", "pitch of the grid of bumps", Range::OpenClosed(0, 1)}, &spacing_m);
-    a->Visit({"size_m", "m", "side of a bump's square top (at most spacing_m)", Range::OpenClosed(0, 1)}, &size_m);
-    a->Visit({"extent_m", "m", "area covered: x_min, x_max, y_min, y_max on the plane z = 0"}, &extent_m, 4);
+    a->Visit(
+        {"size_m", "m", "side of a bump's square top (at most spacing_m)", Range::OpenClosed(0, 1)},
+        &size_m);
+    a->Visit({"extent_m", "m", "area covered: x_min, x_max, y_min, y_max on the plane z = 0"},
+             &extent_m, 4);
   }
 
   void Validate(const Checker& c) const {
@@ -62,7 +72,9 @@ struct RoughnessParams {
     }
     const double n = std::ceil((extent_m[1] - extent_m[0]) / spacing_m) *
                      std::ceil((extent_m[3] - extent_m[2]) / spacing_m);
-    if (n > 5000) c.Fail("spacing_m", "gives " + std::to_string(static_cast<long>(n)) + " bumps over extent_m; at most 5000");
+    if (n > 5000)
+      c.Fail("spacing_m", "gives " + std::to_string(static_cast<long>(n)) +
+                              " bumps over extent_m; at most 5000");
   }
 };
 
@@ -75,16 +87,33 @@ struct SceneParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"name", "", "floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet, wall_to_ceiling, wall_to_top, or a path to an MJCF scene file", {}, true}, &name);
-    a->Visit({"incline_deg", "deg", "slope of the incline scene, default 30 (0 floor, 90 wall, 180 ceiling); gravity is rotated, uphill is +x; incline scene only", Range::Closed(0, 180)}, &incline_deg);
-    a->Visit({"weak_patches", "", "weak patches of the surface where sigma_T is a fraction of the rest (floor, wall, ceiling, incline); absent: none"}, &weak_patches);
-    a->Visit({"roughness", "", "bumps on the surface (floor, wall, ceiling, incline); absent: a flat surface"}, &roughness);
+    a->Visit({"name",
+              "",
+              "floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet, wall_to_ceiling, "
+              "wall_to_top, or a path to an MJCF scene file",
+              {},
+              true},
+             &name);
+    a->Visit({"incline_deg", "deg",
+              "slope of the incline scene, default 30 (0 floor, 90 wall, 180 ceiling); gravity is "
+              "rotated, uphill is +x; incline scene only",
+              Range::Closed(0, 180)},
+             &incline_deg);
+    a->Visit({"weak_patches", "",
+              "weak patches of the surface where sigma_T is a fraction of the rest (floor, wall, "
+              "ceiling, incline); absent: none"},
+             &weak_patches);
+    a->Visit({"roughness", "",
+              "bumps on the surface (floor, wall, ceiling, incline); absent: a flat surface"},
+             &roughness);
   }
 
   void Validate(const Checker& c) const {
     const bool plane = name == "floor" || name == "wall" || name == "ceiling" || name == "incline";
-    if (weak_patches && !plane) c.Fail("weak_patches", "applies to the plane scenes only (floor, wall, ceiling, incline)");
-    if (roughness && !plane) c.Fail("roughness", "applies to the plane scenes only (floor, wall, ceiling, incline)");
+    if (weak_patches && !plane)
+      c.Fail("weak_patches", "applies to the plane scenes only (floor, wall, ceiling, incline)");
+    if (roughness && !plane)
+      c.Fail("roughness", "applies to the plane scenes only (floor, wall, ceiling, incline)");
   }
 };
 
@@ -102,13 +131,35 @@ struct PhysicsParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"timestep_s", "s", "physics time step; absent: the scene's (0.001 in every bundled scene)", Range::OpenClosed(0, 0.05)}, &timestep_s);
-    a->Choice({"integrator", "", "MuJoCo integrator; absent: the scene's (euler in every bundled scene: as accurate as implicit here and 1.5-2x faster)"}, &integrator, {"euler", "rk4", "implicit"});
-    a->Visit({"solver_iterations", "", "constraint solver iterations per step; absent: the scene's (100)", Range::Closed(1, 10000)}, &solver_iterations);
-    a->Visit({"solver_tolerance", "", "constraint solver tolerance; absent: the scene's (1e-8)", Range::Positive()}, &solver_tolerance);
-    a->Visit({"noslip_iterations", "", "MuJoCo no-slip solver iterations (stops friction creep on walls); absent: the scene's (0)", Range::Closed(0, 1000)}, &noslip_iterations);
-    a->Choice({"cone", "", "friction cone; absent: the scene's (elliptic with impratio 10 on walls, ceilings and slopes, where it stops the creep of soft friction; pyramidal on the floor)"}, &cone, {"pyramidal", "elliptic"});
-    a->Visit({"impratio", "", "ratio of frictional to normal constraint impedance (elliptic cones); absent: the scene's", Range::Closed(1, 1000)}, &impratio);
+    a->Visit(
+        {"timestep_s", "s", "physics time step; absent: the scene's (0.001 in every bundled scene)",
+         Range::OpenClosed(0, 0.05)},
+        &timestep_s);
+    a->Choice({"integrator", "",
+               "MuJoCo integrator; absent: the scene's (euler in every bundled scene: as accurate "
+               "as implicit here and 1.5-2x faster)"},
+              &integrator, {"euler", "rk4", "implicit"});
+    a->Visit({"solver_iterations", "",
+              "constraint solver iterations per step; absent: the scene's (100)",
+              Range::Closed(1, 10000)},
+             &solver_iterations);
+    a->Visit({"solver_tolerance", "", "constraint solver tolerance; absent: the scene's (1e-8)",
+              Range::Positive()},
+             &solver_tolerance);
+    a->Visit({"noslip_iterations", "",
+              "MuJoCo no-slip solver iterations (stops friction creep on walls); absent: the "
+              "scene's (0)",
+              Range::Closed(0, 1000)},
+             &noslip_iterations);
+    a->Choice({"cone", "",
+               "friction cone; absent: the scene's (elliptic with impratio 10 on walls, ceilings "
+               "and slopes, where it stops the creep of soft friction; pyramidal on the floor)"},
+              &cone, {"pyramidal", "elliptic"});
+    a->Visit(
+        {"impratio", "",
+         "ratio of frictional to normal constraint impedance (elliptic cones); absent: the scene's",
+         Range::Closed(1, 1000)},
+        &impratio);
   }
 };
 
@@ -119,7 +170,9 @@ struct InitialParams {
   template <class A>
   void Serialize(A* a) {
     a->Visit({"offset_m", "m", "added to the robot's spawn position (x, y, z)"}, &offset_m, 3);
-    a->Visit({"yaw_deg", "deg", "initial heading about the surface normal (+z)", Range::Closed(-180, 180)}, &yaw_deg);
+    a->Visit({"yaw_deg", "deg", "initial heading about the surface normal (+z)",
+              Range::Closed(-180, 180)},
+             &yaw_deg);
   }
 };
 
@@ -128,7 +181,9 @@ struct OutputParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"trajectory_rate_hz", "Hz", "rows per second in trajectory.csv; 0 records no trajectory", Range::NonNegative()}, &trajectory_rate_hz);
+    a->Visit({"trajectory_rate_hz", "Hz",
+              "rows per second in trajectory.csv; 0 records no trajectory", Range::NonNegative()},
+             &trajectory_rate_hz);
   }
 };
 
@@ -139,8 +194,16 @@ struct FallParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"drop_m", "m", "the robot has fallen when its base drops this far along gravity below the highest point it reached, or turns over", Range::Positive()}, &drop_m);
-    a->Visit({"turn_over_deg", "deg", "the robot has turned over when its base normal is more than this from the normal it started with (a floor-to-wall climb turns it by 90 deg on purpose)", Range::OpenClosed(0, 180)}, &turn_over_deg);
+    a->Visit({"drop_m", "m",
+              "the robot has fallen when its base drops this far along gravity below the highest "
+              "point it reached, or turns over",
+              Range::Positive()},
+             &drop_m);
+    a->Visit({"turn_over_deg", "deg",
+              "the robot has turned over when its base normal is more than this from the normal it "
+              "started with (a floor-to-wall climb turns it by 90 deg on purpose)",
+              Range::OpenClosed(0, 180)},
+             &turn_over_deg);
     a->Visit({"stop", "",
               "end the run at the fall (default); false simulates on to duration_s (distance_m "
               "stays the distance up to the fall)"},
@@ -170,20 +233,43 @@ struct Scenario {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"robot", "", "gecko, spider, or a path to an MJCF robot file (relative to the scenario file)", {}, true}, &robot);
+    a->Visit({"robot",
+              "",
+              "gecko, spider, or a path to an MJCF robot file (relative to the scenario file)",
+              {},
+              true},
+             &robot);
     a->Visit({"scene", "", "the scene: a name or a map with name and options", {}, true}, &scene);
     a->Visit({"duration_s", "s", "simulated time", Range::OpenClosed(0, 1e6), true}, &duration_s);
-    a->Visit({"seed", "", "seed of every random draw in the run", Range::Closed(0, 2147483647)}, &seed);
+    a->Visit({"seed", "", "seed of every random draw in the run", Range::Closed(0, 2147483647)},
+             &seed);
     a->Visit({"physics", "", "MuJoCo options"}, &physics);
     a->Visit({"initial", "", "initial pose"}, &initial);
-    a->Visit({"payload_kg", "kg", "extra mass carried rigidly by the base body, spread like the base's own mass (same centre of mass and radii of gyration)", Range::Closed(0, 1000)}, &payload_kg);
-    a->Visit({"adhesion", "", "effect: dry-adhesive pads (welds and bond grids, or MuJoCo's adhesion actuator); absent: pads are ordinary contacts"}, &adhesion);
-    a->Visit({"reflex", "", "effect: leg reflexes (preload, search, peel, re-grip, load, stretch) on top of the CPG; needs cpg"}, &reflex);
-    a->Visit({"cpg", "", "effect: the central pattern generator driving the leg servos; absent: servos hold the neutral pose"}, &cpg);
-    a->Visit({"perturbations", "", "effect: pushes on the robot (a list); empty: none"}, &perturbations);
+    a->Visit({"payload_kg", "kg",
+              "extra mass carried rigidly by the base body, spread like the base's own mass (same "
+              "centre of mass and radii of gyration)",
+              Range::Closed(0, 1000)},
+             &payload_kg);
+    a->Visit({"adhesion", "",
+              "effect: dry-adhesive pads (welds and bond grids, or MuJoCo's adhesion actuator); "
+              "absent: pads are ordinary contacts"},
+             &adhesion);
+    a->Visit({"reflex", "",
+              "effect: leg reflexes (preload, search, peel, re-grip, load, stretch) on top of the "
+              "CPG; needs cpg"},
+             &reflex);
+    a->Visit({"cpg", "",
+              "effect: the central pattern generator driving the leg servos; absent: servos hold "
+              "the neutral pose"},
+             &cpg);
+    a->Visit({"perturbations", "", "effect: pushes on the robot (a list); empty: none"},
+             &perturbations);
     a->Visit({"outputs", "", "what is recorded"}, &outputs);
     a->Visit({"fall", "", "fall detection"}, &fall);
-    a->Visit({"optimise", "", "what `climbsim optimise` tunes and how (docs/optimise.md); simulate ignores it but reports the objective"}, &optimise);
+    a->Visit({"optimise", "",
+              "what `climbsim optimise` tunes and how (docs/optimise.md); simulate ignores it but "
+              "reports the objective"},
+             &optimise);
   }
 };
 

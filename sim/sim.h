@@ -11,7 +11,7 @@
 
 #include "sim/bench_speed.h"
 #include "sim/controller.h"
-#include "sim/input_error.h"
+#include "common/common.h"
 #include "sim/run_folder.h"
 #include "sim/scenario.h"
 #include "sim/simulation.h"

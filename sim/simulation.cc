@@ -299,7 +299,8 @@ bool Simulation::Monitor() {
   // Mechanical work of the actuators (positive and negative alike cost a servo energy).
   const mjModel* m = world_.model();
   double power_w = 0.0;
-  for (int i = 0; i < m->nu; ++i) power_w += std::abs(d->actuator_force[i] * d->actuator_velocity[i]);
+  for (int i = 0; i < m->nu; ++i)
+    power_w += std::abs(d->actuator_force[i] * d->actuator_velocity[i]);
   result_.actuator_work_j += power_w * m->opt.timestep;
 
   const RobotInfo& r = world_.robot();
@@ -410,15 +411,15 @@ std::vector<std::string> ScenarioInputs(const Scenario& s) {
 }
 
 void WriteRunFiles(const std::string& dir, const Simulation& sim, const nlohmann::json& extra) {
-  WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
-  WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
+  common::WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
+  common::WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
   const std::string traj = sim.TrajectoryCsv();
-  if (!traj.empty()) WriteFileAtomic(dir + "/trajectory.csv", traj);
-  WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());
+  if (!traj.empty()) common::WriteFileAtomic(dir + "/trajectory.csv", traj);
+  common::WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());
   // The summary last: its presence says the run directory is complete.
   nlohmann::json summary = sim.Summary();
   summary.update(extra);
-  WriteFileAtomic(dir + "/summary.json", summary.dump(2) + "\n");
+  common::WriteFileAtomic(dir + "/summary.json", summary.dump(2) + "\n");
 }
 
 void WriteRunDirectory(const std::string& dir, const Simulation& sim, const nlohmann::json& extra,

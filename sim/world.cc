@@ -238,11 +238,6 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
   return xml;
 }
 
-mjModel* CompileMjcf(const std::string& xml, std::string* error) {
-  // One loader for the whole program: adhesion's, which serialises every load.
-  return adhesion::CompileMjcfString(xml, error);
-}
-
 std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
                                                     const MjcfAdditions& additions) {
   std::unique_ptr<CompiledModel> c(new CompiledModel());
@@ -253,7 +248,7 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
   } catch (const std::exception& e) {
     throw ScenarioError(s, "robot", e.what());
   }
-  c->model_ = CompileMjcf(c->xml_, &error);
+  c->model_ = common::CompileMjcfString(c->xml_, &error);
   if (c->model_ == nullptr) {
     throw ScenarioError(s, "robot", "MuJoCo cannot load the model: " + error);
   }
@@ -262,7 +257,8 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
   // The scene's own gravity and travel direction; the scenario's options apply per World.
   c->scene_.gravity = Eigen::Vector3d(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
   double v[3];
-  if (CustomNumeric(m, "climbsim_travel", 3, v)) c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (CustomNumeric(m, "climbsim_travel", 3, v))
+    c->scene_.travel = Eigen::Vector3d(v[0], v[1], v[2]);
   if (CustomNumeric(m, "climbsim_spawn", 3, v)) {
     for (int i = 0; i < 3; ++i) c->spawn_offset_[i] = v[i];
   }
@@ -392,8 +388,9 @@ std::string World::Xml() const {
   const char* integrator = m->opt.integrator == mjINT_EULER ? "Euler"
                            : m->opt.integrator == mjINT_RK4 ? "RK4"
                                                             : "implicit";
-  std::string run = "  <!-- climbsim: this run's values (the scenario's physics options win over the files';\n"
-                    "       key climbsim_start is the state the run started from) -->\n";
+  std::string run =
+      "  <!-- climbsim: this run's values (the scenario's physics options win over the files';\n"
+      "       key climbsim_start is the state the run started from) -->\n";
   run += "  <option timestep=\"" + numbers(&m->opt.timestep, 1) + "\" gravity=\"" +
          numbers(m->opt.gravity, 3) + "\" integrator=\"" + integrator + "\" iterations=\"" +
          std::to_string(m->opt.iterations) + "\" tolerance=\"" + numbers(&m->opt.tolerance, 1) +

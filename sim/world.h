@@ -135,14 +135,9 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
 // `xml` with every <include file="..."/> replaced by the included file's root children (its
 // own includes expanded in turn; relative names resolve against base_dir, or against the
 // including file's folder inside an included file), each between "climbsim: begin of NAME"
-// and "end of NAME" comments (the file name only). Throws std::runtime_error when a file cannot be read. Asset files
-// (meshes, textures from files) are not copied: the bundled models use none.
+// and "end of NAME" comments (the file name only). Throws std::runtime_error when a file cannot be
+// read. Asset files (meshes, textures from files) are not copied: the bundled models use none.
 std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth = 0);
-
-// Compiles MJCF text through MuJoCo's VFS (no temporary files), with
-// adhesion::CompileMjcfString: the one loader of the program, serialised because MuJoCo's XML
-// loader keeps process-wide state. Returns nullptr and fills error on failure.
-mjModel* CompileMjcf(const std::string& xml, std::string* error);
 
 }  // namespace climbsim::sim
 

@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sim/input_error.h"
+#include "common/common.h"
 
 namespace climbsim::sim {
 

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <exception>
 
-#include "sim/input_error.h"
+#include "common/common.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 

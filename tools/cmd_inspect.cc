@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "inspect/inspect.h"
-#include "sim/input_error.h"
+#include "common/common.h"
 #include "sim/run_folder.h"
 #include "tools/commands.h"
 #include "tools/progress.h"

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "optimise/optimise.h"
-#include "sim/input_error.h"
+#include "common/common.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 

@@ -7,11 +7,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "adhesion/adhesion.h"
-#include "sim/gnuplot.h"
+#include "common/common.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 
@@ -20,24 +21,16 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
+// The options: the rig's and the sweep's own parameters (their defaults are the library's),
+// and what only the command has.
 struct PulloffOptions {
   std::string out_dir;
   std::string model = "both";
-  double width_m = 0.025;
-  double length_m = 0.0;  // 0: = width
-  int grid = 0;           // > 0 sets both sides
-  int grid_x = 16, grid_y = 16;
-  double sigma_t_pa = 10e3;
-  double mu = 0.0;
-  int min_bonds = 1;
-  double arm_m = 0.0;
-  double azimuth_deg = 0.0;
-  double from_deg = 0.0, to_deg = 180.0, step_deg = 5.0;
-  double ramp_time_s = 2.0;
-  double timestep_s = 0.001;
-  double gain_n = 0.0;
-  double friction = 1.0;
-  double max_force_factor = 8.0;
+  adhesion::PulloffRigParams rig;
+  adhesion::SweepRange range;
+  std::optional<double> length_m;  // default: the width
+  int grid = 0;                    // > 0 sets both sides
+  double azimuth_deg = 0.0;        // rig.azimuth_rad in degrees
   bool quiet = false;
   bool force = false;
 };
@@ -57,14 +50,6 @@ std::string Num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.6g", v);
   return buf;
-}
-
-// Pull-off / (σ_T·A) of a central pull on a fine grid (pulloff.h's closed forms).
-double ClosedFormRatio(double theta, double mu) {
-  const double c = std::cos(theta), s = std::sin(theta);
-  if (c >= 0) return 1.0 / std::sqrt(c * c + 6.75 * s * s);
-  const double den = 1.5 * std::sqrt(3.0) * s - mu * std::abs(c);
-  return den > 0 ? 1.0 / den : std::numeric_limits<double>::infinity();
 }
 
 std::string Csv(const std::vector<Row>& rows, bool bonds, bool mujoco, double capacity_n) {
@@ -87,21 +72,22 @@ std::string Csv(const std::vector<Row>& rows, bool bonds, bool mujoco, double ca
 // The gnuplot script; `data` and `output` are gnuplot string literals.
 std::string Script(const PulloffOptions& o, const std::string& data, const std::string& output,
                    bool bonds, bool mujoco, double capacity_n, double y_max) {
+  const adhesion::PadParams& pad = o.rig.pad;
   char title[256];
   std::snprintf(title, sizeof(title),
                 "Pull-off of a weightless block: %g x %g mm pad, %d x %d bonds, sigma_T %g kPa, "
                 "mu %g, lever %g mm",
-                o.width_m * 1e3, o.length_m * 1e3, o.grid_x, o.grid_y, o.sigma_t_pa * 1e-3, o.mu,
-                o.arm_m * 1e3);
+                pad.width_m * 1e3, pad.length_m * 1e3, pad.grid_x, pad.grid_y,
+                pad.sigma_t_pa * 1e-3, pad.mu, o.rig.arm_m * 1e3);
   std::ostringstream s;
   s << "set terminal pngcairo size 900,600 font \",11\"\n"
     << "set output " << output << "\n"
     << "set datafile separator \",\"\n"
-    << "set title " << sim::GnuplotQuote(title) << "\n"
+    << "set title " << common::GnuplotQuote(title) << "\n"
     << "set xlabel \"pull angle from the surface normal (deg): 0 pulls off, 90 shears, "
        "180 pushes\"\n"
     << "set ylabel \"pull-off force / (sigma_T A)\"\n"
-    << "set xrange [" << o.from_deg << ":" << o.to_deg << "]\n"
+    << "set xrange [" << o.range.from_deg << ":" << o.range.to_deg << "]\n"
     << "set yrange [0:" << y_max << "]\n"
     << "set xtics 15\nset grid\nset key top left\n"
     << "cap = " << capacity_n << "\n"
@@ -115,7 +101,7 @@ std::string Script(const PulloffOptions& o, const std::string& data, const std::
   curves.push_back(data +
                    " using 1:($7/cap) skip 1 with lines dt 2 lw 2 lc rgb \"#e67e22\" "
                    "title \"bond model, quasi-static (pulloff.h)\"");
-  if (o.arm_m == 0.0) {
+  if (o.rig.arm_m == 0.0) {
     curves.push_back(data +
                      " using 1:($8/cap) skip 1 with lines dt 3 lw 1.5 lc rgb \"#555555\" "
                      "title \"closed form (fine grid)\"");
@@ -138,29 +124,18 @@ void Check(bool ok, const std::string& option, const std::string& message) {
 }
 
 void Run(PulloffOptions o) {
-  if (o.length_m == 0.0) o.length_m = o.width_m;
-  if (o.grid > 0) o.grid_x = o.grid_y = o.grid;
-  Check(o.from_deg <= o.to_deg, "--from-deg", "must be <= --to-deg");
-  Check(o.min_bonds <= o.grid_x * o.grid_y, "--min-bonds", "must be <= grid_x * grid_y");
-  const bool bonds = o.model != "mujoco", mujoco = o.model != "bonds";
-
-  adhesion::PulloffRigParams p;
-  p.pad = {.width_m = o.width_m,
-           .length_m = o.length_m,
-           .grid_x = o.grid_x,
-           .grid_y = o.grid_y,
-           .sigma_t_pa = o.sigma_t_pa,
-           .mu = o.mu,
-           .min_bonds = o.min_bonds};
-  p.arm_m = o.arm_m;
+  adhesion::PulloffRigParams& p = o.rig;
+  p.pad.length_m = o.length_m.value_or(p.pad.width_m);
+  if (o.grid > 0) p.pad.grid_x = p.pad.grid_y = o.grid;
   p.azimuth_rad = o.azimuth_deg * kDeg;
-  p.ramp_time_s = o.ramp_time_s;
-  p.timestep_s = o.timestep_s;
-  p.gain_n = o.gain_n;
-  p.friction = o.friction;
-  p.max_force_factor = o.max_force_factor;
+  Check(o.range.from_deg <= o.range.to_deg, "--from-deg", "must be <= --to-deg");
+  Check(p.pad.min_bonds <= p.pad.grid_x * p.pad.grid_y, "--min-bonds",
+        "must be <= grid_x * grid_y");
+  const bool bonds = o.model != "mujoco", mujoco = o.model != "bonds";
+  std::vector<double> angles_deg;
   try {
     adhesion::ValidatePulloffRigParams(p);
+    angles_deg = adhesion::SweepAnglesDeg(o.range);
   } catch (const std::invalid_argument& e) {
     throw CLI::ValidationError("pulloff", e.what());
   }
@@ -169,14 +144,8 @@ void Run(PulloffOptions o) {
   sim::RunFolder folder(o.out_dir, {.made_by = "pulloff", .force = o.force});
   const std::string dir = folder.path();
 
-  // The angles: from, from + step, ... up to to (within step/1000).
-  std::vector<Row> rows;
-  for (int k = 0;; ++k) {
-    const double a = o.from_deg + k * o.step_deg;
-    if (a > o.to_deg + 1e-3 * o.step_deg) break;
-    rows.push_back({});
-    rows.back().angle_deg = std::min(a, o.to_deg);
-  }
+  std::vector<Row> rows(angles_deg.size());
+  for (size_t k = 0; k < rows.size(); ++k) rows[k].angle_deg = angles_deg[k];
 
   // Both rigs are compiled here (MuJoCo's loader is not thread-safe), then each model sweeps
   // on its own thread.
@@ -185,8 +154,8 @@ void Run(PulloffOptions o) {
   if (mujoco) {
     mujoco_rig = std::make_unique<adhesion::PulloffRig>(adhesion::AdhesionModel::kMujoco, p);
   }
-  const double capacity = o.sigma_t_pa * o.width_m * o.length_m;
-  const double gain = o.gain_n > 0 ? o.gain_n : capacity;
+  const double capacity = p.pad.sigma_t_pa * p.pad.width_m * p.pad.length_m;
+  const double gain = p.gain_n > 0 ? p.gain_n : capacity;
   const auto started = std::chrono::steady_clock::now();
   std::thread mujoco_thread([&] {
     if (!mujoco_rig) return;
@@ -195,14 +164,16 @@ void Run(PulloffOptions o) {
   for (Row& r : rows) {
     const double theta = r.angle_deg * kDeg;
     if (bond_rig) r.bonds = bond_rig->Run(theta);
-    adhesion::PullSetup setup{.angle_rad = theta, .azimuth_rad = p.azimuth_rad, .arm_m = o.arm_m};
+    adhesion::PullSetup setup{.angle_rad = theta, .azimuth_rad = p.azimuth_rad, .arm_m = p.arm_m};
     adhesion::PulloffOptions qs;
-    qs.max_force_factor = o.max_force_factor;
+    qs.max_force_factor = p.max_force_factor;
     const adhesion::PulloffResult q = adhesion::PullOff(p.pad, setup, qs);
     r.quasi_static_n = q.force_n;
-    if (o.arm_m == 0.0) r.closed_form_n = capacity * ClosedFormRatio(theta, o.mu);
+    if (p.arm_m == 0.0) {
+      r.closed_form_n = capacity * adhesion::CentralPulloffPerCapacity(theta, p.pad.mu);
+    }
     r.mujoco_closed_n =
-        adhesion::MujocoPulloffClosedForm(gain, o.friction, o.width_m, o.arm_m, theta);
+        adhesion::MujocoPulloffClosedForm(gain, p.friction, p.pad.width_m, p.arm_m, theta);
   }
   mujoco_thread.join();
   const double wall_s =
@@ -211,7 +182,7 @@ void Run(PulloffOptions o) {
   // Files: the CSV and the script first, then the plot.
   const std::string csv_path = dir + "/pulloff.csv";
   const std::string png_path = dir + "/pulloff.png";
-  sim::WriteFileAtomic(csv_path, Csv(rows, bonds, mujoco, capacity));
+  common::WriteFileAtomic(csv_path, Csv(rows, bonds, mujoco, capacity));
   double y_max = 0.0;
   for (const Row& r : rows) {
     for (double f :
@@ -220,11 +191,12 @@ void Run(PulloffOptions o) {
     }
   }
   y_max = std::min(3.0, std::ceil(1.1 * y_max * 4.0) / 4.0);
-  sim::WriteFileAtomic(dir + "/pulloff.gp", "# cd into this folder and run: gnuplot pulloff.gp\n" +
-                                                Script(o, "\"pulloff.csv\"", "\"pulloff.png\"",
-                                                       bonds, mujoco, capacity, y_max));
-  const std::string error = sim::RunGnuplot(
-      Script(o, sim::GnuplotQuote(csv_path), "OUTPUT(0)", bonds, mujoco, capacity, y_max),
+  common::WriteFileAtomic(
+      dir + "/pulloff.gp",
+      "# cd into this folder and run: gnuplot pulloff.gp\n" +
+          Script(o, "\"pulloff.csv\"", "\"pulloff.png\"", bonds, mujoco, capacity, y_max));
+  const std::string error = common::RunGnuplot(
+      Script(o, common::GnuplotQuote(csv_path), "OUTPUT(0)", bonds, mujoco, capacity, y_max),
       {png_path});
   folder.Commit();
 
@@ -267,58 +239,58 @@ void AddPulloffCommand(CLI::App& app) {
   cmd->add_option("--model", o.model, "which model to run: both, bonds or mujoco")
       ->check(CLI::IsMember({"both", "bonds", "mujoco"}))
       ->capture_default_str();
-  cmd->add_option("--width-m", o.width_m, "pad width b (m), along x")
+  cmd->add_option("--width-m", o.rig.pad.width_m, "pad width b (m), along x")
       ->check(CLI::Range(1e-4, 1.0))
       ->capture_default_str();
   cmd->add_option("--length-m", o.length_m, "pad length h (m), along y; default: the width")
       ->check(CLI::Range(1e-4, 1.0));
   cmd->add_option("--grid", o.grid, "bonds per side (sets --grid-x and --grid-y)")
       ->check(CLI::Range(1, 1024));
-  cmd->add_option("--grid-x", o.grid_x, "bonds across the width")
+  cmd->add_option("--grid-x", o.rig.pad.grid_x, "bonds across the width")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
-  cmd->add_option("--grid-y", o.grid_y, "bonds along the length")
+  cmd->add_option("--grid-y", o.rig.pad.grid_y, "bonds along the length")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
-  cmd->add_option("--sigma-t-pa", o.sigma_t_pa, "rupture threshold sigma_T (Pa)")
+  cmd->add_option("--sigma-t-pa", o.rig.pad.sigma_t_pa, "rupture threshold sigma_T (Pa)")
       ->check(CLI::Range(1e-3, 1e12))
       ->capture_default_str();
-  cmd->add_option("--mu", o.mu, "gain of compression on the shear threshold (>= 0)")
+  cmd->add_option("--mu", o.rig.pad.mu, "gain of compression on the shear threshold (>= 0)")
       ->check(CLI::Range(0.0, 1e3))
       ->capture_default_str();
-  cmd->add_option("--min-bonds", o.min_bonds, "the pad detaches below this many bonds")
+  cmd->add_option("--min-bonds", o.rig.pad.min_bonds, "the pad detaches below this many bonds")
       ->check(CLI::Range(1, 1 << 20))
       ->capture_default_str();
-  cmd->add_option("--arm-m", o.arm_m, "lever: height of the pull point above the pad face (m)")
+  cmd->add_option("--arm-m", o.rig.arm_m, "lever: height of the pull point above the pad face (m)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--azimuth-deg", o.azimuth_deg,
                   "direction of the pull's in-plane part, from +x towards +y (deg)")
       ->check(CLI::Range(-360.0, 360.0))
       ->capture_default_str();
-  cmd->add_option("--from-deg", o.from_deg, "first pull angle (deg from the surface normal)")
+  cmd->add_option("--from-deg", o.range.from_deg, "first pull angle (deg from the surface normal)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
-  cmd->add_option("--to-deg", o.to_deg, "last pull angle (deg)")
+  cmd->add_option("--to-deg", o.range.to_deg, "last pull angle (deg)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
-  cmd->add_option("--step-deg", o.step_deg, "angle step (deg)")
+  cmd->add_option("--step-deg", o.range.step_deg, "angle step (deg)")
       ->check(CLI::Range(0.01, 180.0))
       ->capture_default_str();
-  cmd->add_option("--ramp-time-s", o.ramp_time_s,
+  cmd->add_option("--ramp-time-s", o.rig.ramp_time_s,
                   "time for the pull to rise to sigma_T*A (s): slower is more quasi-static")
       ->check(CLI::Range(1e-3, 1e3))
       ->capture_default_str();
-  cmd->add_option("--timestep-s", o.timestep_s, "MuJoCo time step (s)")
+  cmd->add_option("--timestep-s", o.rig.timestep_s, "MuJoCo time step (s)")
       ->check(CLI::Range(1e-5, 0.01))
       ->capture_default_str();
-  cmd->add_option("--gain-n", o.gain_n,
+  cmd->add_option("--gain-n", o.rig.gain_n,
                   "MuJoCo adhesion-actuator gain (N); default sigma_T times the pad area")
       ->check(CLI::Range(0.0, 1e9));
-  cmd->add_option("--friction", o.friction, "pad friction for the actuator model")
+  cmd->add_option("--friction", o.rig.friction, "pad friction for the actuator model")
       ->check(CLI::Range(1e-3, 10.0))
       ->capture_default_str();
-  cmd->add_option("--max-force-factor", o.max_force_factor,
+  cmd->add_option("--max-force-factor", o.rig.max_force_factor,
                   "stop pulling at this many sigma_T*A: the block never lets go (written inf)")
       ->check(CLI::Range(1.01, 1e3))
       ->capture_default_str();

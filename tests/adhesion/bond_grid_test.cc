@@ -117,8 +117,9 @@ TEST(PadStress, CentralPullIsExactlyUniform) {
 // b·h³/12·(1 − 1/N_y²) and h·b³/12·(1 − 1/N_x²) (closed_forms.h): σ matches the beam formula
 // with those exactly, and the continuous b·h³/12 form within the factor 1/(1 − 1/N²).
 TEST(PadStress, FullPadMatchesBeamFormulaWithGridSecondMoments) {
-  for (const auto& [b, h, nx, ny] : {std::tuple{0.02, 0.02, 16, 16}, std::tuple{0.06, 0.02, 24, 8},
-                                     std::tuple{0.01, 0.03, 5, 15}, std::tuple{0.02, 0.02, 64, 64}}) {
+  for (const auto& [b, h, nx, ny] :
+       {std::tuple{0.02, 0.02, 16, 16}, std::tuple{0.06, 0.02, 24, 8},
+        std::tuple{0.01, 0.03, 5, 15}, std::tuple{0.02, 0.02, 64, 64}}) {
     BondGrid g(Pad(b, h, nx, ny));
     g.BondAll();
     PadLoad load{.fn_n = 0.7, .fx_n = 0.2, .fy_n = -0.3, .mx_nm = 0.004, .my_nm = -0.003};
@@ -131,7 +132,8 @@ TEST(PadStress, FullPadMatchesBeamFormulaWithGridSecondMoments) {
     double worst_continuum = 0.0;
     for (int i = 0; i < g.size(); ++i) {
       const double x = g.bond_x_m(i), y = g.bond_y_m(i);
-      const double exact = load.fn_n / (b * h) + load.mx_nm * y / i_x_grid - load.my_nm * x / i_y_grid;
+      const double exact =
+          load.fn_n / (b * h) + load.mx_nm * y / i_x_grid - load.my_nm * x / i_y_grid;
       EXPECT_NEAR(g.stress(i).sigma_pa, exact, 1e-12 * scale);
       const double continuum = load.fn_n / (b * h) + load.mx_nm * y / (b * h * h * h / 12) -
                                load.my_nm * x / (h * b * b * b / 12);
@@ -377,8 +379,9 @@ TEST(PadCascade, FirstRowsBreakingAtThresholdTakeTheWholePad) {
   }
   // The log is in order of rounds.
   const auto log = g.last_broken();
-  EXPECT_TRUE(std::is_sorted(log.begin(), log.end(),
-                             [](const BrokenBond& a, const BrokenBond& b) { return a.round < b.round; }));
+  EXPECT_TRUE(std::is_sorted(log.begin(), log.end(), [](const BrokenBond& a, const BrokenBond& b) {
+    return a.round < b.round;
+  }));
 }
 
 TEST(PadCascade, LoadExactlyAtThresholdIsDeterministic) {
@@ -523,7 +526,8 @@ TEST(PadDegenerate, SingleBondAndSingleColumn) {
   const double da = g.cell_area_m2(), sigma_t = g.params().sigma_t_pa;
   g.SetBonded(g.index(2, 5), true);
   // One bond: σ = F/dA, τ = F/dA (the shear weights cancel), whatever its place.
-  const StressSummary s = g.Evaluate(PadLoad{.fn_n = 0.1 * sigma_t * da, .fx_n = 0.2 * sigma_t * da});
+  const StressSummary s =
+      g.Evaluate(PadLoad{.fn_n = 0.1 * sigma_t * da, .fx_n = 0.2 * sigma_t * da});
   EXPECT_NEAR(g.stress(g.index(2, 5)).sigma_pa, 0.1 * sigma_t, 1e-12 * sigma_t);
   EXPECT_NEAR(g.stress(g.index(2, 5)).tau_x_pa, 0.2 * sigma_t, 1e-12 * sigma_t);
   // But its off-centre place gives the central pull a moment about it: a hinge (a point).
@@ -560,7 +564,7 @@ TEST(PadDegenerate, DiagonalLineIsAHingeAboutItself) {
   EXPECT_LT(g.stress(g.index(0, 0)).sigma_pa, 0.0);
 }
 
-// An L-shaped set has I_xy ≠ 0: a pure M_x then needs a gradient along x as well (DESIGN.md's
+// An L-shaped set has I_xy ≠ 0: a pure M_x then needs a gradient along x as well (docs/design.md's
 // uncoupled formula would leave −Σσx·dA ≠ 0, a moment M_y nobody applied).
 TEST(PadStress, AsymmetricSetCouplesTheMoments) {
   BondGrid g(Pad(0.02, 0.02, 8, 8));

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "adhesion/adhesion.h"
+#include "common/common.h"
 
 namespace climbsim::adhesion::testing {
 
@@ -72,7 +73,7 @@ class BlockRig {
     x << "</mujoco>\n";
     xml_ = x.str();
     std::string error;
-    m_ = CompileMjcfString(xml_, &error);
+    m_ = common::CompileMjcfString(xml_, &error);
     if (m_ == nullptr) throw std::runtime_error(error + "\n" + xml_);
     d_ = mj_makeData(m_);
     AdhesionSystemParams sys;

@@ -43,7 +43,8 @@ TEST(PulloffRig, CentralPullStraightOffIsSigmaTTimesArea) {
     const double capacity = 10e3 * w * h;
     EXPECT_NEAR(r.force_n, capacity, 0.01 * capacity) << w << " x " << h << ", grid " << grid;
     EXPECT_GE(r.force_n, capacity * (1 - 1e-12)) << "it must not let go below sigma_T*A";
-    EXPECT_STREQ(r.cause, kCauseOverload) << "a uniform load breaks every bond in one step";
+    EXPECT_STREQ(r.cause, PadCauseName(PadCause::kOverload))
+        << "a uniform load breaks every bond in one step";
     EXPECT_EQ(r.steps_losing_bonds, 1);
   }
 }
@@ -148,7 +149,7 @@ TEST(PulloffRig, LeverArmLowersThePulloffAndPeelsFromTheTrailingEdge) {
                 r.force_n / capacity, q.force_n / capacity);
     if (arms[k] != 0.005) continue;
 
-    EXPECT_STREQ(r.cause, kCausePeel);
+    EXPECT_STREQ(r.cause, PadCauseName(PadCause::kPeel));
     ASSERT_GE(r.steps_losing_bonds, 2);
     // Events: touchdown and attach at the start, then bonds_lost in each losing step, the last
     // in the step of the detach.
@@ -162,7 +163,7 @@ TEST(PulloffRig, LeverArmLowersThePulloffAndPeelsFromTheTrailingEdge) {
       }
     }
     EXPECT_EQ(log.events.back().kind, PadEventKind::kDetach);
-    EXPECT_STREQ(log.events.back().cause, kCausePeel);
+    EXPECT_EQ(log.events.back().cause, PadCause::kPeel);
     EXPECT_GT(log.events[2].bonded_fraction, 0.0) << "the first crack arrests";
 
     // The first bond to break is on the trailing edge (column 0, x = −b/2 + b/64), and the

@@ -259,7 +259,7 @@ TEST(AdhesionSim, WeldSwitchedOnUnderARobotDoesNotMoveThePad) {
   auto& pad = const_cast<adhesion::StickyPad&>(a->pad(0));
   bool current = false;
   ASSERT_TRUE(pad.ForceAttach(m, d, d->time, mj_name2id(m, mjOBJ_GEOM, "floor"), 1.0,
-                              adhesion::kCauseForced, &current, nullptr));
+                              adhesion::PadCause::kForced, &current, nullptr));
   const adhesion::PadFrame before = adhesion::FaceFrame(d, pad.geometry());
   double worst_m = 0, worst_rad = 0;
   for (int i = 0; i < 100; ++i) {

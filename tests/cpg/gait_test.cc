@@ -1,4 +1,4 @@
-// Gait presets (CONTROL.md's table) and the phase network running them.
+// Gait presets (docs/control.md's table) and the phase network running them.
 #include <gtest/gtest.h>
 
 #include <algorithm>

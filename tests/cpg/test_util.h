@@ -82,7 +82,7 @@ inline Eigen::VectorXd RandomAmplitudes(std::mt19937& rng, int n, double lo, dou
 // Two phase oscillators, w_12 = w_21 = w, φ_12 = φ = −φ_21, both amplitudes starting at r0 and
 // relaxing to R at rate a: ψ = θ_2 − θ_1 obeys dψ/dt = −2w·r(t)·sin(ψ − φ), so
 //   tan((ψ − φ)/2) = tan((ψ0 − φ)/2)·exp(−2w·∫₀ᵗ r),  ∫₀ᵗ r = R·t + (r0 − R)(1 − e^{−at})/a.
-// (r constant: the e^{−2wrt} form of CONTROL.md.)
+// (r constant: the e^{−2wrt} form of docs/control.md.)
 inline double ClosedFormPhaseDifference(double psi0_rad, double phi_rad, double w_per_s, double r0,
                                         double big_r, double a_per_s, double t_s) {
   const double integral_r =

@@ -27,8 +27,7 @@ using climbsim::testing::WeldPositionResidualM;
 using testing::BlockRig;
 using testing::BlockSpec;
 
-// Counts events without allocating. Causes are compared as text: the kCause* pointers are
-// equal only within one translation unit (ASan keeps each unit's copy of a string literal).
+// Counts events without allocating.
 class CountingSink final : public PadEventSink {
  public:
   void OnPadEvent(int, const PadEvent& e) override {
@@ -37,8 +36,8 @@ class CountingSink final : public PadEventSink {
     if (e.kind == PadEventKind::kAttachRejected) last_rejection = e.cause;
   }
   long count[5] = {};
-  const char* last_detach_cause = "";
-  const char* last_rejection = "";
+  PadCause last_detach_cause = PadCause::kNone;
+  PadCause last_rejection = PadCause::kNone;
 };
 
 // The weld's residual from its eq_data and the current poses (docs/mujoco.md):
@@ -131,10 +130,10 @@ class Cycler {
       d->xfrc_applied[6 * body_ + 2] = 2.0 * capacity_n_;
       Step(&st, &attached_now);
       d->xfrc_applied[6 * body_ + 2] = 0.0;
-      st.ok = !rig_.pad().attached() && std::strcmp(sink_.last_detach_cause, kCauseOverload) == 0;
+      st.ok = !rig_.pad().attached() && sink_.last_detach_cause == PadCause::kOverload;
     } else {
       rig_.system().Release(0, m, d, &sink_);
-      st.ok = !rig_.pad().attached() && std::strcmp(sink_.last_detach_cause, kCauseReleased) == 0;
+      st.ok = !rig_.pad().attached() && sink_.last_detach_cause == PadCause::kReleased;
     }
     // The soft weld lets the pulled block rise a little in the step it breaks (it leaves at
     // 0.025 m/s and would hop, land and attach on its own): the puller holds it still.

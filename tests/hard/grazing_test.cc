@@ -101,7 +101,7 @@ TEST(HardGrazingTouch, EdgeOnAndGrazingPadsHeldAtTheirTiltNeverAttach) {
       << "\" priority=\"1\" friction=\"1 0.005 0.0001\" solref=\"0.015 1\"/></body>"
       << "</worldbody><equality>" << add.equality << "</equality></mujoco>";
     std::string error;
-    mjModel* m = CompileMjcfString(x.str(), &error);
+    mjModel* m = common::CompileMjcfString(x.str(), &error);
     ASSERT_NE(m, nullptr) << error;
     mjData* d = mj_makeData(m);
     AdhesionSystemParams sys;
@@ -135,7 +135,7 @@ TEST(HardGrazingTouch, EdgeOnAndGrazingPadsHeldAtTheirTiltNeverAttach) {
     ASSERT_EQ(p.counts().attach_rejected, 1);
     const PadEvent* e = events.First(PadEventKind::kAttachRejected);
     ASSERT_NE(e, nullptr);
-    EXPECT_STREQ(e->cause, kCauseApproachAngle);
+    EXPECT_EQ(e->cause, PadCause::kApproachAngle);
     EXPECT_NEAR(e->cause_value, tilt_deg, 1e-6) << "held at its tilt: the angle is exact";
     EXPECT_EQ(e->time_s, events.First(PadEventKind::kTouchdown)->time_s) << "at touchdown";
     // Landing speed sqrt(2·g·0.2 mm) = 0.063 m/s is the most it can have; 1e-6 J is 0.1 % of
@@ -179,7 +179,7 @@ TEST(HardGrazingTouch, FreeBlockLandingOnAnEdgeIsRejectedThenTipsOverFinitely) {
     ASSERT_GE(rig.events().events.size(), 2u);
     EXPECT_EQ(rig.events().events[0].kind, PadEventKind::kTouchdown);
     EXPECT_EQ(rig.events().events[1].kind, PadEventKind::kAttachRejected);
-    EXPECT_STREQ(rig.events().events[1].cause, kCauseApproachAngle);
+    EXPECT_EQ(rig.events().events[1].cause, PadCause::kApproachAngle);
     EXPECT_NEAR(rig.events().events[1].cause_value, tilt_deg, 1.0)
         << "one step of rotation after the contact appeared";
     // Nothing injects energy: 1e-6 J is 0.2 % of what the 50 g block loses tipping over.

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "inspect/inspect.h"
-#include "sim/input_error.h"
+#include "common/common.h"
 #include "tests/inspect/inspect_test_util.h"
 
 namespace {

@@ -46,7 +46,7 @@ TEST(RunFolder, ModelXmlIsSelfContainedAndTheModelThatRan) {
   EXPECT_EQ(xml.find("<include"), std::string::npos);
   EXPECT_NE(xml.find("<weld"), std::string::npos) << "the pads' welds climbsim adds";
   std::string error;
-  mjModel* m = sim::CompileMjcf(xml, &error);
+  mjModel* m = common::CompileMjcfString(xml, &error);
   ASSERT_NE(m, nullptr) << error;
   const mjModel* ran = run.world().model();
   EXPECT_EQ(m->nq, ran->nq);
@@ -84,7 +84,7 @@ TEST(RunFolder, IncludesExpandRecursivelyWithEntitiesAndQuotes) {
   EXPECT_NE(xml.find("begin of body.xml"), std::string::npos);
   EXPECT_EQ(xml.find("<?xml"), std::string::npos);
   std::string error;
-  mjModel* m = sim::CompileMjcf(xml, &error);
+  mjModel* m = common::CompileMjcfString(xml, &error);
   ASSERT_NE(m, nullptr) << error;
   EXPECT_EQ(m->nbody, 2);
   mj_deleteModel(m);

@@ -1,4 +1,4 @@
-// The reflexes for feet welded to a surface (CONTROL.md, "Reflexes on a closed chain"): stance
+// The reflexes for feet welded to a surface (docs/control.md, "Reflexes on a closed chain"): stance
 // compliance, GTO unloading and support holding on the pad's utilisation, the hold channel that
 // presses only a foot that can move, and spindles that give a welded foot no offset but hold
 // the gait when the body is pushed. Closed forms at dt = 10 ms, delays of one period.

@@ -26,7 +26,7 @@ using climbsim::testing::WriteFile;
 void MakeRun(const std::string& dir, const std::vector<std::pair<std::string, std::string>>& files,
              bool force = false) {
   RunFolder f(dir, {.made_by = "simulate", .force = force});
-  for (const auto& [name, text] : files) WriteFileAtomic(f.File(name), text);
+  for (const auto& [name, text] : files) common::WriteFileAtomic(f.File(name), text);
   f.Commit();
 }
 
@@ -54,7 +54,7 @@ std::vector<std::string> Siblings(const std::string& dir) {
 TEST(RunFolder, ANewRunAppearsOnlyAtCommitWithItsMarker) {
   const std::string dir = TempDir() + "/rf_new";
   RunFolder f(dir, {.made_by = "simulate", .inputs = {}});
-  WriteFileAtomic(f.File("summary.json"), "{}\n");
+  common::WriteFileAtomic(f.File("summary.json"), "{}\n");
   EXPECT_FALSE(fs::exists(dir)) << "nothing at DIR before the commit";
   f.Commit();
   EXPECT_EQ(ReadFile(dir + "/summary.json"), "{}\n");
@@ -119,7 +119,7 @@ TEST(RunFolder, ASecondWriterIsRefusedWhileTheFirstHoldsTheFolder) {
   RunFolder first(dir, {.made_by = "simulate"});
   const std::string refused = Refusal([&] { RunFolder second(dir, {.made_by = "simulate"}); });
   EXPECT_NE(refused.find("is being written by another climbsim"), std::string::npos) << refused;
-  WriteFileAtomic(first.File("summary.json"), "first\n");
+  common::WriteFileAtomic(first.File("summary.json"), "first\n");
   first.Commit();
   EXPECT_EQ(ReadFile(dir + "/summary.json"), "first\n");
 }
@@ -132,7 +132,7 @@ TEST(RunFolder, AWriterKilledBeforeItsCommitLeavesTheOldRun) {
   const pid_t pid = fork();
   if (pid == 0) {
     RunFolder f(dir, {.made_by = "simulate", .force = true});
-    WriteFileAtomic(f.File("summary.json"), "new\n");
+    common::WriteFileAtomic(f.File("summary.json"), "new\n");
     _exit(0);
   }
   int status = 0;
@@ -153,7 +153,7 @@ TEST(RunFolder, AFailedRunLeavesTheOldRunAndNoLeftover) {
   MakeRun(dir, {{"summary.json", "old\n"}});
   {
     RunFolder f(dir, {.made_by = "simulate", .force = true});
-    WriteFileAtomic(f.File("summary.json"), "new\n");
+    common::WriteFileAtomic(f.File("summary.json"), "new\n");
   }
   EXPECT_EQ(ReadFile(dir + "/summary.json"), "old\n");
   EXPECT_TRUE(Siblings(dir).empty());
@@ -164,7 +164,7 @@ TEST(RunFolder, LiveFolderResumesOnlyItsOwnKind) {
   {
     RunFolder f = RunFolder::Live(dir, {.made_by = "optimise"}, /*resume=*/false);
     EXPECT_TRUE(IsRunFolder(dir)) << "a live folder exists from the start";
-    WriteFileAtomic(f.File("checkpoint.json"), "{}\n");
+    common::WriteFileAtomic(f.File("checkpoint.json"), "{}\n");
   }
   { RunFolder f = RunFolder::Live(dir, {.made_by = "optimise"}, /*resume=*/true); }
   EXPECT_EQ(ReadFile(dir + "/checkpoint.json"), "{}\n");

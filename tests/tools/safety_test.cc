@@ -466,7 +466,7 @@ TEST(CustomRobot, MeshdirResolvesAgainstTheRobotFileAndQuotesInFolderNamesWork) 
     EXPECT_EQ(WEXITSTATUS(status), 0) << folder << ": " << ReadFile(cwd + "/err.txt");
     EXPECT_TRUE(fs::exists(out + "/model.xml")) << folder;
     std::string error;
-    mjModel* m = climbsim::sim::CompileMjcf(ReadFile(out + "/model.xml"), &error);
+    mjModel* m = climbsim::common::CompileMjcfString(ReadFile(out + "/model.xml"), &error);
     EXPECT_NE(m, nullptr) << folder << ": model.xml does not load: " << error;
     if (m != nullptr) mj_deleteModel(m);
   }

@@ -1,5 +1,3 @@
-#include "sim/gnuplot.h"
-
 #include <unistd.h>
 
 #include <atomic>
@@ -8,7 +6,9 @@
 #include <fstream>
 #include <sstream>
 
-namespace climbsim::sim {
+#include "common/common.h"
+
+namespace climbsim::common {
 
 std::string GnuplotQuote(const std::string& s) {
   std::string out = "\"";
@@ -27,11 +27,7 @@ std::string RunGnuplot(const std::string& script, const std::vector<std::string>
   std::string text = script;
   std::vector<std::string> temps;
   for (size_t k = 0; k < outputs.size(); ++k) {
-    const fs::path out(outputs[k]);
-    // Same folder (rename stays atomic), same extension (gnuplot does not care, viewers do).
-    const std::string tmp =
-        (out.parent_path() / (out.stem().string() + ".tmp." + pid + out.extension().string()))
-            .string();
+    const std::string tmp = TempSiblingPath(outputs[k]);
     temps.push_back(tmp);
     const std::string mark = "OUTPUT(" + std::to_string(k) + ")";
     for (size_t at = text.find(mark); at != std::string::npos; at = text.find(mark, at)) {
@@ -66,4 +62,4 @@ std::string RunGnuplot(const std::string& script, const std::vector<std::string>
   return error;
 }
 
-}  // namespace climbsim::sim
+}  // namespace climbsim::common
