@@ -37,10 +37,12 @@ void ValidateFrictionalParams(const FrictionalParams& p) {
         "> 0 and finite", p.shear_limit_pa);
   Check(std::isfinite(p.friction_mu) && p.friction_mu >= 0.0, "friction_mu", ">= 0 and finite",
         p.friction_mu);
-  Check(std::isfinite(p.grip_x), "grip_direction[0]", "finite", p.grip_x);
-  Check(std::isfinite(p.grip_y), "grip_direction[1]", "finite", p.grip_y);
-  Check(std::hypot(p.grip_x, p.grip_y) > 1e-9, "grip_direction", "a nonzero vector, length",
-        std::hypot(p.grip_x, p.grip_y));
+  Check(std::isfinite(p.grip_x), "grip_x", "finite", p.grip_x);
+  Check(std::isfinite(p.grip_y), "grip_y", "finite", p.grip_y);
+  Check(std::hypot(p.grip_x, p.grip_y) > 1e-9, "grip_x",
+        "part of a nonzero (grip_x, grip_y); their length is", std::hypot(p.grip_x, p.grip_y));
+  Check(p.moment_share >= 0.0 && p.moment_share <= 1.0, "moment_share", "in [0, 1]",
+        p.moment_share);
 }
 
 FrictionalLaw::FrictionalLaw(const FrictionalParams& params) : params_(params) {
@@ -90,7 +92,10 @@ double FrictionalLaw::PulloffClosedForm(double area_m2, double angle_rad,
 }
 
 BondGrid::UpdateResult FrictionalUpdate(BondGrid* grid, const FrictionalLaw& law,
-                                        const PadLoad& load, double* peak_utilisation) {
+                                        const PadLoad& full_load, double* peak_utilisation) {
+  PadLoad load = full_load;
+  load.mx_nm *= law.params().moment_share;
+  load.my_nm *= law.params().moment_share;
   BondGrid::UpdateResult result;
   grid->ClearBrokenLog();
   if (peak_utilisation != nullptr) *peak_utilisation = 0.0;
@@ -208,27 +213,23 @@ PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& pa
   return result;
 }
 
-std::vector<LimitPoint> FrictionalLimitCurve(const FrictionalLaw& law, double area_m2,
-                                             double from_deg, double to_deg, double step_deg) {
-  std::vector<LimitPoint> points;
-  if (!(step_deg > 0.0) || !(to_deg >= from_deg)) return points;
-  const double grip_azimuth = std::atan2(law.grip_y(), law.grip_x());
-  for (long k = 0;; ++k) {
-    const double a = from_deg + k * step_deg;
-    if (a > to_deg + 1e-3 * step_deg) break;
-    const double rad = a * kDegToRad;
-    // In the (d, n) plane: a ≤ 180 pulls along +d, beyond it along −d at 360 − a.
-    const bool along = std::fmod(a + 720.0, 360.0) <= 180.0;
-    const double theta = std::acos(std::cos(rad));
-    LimitPoint p;
-    p.angle_deg = a;
-    p.force_n = law.PulloffClosedForm(area_m2, theta,
-                                      along ? grip_azimuth : grip_azimuth + std::numbers::pi);
-    p.ft_n = std::isfinite(p.force_n) ? p.force_n * std::sin(rad) : 0.0;
-    p.fn_n = std::isfinite(p.force_n) ? p.force_n * std::cos(rad) : 0.0;
-    points.push_back(p);
-  }
-  return points;
+std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, double area_m2,
+                                                 double max_compression_n) {
+  const double ft_max = law.params().shear_limit_pa * area_m2;
+  const double mu = law.params().friction_mu;
+  const double c = max_compression_n;
+  return {{-mu * c, -c},
+          {0.0, 0.0},
+          {ft_max, ft_max * law.tan_critical()},
+          {ft_max, 0.0},
+          {ft_max + mu * c, -c}};
+}
+
+double VonMisesPulloffClosedForm(double capacity_n, double angle_rad, double mu) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  if (c >= 0.0) return capacity_n / std::sqrt(c * c + 6.75 * s * s);
+  const double den = 1.5 * std::sqrt(3.0) * s - mu * std::abs(c);
+  return den > 0.0 ? capacity_n / den : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace climbsim::adhesion

@@ -1,5 +1,5 @@
 // The directional pad law, "frictional adhesion" (Autumn et al. 2006, J. Exp. Biol.
-// 209:3569–3579; the limit surface of Santos et al. 2008, J. Adhes. Sci. Technol. 22:1–20),
+// 209:3569–3579; the limit surface as Santos et al. 2007/2008 use it for Stickybot's pads),
 // beside the isotropic von Mises law of bond_grid.h, on the same bond grid. Pure math: no
 // MuJoCo. adhesion/README.md has the equations with the sources and the comparison.
 //
@@ -23,7 +23,8 @@
 // shear is taken off (unloading). Pressed, the reversed side is Coulomb friction and the
 // gripping side the shear limit plus friction.
 //
-// DISCRETISATION ON THE BOND GRID (FrictionalUpdate). Each bond i of the bonded set B obeys
+// DISCRETISATION ON THE BOND GRID (FrictionalUpdate; the moments scaled by moment_share
+// first). Each bond i of the bonded set B obeys
 // the same law in stresses: σ_i from bond_grid.h's linear field (the bonds as a bed of equal
 // springs under a rigid pad: F_n/A_B plus the moments' gradient), and one shear vector for
 // every bond, τ = (F_x, F_y)/A_B (a rigid in-plane displacement of the backing strains every
@@ -64,16 +65,22 @@ enum class PadLaw { kVonMises, kFrictional };
 // shear): far above 1, finite so that it plots and averages.
 inline constexpr double kFrictionalCap = 1e3;
 
-// The law's parameters. Defaults: α* = 30° (Autumn et al. 2006 measured 24.6° on isolated
-// setal arrays and about 25–30° on whole toes), τ_max = 10 kPa (the von Mises law's σ_T, so
+// The law's parameters. Defaults: α* = 30° (Autumn et al. 2006: a critical angle near 25°
+// for isolated setal arrays and live toes; 25–30° is the range quoted for geckos), τ_max = 10 kPa (the von Mises law's σ_T, so
 // the two compare on the same pad; Stickybot's directional polymer gives a few kPa, gecko
 // toes about 100 kPa), μ = 1 (MuJoCo's default geom friction).
 struct FrictionalParams {
   double critical_angle_deg = 30.0;  // α*, in (0, 90)
   double shear_limit_pa = 10e3;      // τ_max > 0; F_t,max = τ_max·A
   double friction_mu = 1.0;          // μ ≥ 0, Coulomb friction when pressed
-  double grip_x = 0.0;               // gripping direction d in the pad frame; normalised by
-  double grip_y = -1.0;              // FrictionalLaw, must not be zero
+  double grip_x = -1.0;              // gripping direction d in the pad frame; normalised by
+  double grip_y = 0.0;               // FrictionalLaw, must not be zero. Default −x: down the
+                                     // wall for the bundled robots, whose pad x runs along
+                                     // the base's heading (they climb +x)
+  // Share of the load's moments (M_x, M_y) that the bonds carry, in [0, 1]. 1: a rigid pad
+  // on a rigid ankle, the moments peel it bond by bond; 0: a compliant toe or a passive ankle
+  // (gecko toes, Stickybot's toes) passes no moment to the adhesive: the pad-level law.
+  double moment_share = 1.0;
 };
 
 // Throws std::invalid_argument naming the key (adhesion.frictional.<key>) and the value.
@@ -112,7 +119,7 @@ class FrictionalLaw {
  private:
   FrictionalParams params_;
   double tan_critical_ = 0.0;
-  double dx_ = 0.0, dy_ = -1.0;
+  double dx_ = -1.0, dy_ = 0.0;
 };
 
 // Bond-level breaking under `load` with the frictional law, the cascade of BondGrid::Update
@@ -128,19 +135,21 @@ BondGrid::UpdateResult FrictionalUpdate(BondGrid* grid, const FrictionalLaw& law
 PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& law,
                                 const PullSetup& setup, const PulloffOptions& options = {});
 
-// One point of the limit curve in the (F_t, F_n) plane of a central pull along ±d.
-struct LimitPoint {
-  double angle_deg = 0.0;  // pull angle from the normal in the plane (d, n): 0 pulls off,
-                           // 90 shears along d, 180 pushes in, 270 shears against d
-  double force_n = 0.0;    // pull-off force (inf: holds at every force)
-  double ft_n = 0.0;       // F_t = force·sinθ, + along d (0 when the force is inf)
-  double fn_n = 0.0;       // F_n = force·cosθ (0 when the force is inf)
+// The pad-level limit surface in the (F_t, F_n) plane (no lateral shear), as the vertices of
+// its boundary down to the compression `max_compression_n`: the friction ray F_t = −μC from
+// (−μC_max, −C_max) to the origin, the adhesion line F_n = F_t tan α* to (F_t,max,
+// F_t,max tan α*), the shear limit down to (F_t,max, 0) and on to (F_t,max + μC_max, −C_max).
+struct LimitVertex {
+  double ft_n = 0.0;  // + along d
+  double fn_n = 0.0;  // + pulls off
 };
+std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, double area_m2,
+                                                 double max_compression_n);
 
-// The pad-level limit curve, closed form, at the angles from..to (deg, in the (d, n) plane
-// as in LimitPoint); points that never detach carry inf.
-std::vector<LimitPoint> FrictionalLimitCurve(const FrictionalLaw& law, double area_m2,
-                                             double from_deg, double to_deg, double step_deg);
+// The von Mises law's closed-form pull-off of a central pull on a fine grid (pulloff.h):
+// σ_T·A/sqrt(cos²θ + 6.75 sin²θ) for θ ≤ 90°, σ_T·A/(2.598 sinθ − μ|cosθ|) beyond (+inf
+// when that is ≤ 0), for the comparison plots.
+double VonMisesPulloffClosedForm(double capacity_n, double angle_rad, double mu);
 
 }  // namespace climbsim::adhesion
 

@@ -25,6 +25,8 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   s.attach.buildup_time_s = p.buildup_time_s;
   s.attach.attach_window_s = p.attach_window_s;
   s.actuator_ctrl = p.ctrl;
+  s.law = p.law == "frictional" ? adhesion::PadLaw::kFrictional : adhesion::PadLaw::kVonMises;
+  s.frictional = p.frictional;
   return s;
 }
 
@@ -187,7 +189,10 @@ void AdhesionEffect::UpdateUtilisation() {
     const adhesion::StickyPad& p = system_->pad(i);
     double u = 0.0;
     if (p.attached() && p.params().model == adhesion::AdhesionModel::kBonds) {
-      u = std::min(p.grid().Summary().peak_utilisation, kUtilisationCap);
+      u = std::min(p.params().law == adhesion::PadLaw::kFrictional
+                       ? p.frictional_utilisation()
+                       : p.grid().Summary().peak_utilisation,
+                   kUtilisationCap);
       if (!(u >= 0.0)) u = kUtilisationCap;  // NaN: no field the bonds could carry
     }
     utilisation_[i] = u;

@@ -14,6 +14,7 @@
 #include "sim/gnuplot.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
+#include "tools/pulloff_law.h"
 
 namespace climbsim::tools {
 namespace {
@@ -40,6 +41,9 @@ struct PulloffOptions {
   double max_force_factor = 8.0;
   bool quiet = false;
   bool force = false;
+  std::string law = "von_mises";  // frictional: tools/pulloff_law.h
+  adhesion::FrictionalParams frictional;
+  double grip_deg = 0.0;
 };
 
 struct Row {
@@ -143,6 +147,21 @@ void Run(PulloffOptions o) {
   Check(o.from_deg <= o.to_deg, "--from-deg", "must be <= --to-deg");
   Check(o.min_bonds <= o.grid_x * o.grid_y, "--min-bonds", "must be <= grid_x * grid_y");
   const bool bonds = o.model != "mujoco", mujoco = o.model != "bonds";
+  if (o.law == "frictional") {  // both laws quasi-static on one plot (tools/pulloff_law.h)
+    PulloffLawOptions l;
+    l.out_dir = o.out_dir, l.force = o.force, l.quiet = o.quiet;
+    l.pad = {.width_m = o.width_m, .length_m = o.length_m, .grid_x = o.grid_x,
+             .grid_y = o.grid_y, .sigma_t_pa = o.sigma_t_pa, .mu = o.mu,
+             .min_bonds = o.min_bonds};
+    l.law = o.frictional;
+    l.law.grip_x = std::cos(o.grip_deg * kDeg);
+    l.law.grip_y = std::sin(o.grip_deg * kDeg);
+    l.arm_m = o.arm_m;
+    l.from_deg = o.from_deg, l.to_deg = o.to_deg, l.step_deg = o.step_deg;
+    l.max_force_factor = o.max_force_factor;
+    RunPulloffLaws(l);
+    return;
+  }
 
   adhesion::PulloffRigParams p;
   p.pad = {.width_m = o.width_m,
@@ -323,6 +342,29 @@ void AddPulloffCommand(CLI::App& app) {
       ->check(CLI::Range(1.01, 1e3))
       ->capture_default_str();
   cmd->add_flag("--quiet", o.quiet, "no table on the terminal");
+  cmd->add_option("--law", o.law,
+                  "von_mises: the rigs above; frictional: the directional law beside von Mises, "
+                  "quasi-static on the bond grid and in closed form: limit curve and pull-off "
+                  "against angle on one plot (the pull's in-plane part along the grip, and "
+                  "against it)")
+      ->check(CLI::IsMember({"von_mises", "frictional"}))
+      ->capture_default_str();
+  cmd->add_option("--critical-angle-deg", o.frictional.critical_angle_deg,
+                  "frictional: critical angle alpha* (deg)")
+      ->check(CLI::Range(0.01, 89.99))
+      ->capture_default_str();
+  cmd->add_option("--shear-limit-pa", o.frictional.shear_limit_pa,
+                  "frictional: shear limit tau_max (Pa); F_t,max = tau_max * A")
+      ->check(CLI::Range(1e-3, 1e12))
+      ->capture_default_str();
+  cmd->add_option("--friction-mu", o.frictional.friction_mu,
+                  "frictional: Coulomb friction of a pressed pad")
+      ->check(CLI::Range(0.0, 1e3))
+      ->capture_default_str();
+  cmd->add_option("--grip-deg", o.grip_deg,
+                  "frictional: gripping direction in the pad plane, from +x towards +y (deg)")
+      ->check(CLI::Range(-360.0, 360.0))
+      ->capture_default_str();
   cmd->footer(
       "pulloff.csv: angle_deg, force_n (bond model in MuJoCo), cause (peel or overload),\n"
       "  bond_loss_steps, mujoco_force_n, mujoco_cause (lift, tip or slide), quasi_static_n\n"

@@ -185,6 +185,14 @@ TEST(FrictionalLaw, ALeverPeelsBondByBondFromTheTrailingEdge) {
       FrictionalUpdate(&grid, FrictionalLaw(f), PullLoad(force, setup), nullptr);
   EXPECT_TRUE(r.detached);
   EXPECT_GT(r.rounds, 3);  // a peel: round after round, not all at once
+  // A compliant toe (moment_share 0) passes no moment: the lever changes nothing.
+  FrictionalParams compliant = f;
+  compliant.moment_share = 0.0;
+  BondGrid other(pad);
+  other.BondAll();
+  EXPECT_FALSE(
+      FrictionalUpdate(&other, FrictionalLaw(compliant), PullLoad(force, setup), nullptr).detached);
+  EXPECT_EQ(other.bonded_count(), other.size());
   // The first round breaks the trailing (−x) edge and nothing on the leading half.
   const auto log = grid.last_broken();
   ASSERT_FALSE(log.empty());
@@ -209,20 +217,35 @@ TEST(FrictionalLaw, ALeverPeelsBondByBondFromTheTrailingEdge) {
   }
 }
 
-TEST(FrictionalLaw, LimitCurvePointsLieOnTheLimitSurface) {
-  const FrictionalParams f = Law(30.0);
+// The boundary's vertices sit on the limit surface: just inside each holds, just outside
+// (scaled by 1 + 10⁻⁶ away from the origin) does not; the pull-off closed form at the
+// vertices' angles gives the vertices back.
+TEST(FrictionalLaw, LimitBoundaryLiesOnTheLimitSurface) {
+  const FrictionalParams f = Law(30.0, 1.0, 0.0);
   const FrictionalLaw law(f);
   const double area = 6e-4, ft_max = f.shear_limit_pa * area;
-  for (const LimitPoint& p : FrictionalLimitCurve(law, area, 0.0, 360.0, 1.0)) {
-    if (p.force_n == 0.0 || std::isinf(p.force_n)) continue;
-    SCOPED_TRACE(testing::Message() << "angle " << p.angle_deg);
-    if (p.fn_n > 0) {
-      EXPECT_NEAR(std::abs(p.ft_n), ft_max, 1e-9 * ft_max);
-      EXPECT_LE(p.fn_n, p.ft_n * std::tan(30.0 * kDeg) * (1 + 1e-9));
-    } else {
-      EXPECT_NEAR(p.ft_n, ft_max + f.friction_mu * -p.fn_n, 1e-9 * ft_max);
-    }
+  const auto b = FrictionalLimitBoundary(law, area, 2.0 * ft_max);
+  ASSERT_EQ(b.size(), 5u);
+  EXPECT_NEAR(b[2].fn_n, ft_max * std::tan(30.0 * kDeg), 1e-12);
+  for (size_t i = 0; i < b.size(); ++i) {
+    if (i == 1) continue;  // the origin
+    SCOPED_TRACE(testing::Message() << "vertex " << i);
+    const PadLoad in{.fn_n = b[i].fn_n * (1 - 1e-6), .fx_n = b[i].ft_n * (1 - 1e-6)};
+    const PadLoad out{.fn_n = b[i].fn_n * (1 + 1e-6), .fx_n = b[i].ft_n * (1 + 1e-6)};
+    EXPECT_TRUE(law.PadHolds(in, area));
+    if (i != 0) EXPECT_FALSE(law.PadHolds(out, area));  // the friction ray scales into itself
   }
+  // The corner (F_t,max, F_t,max tan α*) is the pull-off at θ = 90° − α*.
+  const double f60 = law.PulloffClosedForm(area, 60.0 * kDeg, 0.0);
+  EXPECT_NEAR(f60 * std::sin(60.0 * kDeg), b[2].ft_n, 1e-9 * ft_max);
+  EXPECT_NEAR(f60 * std::cos(60.0 * kDeg), b[2].fn_n, 1e-9 * ft_max);
+  // The pressed side: the pull-off vector at 120° lies on the shear-limit-plus-friction line.
+  const double f120 = law.PulloffClosedForm(area, 120.0 * kDeg, 0.0);
+  EXPECT_NEAR(f120 * std::sin(120.0 * kDeg), ft_max + f.friction_mu * -f120 * std::cos(120.0 * kDeg),
+              1e-9 * ft_max);
+  // The von Mises closed form used by the plots: σ_T·A at 0°, 0.385 σ_T·A at 90°.
+  EXPECT_DOUBLE_EQ(VonMisesPulloffClosedForm(1.0, 0.0, 0.0), 1.0);
+  EXPECT_NEAR(VonMisesPulloffClosedForm(1.0, 90.0 * kDeg, 0.0), 1.0 / std::sqrt(6.75), 1e-12);
 }
 
 TEST(FrictionalLaw, RejectsBadParameters) {
@@ -235,6 +258,9 @@ TEST(FrictionalLaw, RejectsBadParameters) {
   f = FrictionalParams{};
   f.grip_x = f.grip_y = 0.0;
   EXPECT_THROW(FrictionalLaw{f}, std::invalid_argument);
+  f = FrictionalParams{};
+  f.moment_share = 1.5;
+  EXPECT_THROW(ValidateFrictionalParams(f), std::invalid_argument);
   f = FrictionalParams{};
   f.friction_mu = -1.0;
   EXPECT_THROW(ValidateFrictionalParams(f), std::invalid_argument);
