@@ -9,6 +9,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "tests/common/alloc_counter.h"
+
 namespace climbsim::adhesion {
 namespace {
 
@@ -54,7 +56,7 @@ TEST(FrictionalLaw, HoldsJustInsideTheCriticalAngleAndLetsGoJustOutside) {
         const double ft = 0.5 * f.shear_limit_pa * area;  // half the shear limit
         const double fx = ft * law.grip_x(), fy = ft * law.grip_y();
         const double fn_limit = ft * std::tan(alpha * kDeg);
-        SCOPED_TRACE(testing::Message() << "alpha " << alpha << " eps " << eps << " grip "
+        SCOPED_TRACE(::testing::Message() << "alpha " << alpha << " eps " << eps << " grip "
                                         << grip_deg);
         // Pad level.
         EXPECT_TRUE(law.PadHolds({.fn_n = fn_limit * (1 - eps), .fx_n = fx, .fy_n = fy}, area));
@@ -84,7 +86,7 @@ TEST(FrictionalLaw, NoHoldWithZeroOrReversedShearWhenPulled) {
   // Pulled with no shear, with reversed shear (+y), with lateral shear only (x): all let go.
   for (auto [fx, fy] : {std::pair{0.0, 0.0}, std::pair{0.0, big}, std::pair{0.0, small},
                         std::pair{big, 0.0}, std::pair{-big, 0.0}}) {
-    SCOPED_TRACE(testing::Message() << "fx " << fx << " fy " << fy);
+    SCOPED_TRACE(::testing::Message() << "fx " << fx << " fy " << fy);
     EXPECT_FALSE(FrictionalLaw(f).PadHolds({.fn_n = small, .fx_n = fx, .fy_n = fy}, area));
     const BondGrid::UpdateResult r = Load(f, small, fx, fy, &grid);
     EXPECT_TRUE(r.detached);
@@ -141,7 +143,7 @@ TEST(FrictionalLaw, PulloffAgainstAngleMatchesTheClosedFormAtEveryAngle) {
         const PullSetup setup{.angle_rad = deg * kDeg, .azimuth_rad = azimuth_deg * kDeg};
         const double closed = law.PulloffClosedForm(area, setup.angle_rad, setup.azimuth_rad);
         const PulloffResult r = FrictionalPullOff(pad, f, setup, options);
-        SCOPED_TRACE(testing::Message() << "alpha " << alpha << " azimuth " << azimuth_deg
+        SCOPED_TRACE(::testing::Message() << "alpha " << alpha << " azimuth " << azimuth_deg
                                         << " angle " << deg << " closed " << closed);
         if (closed == 0.0) {
           ++zero;
@@ -229,11 +231,13 @@ TEST(FrictionalLaw, LimitBoundaryLiesOnTheLimitSurface) {
   EXPECT_NEAR(b[2].fn_n, ft_max * std::tan(30.0 * kDeg), 1e-12);
   for (size_t i = 0; i < b.size(); ++i) {
     if (i == 1) continue;  // the origin
-    SCOPED_TRACE(testing::Message() << "vertex " << i);
+    SCOPED_TRACE(::testing::Message() << "vertex " << i);
     const PadLoad in{.fn_n = b[i].fn_n * (1 - 1e-6), .fx_n = b[i].ft_n * (1 - 1e-6)};
     const PadLoad out{.fn_n = b[i].fn_n * (1 + 1e-6), .fx_n = b[i].ft_n * (1 + 1e-6)};
     EXPECT_TRUE(law.PadHolds(in, area));
-    if (i != 0) EXPECT_FALSE(law.PadHolds(out, area));  // the friction ray scales into itself
+    if (i != 0) {  // the friction ray scales into itself
+      EXPECT_FALSE(law.PadHolds(out, area));
+    }
   }
   // The corner (F_t,max, F_t,max tan α*) is the pull-off at θ = 90° − α*.
   const double f60 = law.PulloffClosedForm(area, 60.0 * kDeg, 0.0);
@@ -246,6 +250,31 @@ TEST(FrictionalLaw, LimitBoundaryLiesOnTheLimitSurface) {
   // The von Mises closed form used by the plots: σ_T·A at 0°, 0.385 σ_T·A at 90°.
   EXPECT_DOUBLE_EQ(VonMisesPulloffClosedForm(1.0, 0.0, 0.0), 1.0);
   EXPECT_NEAR(VonMisesPulloffClosedForm(1.0, 90.0 * kDeg, 0.0), 1.0 / std::sqrt(6.75), 1e-12);
+}
+
+// The frictional cascade allocates nothing (the step loop runs it on every welded pad).
+TEST(FrictionalLaw, UpdateNeverAllocates) {
+  const PadParams pad = Pad(32);
+  BondGrid grid(pad);
+  const FrictionalLaw law(Law(30.0, 1.0, 0.0));
+  const double capacity = 8e3 * pad.width_m * pad.length_m;
+  long broken = 0;
+  double sink = 0.0;
+  const auto counts = climbsim::testing::CountAllocations([&] {
+    for (int k = 0; k < 500; ++k) {
+      if (k % 3 == 0) grid.BondAll();
+      if (k % 3 == 1) grid.BondFraction(0.2 + 0.001 * k);
+      const double f = capacity * (0.05 + 0.003 * k), angle = 0.006 * k;
+      const PadLoad load{.fn_n = f * std::cos(angle), .fx_n = f * std::sin(angle),
+                         .fy_n = 0.05 * f, .mx_nm = 1e-4 * f, .my_nm = 2e-3 * f * std::sin(angle)};
+      double u = 0.0;
+      broken += FrictionalUpdate(&grid, law, load, &u).broken;
+      sink += u;
+    }
+  });
+  EXPECT_EQ(counts.total(), 0);
+  EXPECT_GT(broken, 500);
+  EXPECT_TRUE(std::isfinite(sink));
 }
 
 TEST(FrictionalLaw, RejectsBadParameters) {
