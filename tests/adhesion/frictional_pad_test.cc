@@ -59,7 +59,7 @@ TEST(FrictionalPad, HoldsAShallowPullAlongTheGripAndNothingElse) {
   // Too steep (θ = 45° < 90° − α*), straight off (a ceiling, no shear), reversed grip: let go
   // within a few steps, all at once.
   for (auto [theta, grip] : {std::pair{45.0, 1.0}, std::pair{0.0, 1.0}, std::pair{75.0, -1.0}}) {
-    SCOPED_TRACE(testing::Message() << "theta " << theta << " grip_x " << grip);
+    SCOPED_TRACE(::testing::Message() << "theta " << theta << " grip_x " << grip);
     BlockRig rig(Inclined(theta, PadLaw::kFrictional, grip));
     const double t = LetGoAfter(&rig, 2.0);
     EXPECT_GT(t, 0.0);
@@ -69,7 +69,7 @@ TEST(FrictionalPad, HoldsAShallowPullAlongTheGripAndNothingElse) {
   // The von Mises pad under the same loads holds at every one of these angles (0.4 of its
   // capacity at 0°, 0.4/0.385 > 1 would not hold at 90°: these stay below).
   for (double theta : {0.0, 45.0, 75.0}) {
-    SCOPED_TRACE(testing::Message() << "von Mises theta " << theta);
+    SCOPED_TRACE(::testing::Message() << "von Mises theta " << theta);
     BlockSpec s = Inclined(theta, PadLaw::kVonMises, 1.0);
     s.mass_kg *= 0.8;  // 0.32 σ_T·A: below the 0.385 shear-limited minimum
     BlockRig rig(s);
