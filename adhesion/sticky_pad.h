@@ -216,8 +216,8 @@ class StickyPad {
   double touchdown_time_s() const { return touchdown_time_s_; }
   double touchdown_speed_mps() const { return touchdown_speed_mps_; }
   double touchdown_angle_deg() const { return touchdown_angle_deg_; }
-  // law kFrictional: the largest bond utilisation after the last AfterStep (frictional_law.h),
-  // 0 when not attached.
+  // law kFrictional: the largest bond utilisation left after the last AfterStep while
+  // attached (frictional_law.h); read it only while attached (0 after Reset).
   double frictional_utilisation() const { return frictional_utilisation_; }
 
  private:
