@@ -2,6 +2,7 @@
 //
 //   bond_grid.h        BondGrid, PadParams, PadLoad: stresses, rupture, the cascade (no MuJoCo)
 //   pulloff.h          PullOff, PulloffSweep: the figure-6 experiment as pure math
+//   frictional_law.h   the directional law (frictional adhesion) on the same grid (no MuJoCo)
 //   weld.h             weld switching and the weld's wrench (MuJoCo 2.2.2)
 //   pad_contact.h      pad geometry, face frame, contact sensing
 //   sticky_pad.h       one pad: attach conditions, weld, build-up, load → bonds → detach, events
@@ -14,6 +15,7 @@
 
 #include "adhesion/adhesion_system.h"
 #include "adhesion/bond_grid.h"
+#include "adhesion/frictional_law.h"
 #include "adhesion/pad_contact.h"
 #include "adhesion/pulloff.h"
 #include "adhesion/pulloff_rig.h"

@@ -407,6 +407,12 @@ StressSummary BondGrid::Evaluate(const PadLoad& load_pad) {
   return Summary();
 }
 
+void BondGrid::Break(int index, int round) {
+  if (!bonded(index)) return;
+  SetState(index, BondState::kBroken);
+  if (broken_count_ < size()) broken_log_[broken_count_++] = BrokenBond{.index = index, .round = round};
+}
+
 BondStress BondGrid::stress(int index) const {
   BondStress s;
   if (!bonded(index)) return s;

@@ -237,6 +237,16 @@ class BondGrid {
     return {broken_log_.data(), static_cast<size_t>(broken_count_)};
   }
 
+  // --- Another rupture law's cascade (frictional_law.h: FrictionalUpdate) ---
+  // Empties the log of broken bonds (the start of an update).
+  void ClearBrokenLog() { broken_count_ = 0; }
+  // Breaks bond `index` if bonded (kBroken, as Update does) and logs it with `round`.
+  void Break(int index, int round);
+  // σ of one bond in the current field (Evaluate, Update); 0 for a bond not bonded.
+  double sigma_pa(int index) const {
+    return bonded(index) ? col_sigma_[ix_of(index)] + row_sigma_[iy_of(index)] : 0.0;
+  }
+
  private:
   // Exact sums over the bonded set in grid units: a bond at column ix and row iy sits at
   // x = kx·b/(2N_x), y = ky·h/(2N_y) with the integers kx = 2·ix + 1 − N_x, ky = 2·iy + 1 − N_y.

@@ -42,6 +42,7 @@ void ValidateStickyPadParams(const StickyPadParams& p) {
         ">= 0 and finite", a.buildup_time_s);
   Check(std::isfinite(a.attach_window_s) && a.attach_window_s >= 0, "attach_window_s",
         ">= 0 and finite", a.attach_window_s);
+  if (p.law == PadLaw::kFrictional) ValidateFrictionalParams(p.frictional);
   if (p.model == AdhesionModel::kMujoco) {
     Check(std::isfinite(p.actuator_gain_n) && p.actuator_gain_n > 0, "gain_n", "> 0 and finite",
           p.actuator_gain_n);
@@ -106,7 +107,8 @@ StickyPad::StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
       actuator_(actuator),
       contype_(m->geom_contype[geometry.geom]),
       conaffinity_(m->geom_conaffinity[geometry.geom]),
-      grid_(GridParams(params, geometry)) {
+      grid_(GridParams(params, geometry)),
+      frictional_law_(params.law == PadLaw::kFrictional ? params.frictional : FrictionalParams{}) {
   ValidateStickyPadParams(params_);
   params_.bonds = grid_.params();
   if (params_.model == AdhesionModel::kBonds && (weld_eq < 0 || weld_eq >= m->neq)) {
@@ -139,6 +141,7 @@ void StickyPad::Reset(mjModel* m, mjData* d) {
   lost_since_attach_ = 0;
   strength_scale_ = 1.0;
   counts_ = PadCounts{};
+  frictional_utilisation_ = 0.0;
 }
 
 double StickyPad::bonded_fraction() const {
@@ -282,7 +285,10 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
     const double k = 1.0 / strength_scale_;
     scaled = {load_.fn_n * k, load_.fx_n * k, load_.fy_n * k, load_.mx_nm * k, load_.my_nm * k};
   }
-  const BondGrid::UpdateResult r = grid_.Update(scaled);
+  const BondGrid::UpdateResult r =
+      params_.law == PadLaw::kFrictional
+          ? FrictionalUpdate(&grid_, frictional_law_, scaled, &frictional_utilisation_)
+          : grid_.Update(scaled);
   if (r.broken > 0) {
     bonds_lost_ = true;
     ++counts_.bonds_lost;

@@ -75,6 +75,7 @@
 #include <vector>
 
 #include "adhesion/bond_grid.h"
+#include "adhesion/frictional_law.h"
 #include "adhesion/pad_contact.h"
 
 namespace climbsim::adhesion {
@@ -99,6 +100,10 @@ struct StickyPadParams {
   AttachParams attach;
   double actuator_gain_n = 0.0;  // kMujoco: force at ctrl 1 (N, > 0)
   double actuator_ctrl = 1.0;    // kMujoco: ctrl while attached, 0 .. 1
+  // kBonds: which law breaks the bonds (frictional_law.h); frictional is checked only when
+  // it is the law.
+  PadLaw law = PadLaw::kVonMises;
+  FrictionalParams frictional;
 };
 
 // Throws std::invalid_argument naming the key and the value (ValidatePadParams for the grid).
@@ -220,6 +225,9 @@ class StickyPad {
   double touchdown_time_s() const { return touchdown_time_s_; }
   double touchdown_speed_mps() const { return touchdown_speed_mps_; }
   double touchdown_angle_deg() const { return touchdown_angle_deg_; }
+  // law kFrictional: the largest bond utilisation left after the last AfterStep while
+  // attached (frictional_law.h); read it only while attached (0 after Reset).
+  double frictional_utilisation() const { return frictional_utilisation_; }
 
  private:
   bool peeling_ = false;
@@ -256,6 +264,8 @@ class StickyPad {
   double buildup_ = 0.0;
   long lost_since_attach_ = 0;
   PadCounts counts_;
+  FrictionalLaw frictional_law_;  // the default law unless params.law is kFrictional
+  double frictional_utilisation_ = 0.0;
 };
 
 }  // namespace climbsim::adhesion

@@ -15,6 +15,8 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   s.bonds = p;  // the pad's width and length are read from its geom
   s.attach = p;
   s.actuator_ctrl = p.ctrl;
+  s.law = p.law == "frictional" ? adhesion::PadLaw::kFrictional : adhesion::PadLaw::kVonMises;
+  s.frictional = p.frictional;
   return s;
 }
 
@@ -177,7 +179,10 @@ void AdhesionEffect::UpdateUtilisation() {
     const adhesion::StickyPad& p = system_->pad(i);
     double u = 0.0;
     if (p.attached() && p.params().model == adhesion::AdhesionModel::kBonds) {
-      u = std::min(p.grid().Summary().peak_utilisation, kUtilisationCap);
+      u = std::min(p.params().law == adhesion::PadLaw::kFrictional
+                       ? p.frictional_utilisation()
+                       : p.grid().Summary().peak_utilisation,
+                   kUtilisationCap);
       if (!(u >= 0.0)) u = kUtilisationCap;  // NaN: no field the bonds could carry
     }
     utilisation_[i] = u;

@@ -15,6 +15,7 @@
 #include "common/common.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
+#include "tools/pulloff_law.h"
 
 namespace climbsim::tools {
 namespace {
@@ -33,6 +34,9 @@ struct PulloffOptions {
   double azimuth_deg = 0.0;        // rig.azimuth_rad in degrees
   bool quiet = false;
   bool force = false;
+  std::string law = "von_mises";  // frictional: tools/pulloff_law.h
+  adhesion::FrictionalParams frictional;
+  double grip_deg = 0.0;
 };
 
 struct Row {
@@ -127,6 +131,22 @@ void Run(PulloffOptions o) {
   adhesion::PulloffRigParams& p = o.rig;
   p.pad.length_m = o.length_m.value_or(p.pad.width_m);
   if (o.grid > 0) p.pad.grid_x = p.pad.grid_y = o.grid;
+  if (o.law == "frictional") {  // both laws quasi-static on one plot (tools/pulloff_law.h)
+    Check(o.range.from_deg <= o.range.to_deg, "--from-deg", "must be <= --to-deg");
+    Check(p.pad.min_bonds <= p.pad.grid_x * p.pad.grid_y, "--min-bonds",
+          "must be <= grid_x * grid_y");
+    PulloffLawOptions l;
+    l.out_dir = o.out_dir, l.force = o.force, l.quiet = o.quiet;
+    l.pad = p.pad;
+    l.law = o.frictional;
+    l.law.grip_x = std::cos(o.grip_deg * kDeg);
+    l.law.grip_y = std::sin(o.grip_deg * kDeg);
+    l.arm_m = p.arm_m;
+    l.from_deg = o.range.from_deg, l.to_deg = o.range.to_deg, l.step_deg = o.range.step_deg;
+    l.max_force_factor = p.max_force_factor;
+    RunPulloffLaws(l);
+    return;
+  }
   p.azimuth_rad = o.azimuth_deg * kDeg;
   Check(o.range.from_deg <= o.range.to_deg, "--from-deg", "must be <= --to-deg");
   Check(p.pad.min_bonds <= p.pad.grid_x * p.pad.grid_y, "--min-bonds",
@@ -295,6 +315,29 @@ void AddPulloffCommand(CLI::App& app) {
       ->check(CLI::Range(1.01, 1e3))
       ->capture_default_str();
   cmd->add_flag("--quiet", o.quiet, "no table on the terminal");
+  cmd->add_option("--law", o.law,
+                  "von_mises: the rigs above; frictional: the directional law beside von Mises, "
+                  "quasi-static on the bond grid and in closed form: limit curve and pull-off "
+                  "against angle on one plot (the pull's in-plane part along the grip, and "
+                  "against it)")
+      ->check(CLI::IsMember({"von_mises", "frictional"}))
+      ->capture_default_str();
+  cmd->add_option("--critical-angle-deg", o.frictional.critical_angle_deg,
+                  "frictional: critical angle alpha* (deg)")
+      ->check(CLI::Range(0.01, 89.99))
+      ->capture_default_str();
+  cmd->add_option("--shear-limit-pa", o.frictional.shear_limit_pa,
+                  "frictional: shear limit tau_max (Pa); F_t,max = tau_max * A")
+      ->check(CLI::Range(1e-3, 1e12))
+      ->capture_default_str();
+  cmd->add_option("--friction-mu", o.frictional.friction_mu,
+                  "frictional: Coulomb friction of a pressed pad")
+      ->check(CLI::Range(0.0, 1e3))
+      ->capture_default_str();
+  cmd->add_option("--grip-deg", o.grip_deg,
+                  "frictional: gripping direction in the pad plane, from +x towards +y (deg)")
+      ->check(CLI::Range(-360.0, 360.0))
+      ->capture_default_str();
   cmd->footer(
       "pulloff.csv: angle_deg, force_n (bond model in MuJoCo), cause (peel or overload),\n"
       "  bond_loss_steps, mujoco_force_n, mujoco_cause (lift, tip or slide), quasi_static_n\n"

@@ -1,0 +1,235 @@
+#include "adhesion/frictional_law.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace climbsim::adhesion {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+// A bond breaks at utilisation > 1 + kRoundoff: on the limit surface itself (a pull at
+// exactly 90° − α*) the bond and pad-level evaluations differ only by rounding, and the
+// law says "holds while ≤".
+constexpr double kRoundoff = 1e-12;
+
+void Check(bool ok, const char* key, const char* rule, double value) {
+  if (ok) return;
+  std::ostringstream s;
+  s << "adhesion.frictional." << key << " must be " << rule << ", got " << value;
+  throw std::invalid_argument(s.str());
+}
+
+bool IsFinite(const PadLoad& l) {
+  return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
+         std::isfinite(l.mx_nm) && std::isfinite(l.my_nm);
+}
+
+}  // namespace
+
+void ValidateFrictionalParams(const FrictionalParams& p) {
+  Check(p.critical_angle_deg > 0.0 && p.critical_angle_deg < 90.0, "critical_angle_deg",
+        "in (0, 90)", p.critical_angle_deg);
+  Check(std::isfinite(p.shear_limit_pa) && p.shear_limit_pa > 0.0, "shear_limit_pa",
+        "> 0 and finite", p.shear_limit_pa);
+  Check(std::isfinite(p.friction_mu) && p.friction_mu >= 0.0, "friction_mu", ">= 0 and finite",
+        p.friction_mu);
+  Check(std::isfinite(p.grip_x), "grip_x", "finite", p.grip_x);
+  Check(std::isfinite(p.grip_y), "grip_y", "finite", p.grip_y);
+  Check(std::hypot(p.grip_x, p.grip_y) > 1e-9, "grip_x",
+        "part of a nonzero (grip_x, grip_y); their length is", std::hypot(p.grip_x, p.grip_y));
+  Check(p.moment_share >= 0.0 && p.moment_share <= 1.0, "moment_share", "in [0, 1]",
+        p.moment_share);
+}
+
+FrictionalLaw::FrictionalLaw(const FrictionalParams& params) : params_(params) {
+  ValidateFrictionalParams(params_);
+  tan_critical_ = std::tan(params_.critical_angle_deg * kDegToRad);
+  const double norm = std::hypot(params_.grip_x, params_.grip_y);
+  dx_ = params_.grip_x / norm;
+  dy_ = params_.grip_y / norm;
+}
+
+double FrictionalLaw::Utilisation(double sigma_pa, double tau_x_pa, double tau_y_pa) const {
+  const double tau_t = GripShear(tau_x_pa, tau_y_pa);
+  const double tau_s = std::hypot(tau_x_pa, tau_y_pa);
+  const double tau_max = params_.shear_limit_pa;
+  double u = 0.0;
+  if (sigma_pa > 0.0) {
+    if (!(tau_t > 0.0)) return kFrictionalCap;  // pulled without gripping shear
+    u = std::max(sigma_pa / (tau_t * tan_critical_), tau_s / tau_max);
+  } else {
+    const double friction = params_.friction_mu * -sigma_pa;
+    u = tau_s / (tau_max + friction);
+    if (tau_t < 0.0) u = std::max(u, friction > 0.0 ? -tau_t / friction : kFrictionalCap);
+  }
+  return std::isnan(u) ? kFrictionalCap : std::min(u, kFrictionalCap);
+}
+
+bool FrictionalLaw::PadHolds(const PadLoad& load, double area_m2) const {
+  return Utilisation(load.fn_n / area_m2, load.fx_n / area_m2, load.fy_n / area_m2) <=
+         1.0 + kRoundoff;
+}
+
+double FrictionalLaw::PulloffClosedForm(double area_m2, double angle_rad,
+                                        double azimuth_rad) const {
+  const double s = std::sin(angle_rad);
+  const double fn = std::cos(angle_rad);  // per unit force
+  const double ft = s * (std::cos(azimuth_rad) * dx_ + std::sin(azimuth_rad) * dy_);
+  const double fs = std::abs(s);
+  const double capacity = params_.shear_limit_pa * area_m2;
+  if (fn > 0.0) {
+    if (!(ft > 0.0) || fn > ft * tan_critical_ * (1.0 + kRoundoff)) return 0.0;
+    return capacity / fs;
+  }
+  const double friction = params_.friction_mu * -fn;
+  if (ft < -friction) return 0.0;
+  const double den = fs - friction;
+  return den > 0.0 ? capacity / den : std::numeric_limits<double>::infinity();
+}
+
+BondGrid::UpdateResult FrictionalUpdate(BondGrid* grid, const FrictionalLaw& law,
+                                        const PadLoad& full_load, double* peak_utilisation) {
+  PadLoad load = full_load;
+  load.mx_nm *= law.params().moment_share;
+  load.my_nm *= law.params().moment_share;
+  BondGrid::UpdateResult result;
+  grid->ClearBrokenLog();
+  if (peak_utilisation != nullptr) *peak_utilisation = 0.0;
+  if (!IsFinite(load)) {
+    grid->Evaluate(load);  // clears the field
+    result.load_finite = false;
+    result.detached = grid->detached();
+    return result;
+  }
+  const int n = grid->size();
+  while (grid->bonded_count() > 0) {
+    // σ_i over the bonds left (bond_grid.h's field; its shears are not used), one shear
+    // for every bond.
+    const bool unsupported = grid->Evaluate(load).load_unsupported;
+    const double area = grid->bonded_area_m2();
+    const double tau_x = load.fx_n / area, tau_y = load.fy_n / area;
+    const int round = result.rounds + 1;
+    int broken = 0;
+    double peak = 0.0;
+    for (int i = 0; i < n; ++i) {
+      if (!grid->bonded(i)) continue;
+      const double u = unsupported ? kFrictionalCap
+                                   : law.Utilisation(grid->sigma_pa(i), tau_x, tau_y);
+      if (u > 1.0 + kRoundoff) {
+        grid->Break(i, round);
+        ++broken;
+      } else {
+        peak = std::max(peak, u);
+      }
+    }
+    if (broken == 0) {
+      if (peak_utilisation != nullptr) *peak_utilisation = peak;
+      break;
+    }
+    ++result.rounds;
+    result.broken += broken;
+  }
+  result.detached = grid->detached();
+  return result;
+}
+
+namespace {
+
+bool FrictionalDetaches(BondGrid* grid, const FrictionalLaw& law, double force_n,
+                        const PullSetup& setup, int* evaluations) {
+  ++*evaluations;
+  grid->BondAll();
+  return FrictionalUpdate(grid, law, PullLoad(force_n, setup), nullptr).detached;
+}
+
+}  // namespace
+
+PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& params,
+                                const PullSetup& setup, const PulloffOptions& options) {
+  if (!std::isfinite(setup.angle_rad) || !std::isfinite(setup.azimuth_rad) ||
+      !(std::isfinite(setup.arm_m) && setup.arm_m >= 0.0) || !(options.rel_tol > 0.0) ||
+      options.rel_tol > 0.1 || !(options.max_force_factor > 1.0)) {
+    throw std::invalid_argument("pulloff: bad pull setup or options (pulloff.h)");
+  }
+  const FrictionalLaw law(params);
+  BondGrid grid(pad);
+  PulloffResult result;
+  const double capacity_n = params.shear_limit_pa * grid.pad_area_m2();
+  const double cap_n = options.max_force_factor * capacity_n;
+
+  double lo = 0.0, hi = capacity_n;
+  if (FrictionalDetaches(&grid, law, hi, setup, &result.evaluations)) {
+    lo = 0.5 * hi;
+    int halvings = 0;
+    while (FrictionalDetaches(&grid, law, lo, setup, &result.evaluations)) {
+      hi = lo;
+      lo *= 0.5;
+      if (++halvings > 60) {  // lets go at any force: no hold at this angle
+        result.detaches = true;
+        result.force_n = 0.0;
+        result.holding_force_n = 0.0;
+        result.force_per_capacity = 0.0;
+        return result;
+      }
+    }
+  } else {
+    lo = hi;
+    while (true) {
+      hi = std::min(2.0 * lo, cap_n);
+      if (FrictionalDetaches(&grid, law, hi, setup, &result.evaluations)) break;
+      if (hi >= cap_n) {
+        result.force_n = std::numeric_limits<double>::infinity();
+        result.holding_force_n = cap_n;
+        result.force_per_capacity = result.force_n;
+        return result;
+      }
+      lo = hi;
+    }
+  }
+  while (hi - lo > options.rel_tol * hi) {
+    const double mid = 0.5 * (lo + hi);
+    if (FrictionalDetaches(&grid, law, mid, setup, &result.evaluations)) {
+      hi = mid;
+    } else {
+      lo = mid;
+    }
+  }
+  grid.BondAll();
+  const BondGrid::UpdateResult last = FrictionalUpdate(&grid, law, PullLoad(hi, setup), nullptr);
+  ++result.evaluations;
+  result.detaches = true;
+  result.force_n = hi;
+  result.holding_force_n = lo;
+  result.force_per_capacity = hi / capacity_n;
+  result.rounds = last.rounds;
+  for (const BrokenBond& b : grid.last_broken()) {
+    result.sequence.push_back(
+        BrokenBondAt{.x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
+  }
+  return result;
+}
+
+std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, double area_m2,
+                                                 double max_compression_n) {
+  const double ft_max = law.params().shear_limit_pa * area_m2;
+  const double mu = law.params().friction_mu;
+  const double c = max_compression_n;
+  return {{-mu * c, -c},
+          {0.0, 0.0},
+          {ft_max, ft_max * law.tan_critical()},
+          {ft_max, 0.0},
+          {ft_max + mu * c, -c}};
+}
+
+double VonMisesPulloffClosedForm(double capacity_n, double angle_rad, double mu) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  if (c >= 0.0) return capacity_n / std::sqrt(c * c + 6.75 * s * s);
+  const double den = 1.5 * std::sqrt(3.0) * s - mu * std::abs(c);
+  return den > 0.0 ? capacity_n / den : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace climbsim::adhesion

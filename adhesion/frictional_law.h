@@ -1,0 +1,156 @@
+// The directional pad law, "frictional adhesion" (Autumn et al. 2006, J. Exp. Biol.
+// 209:3569–3579; the limit surface as Santos et al. 2007/2008 use it for Stickybot's pads),
+// beside the isotropic von Mises law of bond_grid.h, on the same bond grid. Pure math: no
+// MuJoCo. adhesion/README.md has the equations with the sources and the comparison.
+//
+// FRAMES AND SIGNS: the pad frame and the load of bond_grid.h (F_n > 0 pulls the pad off;
+// (F_x, F_y) is the shear that the robot puts on the pad). d = (d_x, d_y), a unit vector in
+// the pad's x-y plane, is the GRIPPING DIRECTION: the shear that engages the adhesive (for a
+// climber, pointing down the wall: the legs drag the feet down under the body's weight).
+//
+//   F_t = F_x·d_x + F_y·d_y    shear along the gripping direction (< 0: reversed)
+//   F_s = sqrt(F_x² + F_y²)    shear magnitude (lateral shear counts here, never for adhesion)
+//   C   = max(−F_n, 0)         compression
+//
+// THE PAD-LEVEL LIMIT SURFACE (α* the critical angle, F_t,max = τ_max·A the shear limit,
+// μ the friction coefficient; all three parameters). The pad holds while
+//
+//   pulled  (F_n > 0):   F_t > 0,  F_n ≤ F_t·tan α*,  F_s ≤ F_t,max
+//   pressed (F_n ≤ 0):   F_t ≥ −μ·C,                   F_s ≤ F_t,max + μ·C
+//
+// so: no adhesion without shear in the gripping direction (F_t ≤ 0 and pulled lets go at any
+// F_n > 0), the adhesion is at most tan α* times that shear, and the pad releases when the
+// shear is taken off (unloading). Pressed, the reversed side is Coulomb friction and the
+// gripping side the shear limit plus friction.
+//
+// DISCRETISATION ON THE BOND GRID (FrictionalUpdate; the moments scaled by moment_share
+// first). Each bond i of the bonded set B obeys
+// the same law in stresses: σ_i from bond_grid.h's linear field (the bonds as a bed of equal
+// springs under a rigid pad: F_n/A_B plus the moments' gradient), and one shear vector for
+// every bond, τ = (F_x, F_y)/A_B (a rigid in-plane displacement of the backing strains every
+// stalk alike: the fibrillar adhesive has no shear lag), with τ_t = τ·d, τ_s = |τ|,
+// c_i = max(−σ_i, 0). Bond i breaks when
+//
+//   σ_i > 0:   τ_t ≤ 0,  or σ_i > τ_t·tan α*,  or τ_s > τ_max
+//   σ_i ≤ 0:   τ_t < −μ·c_i,  or τ_s > τ_max + μ·c_i
+//
+// and the cascade of bond_grid.h runs on it (break all over threshold against one field,
+// recompute over the bonds left, repeat). Without a moment (a pull through the centroid of
+// a fully bonded pad) every bond has the same σ = F_n/A and τ = F/A, so the per-bond law IS
+// the pad-level law (all inequalities are homogeneous in the area) and the pad lets go all
+// at once: the pad-level law is exact for a central pull. With a moment (a lever, a leg's
+// torque) the tensioned edge reaches σ_i > τ_t tan α* first and the pad peels bond by bond.
+//
+// UTILISATION of a bond (demand over threshold, > 1 breaks; capped at kFrictionalCap, the
+// cap meaning "no hold": pulled without gripping shear):
+//   σ_i > 0:  max(σ_i/(τ_t tan α*), τ_s/τ_max)       (kFrictionalCap if τ_t ≤ 0)
+//   σ_i ≤ 0:  max(τ_s/(τ_max + μc_i), −τ_t/(μc_i))    (the second 0 when τ_t ≥ 0)
+//
+// Nothing here allocates; FrictionalUpdate costs one BondGrid::Evaluate plus a scan of the
+// bonds per cascade round.
+#ifndef CLIMBSIM_ADHESION_FRICTIONAL_LAW_H_
+#define CLIMBSIM_ADHESION_FRICTIONAL_LAW_H_
+
+#include <vector>
+
+#include "adhesion/bond_grid.h"
+#include "adhesion/pulloff.h"
+
+namespace climbsim::adhesion {
+
+// Which law decides when bonds break.
+enum class PadLaw { kVonMises, kFrictional };
+
+// Utilisation reported for a bond (or pad) that cannot hold at all (pulled, no gripping
+// shear): far above 1, finite so that it plots and averages.
+inline constexpr double kFrictionalCap = 1e3;
+
+// The law's parameters. Defaults: α* = 30° (Autumn et al. 2006: a critical angle near 25°
+// for isolated setal arrays and live toes; 25–30° is the range quoted for geckos), τ_max = 10 kPa (the von Mises law's σ_T, so
+// the two compare on the same pad; Stickybot's directional polymer gives a few kPa, gecko
+// toes about 100 kPa), μ = 1 (MuJoCo's default geom friction).
+struct FrictionalParams {
+  double critical_angle_deg = 30.0;  // α*, in (0, 90)
+  double shear_limit_pa = 10e3;      // τ_max > 0; F_t,max = τ_max·A
+  double friction_mu = 1.0;          // μ ≥ 0, Coulomb friction when pressed
+  double grip_x = -1.0;              // gripping direction d in the pad frame; normalised by
+  double grip_y = 0.0;               // FrictionalLaw, must not be zero. Default −x: down the
+                                     // wall for the bundled robots, whose pad x runs along
+                                     // the base's heading (they climb +x)
+  // Share of the load's moments (M_x, M_y) that the bonds carry, in [0, 1]. 1: a rigid pad
+  // on a rigid ankle, the moments peel it bond by bond; 0: a compliant toe or a passive ankle
+  // (gecko toes, Stickybot's toes) passes no moment to the adhesive: the pad-level law.
+  double moment_share = 1.0;
+};
+
+// Throws std::invalid_argument naming the key (adhesion.frictional.<key>) and the value.
+void ValidateFrictionalParams(const FrictionalParams& params);
+
+// The pad-level law with its parameters prepared (tan α*, unit d).
+class FrictionalLaw {
+ public:
+  explicit FrictionalLaw(const FrictionalParams& params);  // validates
+
+  const FrictionalParams& params() const { return params_; }
+  double tan_critical() const { return tan_critical_; }
+  double grip_x() const { return dx_; }
+  double grip_y() const { return dy_; }
+  double GripShear(double fx, double fy) const { return fx * dx_ + fy * dy_; }  // F_t
+
+  // Utilisation of a stress state (σ tension +, shear (τ_x, τ_y)), per the file comment;
+  // > 1 breaks. Also the pad-level law with forces over the pad area.
+  double Utilisation(double sigma_pa, double tau_x_pa, double tau_y_pa) const;
+  bool Holds(double sigma_pa, double tau_x_pa, double tau_y_pa) const {
+    return Utilisation(sigma_pa, tau_x_pa, tau_y_pa) <= 1.0;
+  }
+  // The pad-level law on a load (pad of area A): holds per the limit surface. Moments are
+  // not part of the pad-level law (FrictionalUpdate carries them).
+  bool PadHolds(const PadLoad& load, double area_m2) const;
+
+  // Closed-form pull-off force of a central pull (no lever) on a pad of area A, direction
+  // (θ from the normal, φ in-plane from +x), on the limit surface above: 0 when the pad
+  // cannot hold at any force (too steep for α*, or reversed shear beyond friction), +inf
+  // when it holds at every force (inside the friction cone).
+  //   θ < 90°:  0 if cosθ > sinθ·cos(φ − φ_d)·tan α*, else τ_max·A / sinθ
+  //   θ ≥ 90°:  0 if sinθ·cos(φ − φ_d) < −μ|cosθ|, else τ_max·A / (sinθ − μ|cosθ|)
+  //             (+inf when that denominator is ≤ 0)
+  double PulloffClosedForm(double area_m2, double angle_rad, double azimuth_rad) const;
+
+ private:
+  FrictionalParams params_;
+  double tan_critical_ = 0.0;
+  double dx_ = -1.0, dy_ = 0.0;
+};
+
+// Bond-level breaking under `load` with the frictional law, the cascade of BondGrid::Update
+// (file comment). Broken bonds become kBroken and are logged (grid->last_broken()). Returns
+// what Update returns; *peak_utilisation (if not null) gets the largest bond utilisation over
+// the bonds left (0 if none), capped at kFrictionalCap.
+BondGrid::UpdateResult FrictionalUpdate(BondGrid* grid, const FrictionalLaw& law,
+                                        const PadLoad& load, double* peak_utilisation);
+
+// The quasi-static pull-off of a fully bonded pad under the frictional law: the search of
+// pulloff.h (bracket, bisect) on FrictionalUpdate. capacity = τ_max·A; force_n 0 when the
+// pad holds at no force, +inf when it holds at max_force_factor·capacity.
+PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& law,
+                                const PullSetup& setup, const PulloffOptions& options = {});
+
+// The pad-level limit surface in the (F_t, F_n) plane (no lateral shear), as the vertices of
+// its boundary down to the compression `max_compression_n`: the friction ray F_t = −μC from
+// (−μC_max, −C_max) to the origin, the adhesion line F_n = F_t tan α* to (F_t,max,
+// F_t,max tan α*), the shear limit down to (F_t,max, 0) and on to (F_t,max + μC_max, −C_max).
+struct LimitVertex {
+  double ft_n = 0.0;  // + along d
+  double fn_n = 0.0;  // + pulls off
+};
+std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, double area_m2,
+                                                 double max_compression_n);
+
+// The von Mises law's closed-form pull-off of a central pull on a fine grid (pulloff.h):
+// σ_T·A/sqrt(cos²θ + 6.75 sin²θ) for θ ≤ 90°, σ_T·A/(2.598 sinθ − μ|cosθ|) beyond (+inf
+// when that is ≤ 0), for the comparison plots.
+double VonMisesPulloffClosedForm(double capacity_n, double angle_rad, double mu);
+
+}  // namespace climbsim::adhesion
+
+#endif  // CLIMBSIM_ADHESION_FRICTIONAL_LAW_H_
