@@ -33,6 +33,10 @@ class LegIk {
   // Largest distance between the foot a table entry reaches and its target (m): how well
   // the table's box fits the leg (a test bounds it).
   double worst_error_m() const { return worst_error_m_; }
+  // Table entry of leg `leg` at grid node (ix, iz), each in [0, cells] (tests).
+  const std::array<double, 3>& entry(int leg, int ix, int iz) const {
+    return table_[leg][iz * (cells_ + 1) + ix];
+  }
 
  private:
   int cells_;
