@@ -1,3 +1,5 @@
+#include <sys/resource.h>
+
 #include <nlopt.hpp>
 #include <pagmo/algorithms/cmaes.hpp>
 #include <pagmo/population.hpp>
@@ -30,6 +32,14 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+// CPU seconds (user + system) of this process so far, all threads.
+double CpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec +
+         1e-6 * u.ru_stime.tv_usec;
+}
 
 uint64_t Fnv1a(std::string_view s) {
   uint64_t h = 1469598103934665603ull;
@@ -821,6 +831,7 @@ const sim::CompiledModel& ModelCache::For(const sim::Scenario& s) {
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress) {
   const auto t0 = Clock::now();
+  const double cpu0 = CpuSeconds();
   const Problem problem(scenario_file);
   sim::OptimiseParams params = problem.params();
   if (options.max_evaluations > 0) params.max_evaluations = options.max_evaluations;
@@ -996,6 +1007,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
       {"evaluations", result.history.size()},
       {"evaluations_computed", result.evaluations_computed},
       {"wall_time_s", result.wall_time_s},
+      {"cpu_s_rank0", CpuSeconds() - cpu0},
       {"evaluations_per_s",
        result.wall_time_s > 0 ? result.evaluations_computed / result.wall_time_s : 0.0},
       {"start_objective", result.start_objective},
