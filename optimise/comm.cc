@@ -47,7 +47,7 @@ Comm& Comm::World() {
       int initialized = 0;
       MPI_Initialized(&initialized);
       if (!initialized) {
-        // Worker threads never call MPI: only the thread that runs the rounds does.
+        // Worker threads never call MPI: only the thread that serves or asks for rollouts does.
         int provided = 0;
         MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
         std::atexit(Finalize);

@@ -1,0 +1,50 @@
+// The optimised wall gaits shipped as examples (examples/*_wall_fast.yaml, from
+// `climbsim optimise` with CMA-ES and the worst of 3 runs): each climbs at least as fast as
+// the bound below in its nominal run and in both perturbed runs of its objective, without a
+// fall, and the file's gait is the optimise block's start (so re-optimising continues from
+// it). The bounds are the measured worst speeds rounded down (docs/optimise.md,
+// "Optimised examples"); a change to the robot or the controller that slows a gait fails
+// here, and `climbsim optimise examples/<robot>_wall_fast.yaml` finds it again.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "optimise/optimise.h"
+#include "tests/common/test_util.h"
+
+namespace climbsim::optimise {
+namespace {
+
+using climbsim::testing::Source;
+
+void ExpectClimbsAtLeast(const std::string& example, double min_speed_mps) {
+  const std::string file = Source(example);
+  const Problem problem(file);
+  const YAML::Node tree = YAML::LoadFile(file);
+  const std::vector<double> x = problem.start();
+  for (int i = 0; i < problem.dimension(); ++i) {
+    const std::string& key = problem.params().parameters[i].key;
+    EXPECT_EQ(GetDottedKey(tree, key), x[i]) << example << ": " << key
+                                            << " differs from its optimise start";
+  }
+  ASSERT_GE(problem.params().objective.runs, 3) << example;
+  for (int run = 0; run < problem.params().objective.runs; ++run) {
+    const sim::Scenario s = problem.ScenarioFor(x, run);
+    auto model = sim::CompileScenario(s);
+    sim::Simulation sim(s, *model);
+    const sim::RunResult r = sim.Run();
+    ASSERT_TRUE(r.stable) << example << " run " << run << ": " << r.failure;
+    EXPECT_FALSE(r.fell) << example << " run " << run << " fell at " << r.fall_time_s << " s";
+    EXPECT_GE(r.distance_m / s.duration_s, min_speed_mps) << example << " run " << run;
+  }
+}
+
+TEST(FastExamples, GeckoWallFastClimbsInEveryRunOfItsObjective) {
+  ExpectClimbsAtLeast("examples/gecko_wall_fast.yaml", GECKO_MIN);
+}
+
+TEST(FastExamples, SpiderWallFastClimbsInEveryRunOfItsObjective) {
+  ExpectClimbsAtLeast("examples/spider_wall_fast.yaml", SPIDER_MIN);
+}
+
+}  // namespace
+}  // namespace climbsim::optimise
