@@ -1,10 +1,11 @@
 // The optimised wall gaits shipped as examples (examples/*_wall_fast.yaml, from
-// `climbsim optimise` with CMA-ES and the worst of 3 runs): each climbs at least as fast as
-// the bound below in its nominal run and in both perturbed runs of its objective, without a
-// fall, and the file's gait is the optimise block's start (so re-optimising continues from
-// it). The bounds are the measured worst speeds rounded down (docs/optimise.md,
-// "Optimised examples"); a change to the robot or the controller that slows a gait fails
-// here, and `climbsim optimise examples/<robot>_wall_fast.yaml` finds it again.
+// `climbsim optimise` with CMA-ES and the worst of 3 runs): none falls in its nominal run or
+// in the perturbed runs of its objective, the nominal run climbs at least as fast as its
+// bound and every run at least as fast as the worst-run bound, and the file's gait is the
+// optimise block's start (so re-optimising continues from it). The bounds are the measured
+// speeds rounded down (docs/optimise.md, "Optimised examples"); a change to the robot or the
+// controller that slows a gait fails here, and `climbsim optimise
+// examples/<robot>_wall_fast.yaml` searches again from it.
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -16,7 +17,8 @@ namespace {
 
 using climbsim::testing::Source;
 
-void ExpectClimbsAtLeast(const std::string& example, double min_speed_mps) {
+void ExpectClimbsAtLeast(const std::string& example, double nominal_min_mps,
+                         double every_run_min_mps) {
   const std::string file = Source(example);
   const Problem problem(file);
   const YAML::Node tree = YAML::LoadFile(file);
@@ -34,16 +36,23 @@ void ExpectClimbsAtLeast(const std::string& example, double min_speed_mps) {
     const sim::RunResult r = sim.Run();
     ASSERT_TRUE(r.stable) << example << " run " << run << ": " << r.failure;
     EXPECT_FALSE(r.fell) << example << " run " << run << " fell at " << r.fall_time_s << " s";
-    EXPECT_GE(r.distance_m / s.duration_s, min_speed_mps) << example << " run " << run;
+    const double speed = r.distance_m / s.duration_s;
+    EXPECT_GE(speed, every_run_min_mps) << example << " run " << run;
+    if (run == 0) {
+      EXPECT_GE(speed, nominal_min_mps) << example << " as written";
+    }
   }
 }
 
 TEST(FastExamples, GeckoWallFastClimbsInEveryRunOfItsObjective) {
-  ExpectClimbsAtLeast("examples/gecko_wall_fast.yaml", 0.031);
+  // Measured: 0.0330 m/s as written, 0.0319 in the worst run.
+  ExpectClimbsAtLeast("examples/gecko_wall_fast.yaml", 0.032, 0.031);
 }
 
 TEST(FastExamples, SpiderWallFastClimbsInEveryRunOfItsObjective) {
-  ExpectClimbsAtLeast("examples/spider_wall_fast.yaml", 0.0);
+  // Measured: 0.0251 m/s as written, 0.0013 in the worst run (that run barely climbs, but
+  // unlike spider_wall.yaml's gait, which falls in one of these runs, it holds on).
+  ExpectClimbsAtLeast("examples/spider_wall_fast.yaml", 0.024, 0.001);
 }
 
 }  // namespace
