@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <cstdlib>
+#include <memory>
 #include <thread>
 
 #ifdef CLIMBSIM_MPI
@@ -83,8 +83,8 @@ struct Comm::Pending {
 
 void Comm::Send(int to, int tag, std::string payload) {
   auto* p = new Pending{std::move(payload), MPI_REQUEST_NULL};
-  MPI_Isend(p->buffer.data(), static_cast<int>(p->buffer.size()), MPI_CHAR, to, tag,
-            MPI_COMM_WORLD, &p->request);
+  MPI_Isend(p->buffer.data(), static_cast<int>(p->buffer.size()), MPI_CHAR, to, tag, MPI_COMM_WORLD,
+            &p->request);
   sends_.push_back(p);
 }
 

@@ -212,7 +212,6 @@ std::vector<std::vector<Evaluation>> ReadCheckpoint(const std::string& path,
   return recorded;
 }
 
-
 // ---- Batches of rollouts: rank 0 hands them out as workers free up ---------------------------
 // Each start runs its algorithm on its own thread and hands its next evaluations (one for
 // NLopt, a generation for CMA-ES) to Submit, which blocks until they are evaluated. Their
@@ -331,7 +330,7 @@ class Evaluator {
   // every start has finished, then stops them.
   void Serve() {
     std::vector<std::thread> pool;
-    for (int slot = 0; slot < threads_; ++slot) pool.emplace_back(&Evaluator::Worker, this, slot);
+    for (int k = 0; k < threads_; ++k) pool.emplace_back(&Evaluator::Worker, this);
     if (comm_.size() == 1) {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait(lock, [&] { return active_ == 0; });
@@ -347,9 +346,8 @@ class Evaluator {
   }
 
  private:
-  void Worker(int slot) {
+  void Worker() {
     ModelCache cache;  // compiled models kept across this worker's rollouts
-    (void)slot;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
       changed_.wait(lock, [&] { return closing_ || !queue_.empty(); });
@@ -527,7 +525,7 @@ void WorkForRankZero(const Problem& problem, int threads, Comm& comm) {
   int busy = 0;  // tasks received and not yet computed
   bool closing = false;
   std::vector<std::thread> pool;
-  for (int slot = 0; slot < threads; ++slot) {
+  for (int k = 0; k < threads; ++k) {
     pool.emplace_back([&] {
       ModelCache cache;
       std::unique_lock<std::mutex> lock(mutex);
@@ -573,9 +571,9 @@ void WorkForRankZero(const Problem& problem, int threads, Comm& comm) {
         asked = false;
         std::lock_guard<std::mutex> lock(mutex);
         for (const auto& t : nlohmann::json::parse(payload)) {
-          queue.push_back({t[0].get<long>(), t[1].get<std::vector<double>>(), t[2].get<int>(),
-                           t[3].is_null() ? std::numeric_limits<double>::infinity()
-                                          : t[3].get<double>()});
+          queue.push_back(
+              {t[0].get<long>(), t[1].get<std::vector<double>>(), t[2].get<int>(),
+               t[3].is_null() ? std::numeric_limits<double>::infinity() : t[3].get<double>()});
           ++busy;
         }
         cv.notify_all();

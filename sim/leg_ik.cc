@@ -1,9 +1,8 @@
 #include "sim/leg_ik.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Dense>
 
 namespace climbsim::sim {
 namespace {
@@ -129,7 +128,8 @@ LegIk::LegIk(const mjModel* m, const RobotInfo& robot, double reach_x_m, double 
         }
         // Damped least squares: stays finite near singular poses and at the joint limits.
         const Eigen::Vector3d dq =
-            jac.transpose() * (jac * jac.transpose() + 1e-6 * Eigen::Matrix3d::Identity()).ldlt().solve(e);
+            jac.transpose() *
+            (jac * jac.transpose() + 1e-6 * Eigen::Matrix3d::Identity()).ldlt().solve(e);
         const std::array<double, 3> before = q;
         for (int k = 0; k < 3; ++k) q[k] = std::clamp(q[k] + dq[k], lo[k], hi[k]);
         if (q == before) break;
@@ -154,7 +154,8 @@ LegIk::LegIk(const mjModel* m, const RobotInfo& robot, double reach_x_m, double 
     }
     for (int iz = 0; iz < n; ++iz) {
       for (int ix = 0; ix < n; ++ix) {
-        const double err = (FootInBase(m, d, leg, robot.base_body, chain, at(ix, iz)) - target(ix, iz)).norm();
+        const double err =
+            (FootInBase(m, d, leg, robot.base_body, chain, at(ix, iz)) - target(ix, iz)).norm();
         worst_error_m_ = std::max(worst_error_m_, err);
       }
     }

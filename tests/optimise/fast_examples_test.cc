@@ -25,8 +25,8 @@ void ExpectClimbsAtLeast(const std::string& example, double nominal_min_mps,
   const std::vector<double> x = problem.start();
   for (int i = 0; i < problem.dimension(); ++i) {
     const std::string& key = problem.params().parameters[i].key;
-    EXPECT_EQ(GetDottedKey(tree, key), x[i]) << example << ": " << key
-                                            << " differs from its optimise start";
+    EXPECT_EQ(GetDottedKey(tree, key), x[i])
+        << example << ": " << key << " differs from its optimise start";
   }
   ASSERT_GE(problem.params().objective.runs, 3) << example;
   for (int run = 0; run < problem.params().objective.runs; ++run) {

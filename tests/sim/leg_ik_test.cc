@@ -1,6 +1,8 @@
 // The leg IK tables: built with kinematics of one leg's chain of bodies, they hold the same
 // joint angles bit for bit as the straightforward construction with mj_kinematics of the
 // whole robot (the reference below, as sim/leg_ik.cc first had it), for every robot.
+#include "sim/leg_ik.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -9,7 +11,6 @@
 #include <cmath>
 #include <vector>
 
-#include "sim/leg_ik.h"
 #include "sim/sim.h"
 #include "tests/common/test_util.h"
 
@@ -29,8 +30,8 @@ Eigen::Vector3d ReferenceFootInBase(const mjModel* m, mjData* d, const LegInfo& 
 // The reference table of one leg: damped least squares from the neutral cell outwards, each
 // cell seeded by its solved neighbour, the whole robot's mj_kinematics for every foot.
 std::vector<std::array<double, 3>> ReferenceTable(const mjModel* m, const RobotInfo& robot,
-                                                  int leg_index, double reach_x,
-                                                  double below, double above, int cells) {
+                                                  int leg_index, double reach_x, double below,
+                                                  double above, int cells) {
   const LegInfo& leg = robot.legs[leg_index];
   mjData* d = mj_makeData(m);
   mju_copy(d->qpos, m->qpos0, m->nq);
@@ -51,8 +52,9 @@ std::vector<std::array<double, 3>> ReferenceTable(const mjModel* m, const RobotI
       for (int k = 0; k < 3; ++k) {
         std::array<double, 3> qp = q;
         qp[k] += h;
-        jac.col(k) = (ReferenceFootInBase(m, d, leg, base, qp) -
-                      ReferenceFootInBase(m, d, leg, base, q)) / h;
+        jac.col(k) =
+            (ReferenceFootInBase(m, d, leg, base, qp) - ReferenceFootInBase(m, d, leg, base, q)) /
+            h;
       }
       const Eigen::Vector3d dq =
           jac.transpose() *
