@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <memory>
 #include <thread>
 
 #ifdef CLIMBSIM_MPI
@@ -46,7 +47,7 @@ Comm& Comm::World() {
       int initialized = 0;
       MPI_Initialized(&initialized);
       if (!initialized) {
-        // Worker threads never call MPI: only the thread that runs the rounds does.
+        // Worker threads never call MPI: only the thread that serves or asks for rollouts does.
         int provided = 0;
         MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
         std::atexit(Finalize);
@@ -74,6 +75,48 @@ void WaitQuietly(MPI_Request* request) {
 }
 
 }  // namespace
+
+struct Comm::Pending {
+  std::string buffer;
+  MPI_Request request;
+};
+
+void Comm::Send(int to, int tag, std::string payload) {
+  auto* p = new Pending{std::move(payload), MPI_REQUEST_NULL};
+  MPI_Isend(p->buffer.data(), static_cast<int>(p->buffer.size()), MPI_CHAR, to, tag, MPI_COMM_WORLD,
+            &p->request);
+  sends_.push_back(p);
+}
+
+bool Comm::Poll(int* from, int* tag, std::string* payload) {
+  // Delivered sends free their buffers.
+  std::erase_if(sends_, [](Pending* p) {
+    int done = 0;
+    MPI_Test(&p->request, &done, MPI_STATUS_IGNORE);
+    if (done) delete p;
+    return done != 0;
+  });
+  int flag = 0;
+  MPI_Status status;
+  MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+  if (!flag) return false;
+  int n = 0;
+  MPI_Get_count(&status, MPI_CHAR, &n);
+  payload->assign(static_cast<size_t>(n), '\0');
+  MPI_Recv(payload->data(), n, MPI_CHAR, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+  *from = status.MPI_SOURCE;
+  *tag = status.MPI_TAG;
+  return true;
+}
+
+void Comm::Drain() {
+  for (Pending* p : sends_) {
+    WaitQuietly(&p->request);
+    delete p;
+  }
+  sends_.clear();
+}
 
 std::vector<std::string> Comm::AllGather(const std::string& mine) const {
   if (size_ == 1) return {mine};
@@ -106,6 +149,11 @@ Comm& Comm::World() {
 }
 
 std::vector<std::string> Comm::AllGather(const std::string& mine) const { return {mine}; }
+
+struct Comm::Pending {};
+void Comm::Send(int, int, std::string) {}
+bool Comm::Poll(int*, int*, std::string*) { return false; }
+void Comm::Drain() {}
 
 #endif
 

@@ -1,8 +1,8 @@
-// Internal to optimise/: the processes of an MPI run (mpirun -np N climbsim ...). Every rank
-// runs the same optimisation in lockstep and evaluates its share of each batch of rollouts;
-// the shares are then exchanged, so every rank holds every result and takes the same next
-// step. Built without CLIMBSIM_MPI, or started without mpirun, it is one process of one rank
-// and does nothing. Only the thread that called World() first may call the collectives.
+// Internal to optimise/: the processes of an MPI run (mpirun -np N climbsim ...). Rank 0 runs
+// the optimisation and hands rollouts to the other ranks as they ask for work (Send, Poll);
+// a collective (AllGather) shares what every rank must know. Built without CLIMBSIM_MPI, or
+// started without mpirun, it is one process of one rank and does nothing. Only the thread
+// that called World() first may call Send, Poll, Drain and AllGather.
 #ifndef CLIMBSIM_OPTIMISE_COMM_H_
 #define CLIMBSIM_OPTIMISE_COMM_H_
 
@@ -29,8 +29,18 @@ class Comm {
   // (1 ms polls) rather than spinning on a core.
   std::vector<std::string> AllGather(const std::string& mine) const;
 
+  // Point to point, never blocking: Send queues `payload` for rank `to` with `tag` (the
+  // buffer is kept until MPI has delivered it); Poll returns one message that has arrived,
+  // from any rank with any tag, or false when none has (it also moves queued sends on);
+  // Drain waits, in 1 ms polls, until every queued send has been delivered.
+  void Send(int to, int tag, std::string payload);
+  bool Poll(int* from, int* tag, std::string* payload);
+  void Drain();
+
  private:
+  struct Pending;
   Comm() = default;
+  std::vector<Pending*> sends_;
   int rank_ = 0;
   int size_ = 1;
 };

@@ -1,9 +1,9 @@
 // climbsim's offline gait optimiser: NLopt or CMA-ES (pagmo2) tunes the parameters an
 // `optimise:` block lists (any numeric scenario key, by its dotted name) to minimise a
 // documented cost over rollouts of the scenario. Independent starts hand their candidates to
-// rounds whose rollouts run on threads and MPI ranks; the result does not depend on the number
-// of threads or processes. Every round is checkpointed atomically, so a killed run resumes to
-// the same end.
+// one queue whose rollouts run on threads and MPI ranks as they free up; the result does not
+// depend on the number of threads or processes. Every batch is checkpointed atomically, so a
+// killed run resumes to the same end.
 //
 //   climbsim::optimise::Options o;  o.out_dir = "runs/opt";  o.threads = 2;
 //   climbsim::optimise::Result r = climbsim::optimise::Optimise("examples/gecko_wall.yaml", o);
@@ -281,10 +281,11 @@ int ProcessCount();
 bool BuiltWithMpi();
 
 // Writes DIR/scenario.yaml, history.csv, best.yaml, convergence.png (and .csv), summary.json
-// and keeps DIR/checkpoint.json current after every round of evaluations (all atomically).
-// Under mpirun every rank calls it with the same arguments: the ranks share the rollouts of
-// each round, every rank returns the same Result, and rank 0 alone writes DIR.
-// progress(fraction, best_objective) is called on the calling thread after each round.
+// and keeps DIR/checkpoint.json current after every batch of evaluations (all atomically).
+// Under mpirun every rank calls it with the same arguments: rank 0 runs the starts and hands
+// rollouts to the other ranks as they ask, every rank returns the same Result, and rank 0
+// alone writes DIR. progress(fraction, best_objective) is called after each batch, one call
+// at a time, from the thread that completed it.
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress = {});
 

@@ -1,3 +1,5 @@
+#include <sys/resource.h>
+
 #include <nlopt.hpp>
 #include <pagmo/algorithms/cmaes.hpp>
 #include <pagmo/population.hpp>
@@ -8,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -17,6 +20,7 @@
 #include <optional>
 #include <random>
 #include <sstream>
+#include <tuple>
 #include <thread>
 
 #include "optimise/comm.h"
@@ -28,6 +32,14 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+// CPU seconds (user + system) of this process so far, all threads.
+double CpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec +
+         1e-6 * u.ru_stime.tv_usec;
+}
 
 uint64_t Fnv1a(std::string_view s) {
   uint64_t h = 1469598103934665603ull;
@@ -103,7 +115,7 @@ Evaluation FromJson(const nlohmann::json& j, int start, int index) {
 }
 
 // What the starts share: their evaluations (for the checkpoint and the progress bar) and
-// the evaluations a resumed run replays. Touched only by the thread that runs the rounds.
+// the evaluations a resumed run replays. Touched under the evaluator's lock.
 struct Shared {
   std::vector<std::vector<Evaluation>> by_start;
   std::vector<std::vector<Evaluation>> recorded;
@@ -117,8 +129,21 @@ struct Shared {
   double best = std::numeric_limits<double>::infinity();
   std::string error;  // first checkpoint mismatch, reported after the run
   const std::function<void(double, double)>* progress = nullptr;
-  std::ofstream failures;  // rank 0 only
+  // failures.log: what it held before (a resumed run's), then this run's failed rollouts
+  // by start, evaluation and run, whatever order they finished in.
+  std::string failures_path, failures_before;
+  std::map<std::tuple<int, int, int>, std::string> failure_lines;
 };
+
+void WriteFailures(const Shared& s) {
+  std::string text = s.failures_before;
+  for (const auto& [where, what] : s.failure_lines) {
+    const auto& [start, index, run] = where;
+    text += "start " + std::to_string(start) + " evaluation " + std::to_string(index) + " run " +
+            std::to_string(run) + ": " + what + "\n";
+  }
+  sim::WriteFileAtomic(s.failures_path, text);
+}
 
 void WriteCheckpoint(Shared& s) {
   nlohmann::json starts = nlohmann::json::array();
@@ -187,228 +212,383 @@ std::vector<std::vector<Evaluation>> ReadCheckpoint(const std::string& path,
   return recorded;
 }
 
-
-// ---- Rounds --------------------------------------------------------------------------------
+// ---- Batches of rollouts: rank 0 hands them out as workers free up ---------------------------
 // Each start runs its algorithm on its own thread and hands its next evaluations (one for
-// NLopt, a generation for CMA-ES) to Submit, which blocks. When every start still running
-// has handed in its batch, the thread that called Serve evaluates the round: the rollouts of
-// all batches, in start order, spread over the MPI ranks (rollout i on rank i mod N) and,
-// within a rank, over its threads. A round holds exactly one batch of each running start, so
-// every start sees the same evaluations whatever the thread or process count.
-struct Request {
+// NLopt, a generation for CMA-ES) to Submit, which blocks until they are evaluated. Their
+// rollouts (each candidate times `objective.runs`) go to one queue, served first come first
+// served to this process's worker threads and, under MPI, to the other ranks' workers as they
+// ask for work. No start waits for another's batch, so no core idles while a batch's slowest
+// rollout finishes. A start's evaluations depend only on its own candidates and on the bound
+// (start 0's first evaluation: batches after a start's first wait until it is known, as they
+// would in lockstep rounds), so the history and best.yaml are the same bit for bit for any
+// thread or process count.
+struct Batch {
   int start = 0;
+  int number = 0;  // this start's batch count before it
   std::vector<std::vector<double>> xs;
   std::vector<Evaluation> out;
+  std::vector<int> index;      // per candidate: its evaluation number in the start
+  std::vector<char> replayed;  // per candidate: served from the checkpoint
+  std::vector<Cost> costs;     // per candidate and run: [k * runs + run]
+  int pending = 0;             // rollouts not back yet
   bool done = false;
 };
 
-class Rounds {
- public:
-  explicit Rounds(int starts) : active_(starts) {}
+struct Task {
+  Batch* batch = nullptr;
+  size_t k = 0;
+  int run = 0;
+  double bound = 0.0;
+};
 
+// Message tags between rank 0 and the other ranks.
+enum Tag : int { kAskTag = 1, kTasksTag = 2, kStopTag = 3, kCostsTag = 4 };
+
+// Never throws: a bad candidate costs kFailedCost and is logged.
+Cost Rollout(const Problem& problem, const std::vector<double>& x, int run, double bound,
+             ModelCache& cache) {
+  const auto t0 = Clock::now();
+  Cost c;
+  try {
+    const sim::Scenario s = problem.ScenarioFor(x, run);
+    sim::Simulation rollout(s, cache.For(s));
+    c = RunRollout(rollout, problem.params().objective, bound);
+  } catch (const std::exception& ex) {
+    c = Cost{};
+    c.failed = true;
+    c.failure = ex.what();
+    c.total = kFailedCost;
+  }
+  if (!std::isfinite(c.total)) {
+    c.failed = true;
+    c.failure = "the cost is not finite";
+    c.total = kFailedCost;
+  }
+  c.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return c;
+}
+
+class Evaluator {
+ public:
+  Evaluator(const Problem& problem, Shared& shared, int threads, Comm& comm)
+      : problem_(problem), shared_(shared), threads_(threads), comm_(comm),
+        active_(problem.params().starts), batches_(problem.params().starts, 0),
+        next_index_(problem.params().starts, 0) {}
+
+  // A start's driver thread: evaluates `xs` (in [min, max] coordinates) and returns their
+  // evaluations in order.
   std::vector<Evaluation> Submit(int start, std::vector<std::vector<double>> xs) {
-    Request r;
-    r.start = start;
-    r.xs = std::move(xs);
+    const sim::ObjectiveParams& o = problem_.params().objective;
+    Batch b;
+    b.start = start;
+    b.xs = std::move(xs);
     std::unique_lock<std::mutex> lock(mutex_);
-    pending_.push_back(&r);
-    main_.notify_all();
-    starts_.wait(lock, [&] { return r.done; });
-    return std::move(r.out);
+    b.number = batches_[start]++;
+    if (b.number > 0) changed_.wait(lock, [&] { return bound_known_; });
+    const double bound = b.number > 0 ? bound_ : std::numeric_limits<double>::infinity();
+    const size_t n = b.xs.size();
+    b.out.resize(n);
+    b.index.resize(n);
+    b.replayed.assign(n, 0);
+    b.costs.resize(n * o.runs);
+    for (size_t k = 0; k < n; ++k) {
+      b.index[k] = next_index_[start]++;
+      const auto& rec = shared_.recorded[start];
+      if (b.index[k] < static_cast<int>(rec.size())) {
+        if (rec[b.index[k]].x == b.xs[k]) {
+          b.out[k] = rec[b.index[k]];
+          b.replayed[k] = 1;
+          continue;
+        }
+        if (shared_.error.empty()) {
+          shared_.error = "checkpoint.json does not match this run at start " +
+                          std::to_string(start) + ", evaluation " + std::to_string(b.index[k]) +
+                          ": evaluations from here are computed anew";
+        }
+      }
+      for (int run = 0; run < o.runs; ++run) {
+        queue_.push_back({&b, k, run, bound});
+        ++b.pending;
+      }
+    }
+    if (b.pending == 0) Complete(b);
+    changed_.notify_all();
+    changed_.wait(lock, [&] { return b.done; });
+    return std::move(b.out);
   }
 
-  void Finish() {
+  // A start's driver is done (or failed: then the bound is released so no other start waits
+  // for it).
+  void Finish(int start) {
     std::lock_guard<std::mutex> lock(mutex_);
     --active_;
-    main_.notify_all();
+    if (start == 0) bound_known_ = true;
+    changed_.notify_all();
   }
 
-  void Serve(const std::function<void(std::vector<Request*>&)>& evaluate) {
-    for (;;) {
-      std::vector<Request*> batch;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        main_.wait(lock, [&] { return static_cast<int>(pending_.size()) == active_; });
-        if (active_ == 0) return;
-        batch.swap(pending_);
-      }
-      std::sort(batch.begin(), batch.end(),
-                [](const Request* a, const Request* b) { return a->start < b->start; });
-      evaluate(batch);
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        for (Request* r : batch) r->done = true;
-      }
-      starts_.notify_all();
+  // Rank 0's calling thread: runs this process's workers and serves the other ranks until
+  // every start has finished, then stops them.
+  void Serve() {
+    std::vector<std::thread> pool;
+    for (int k = 0; k < threads_; ++k) pool.emplace_back(&Evaluator::Worker, this);
+    if (comm_.size() == 1) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [&] { return active_ == 0; });
+    } else {
+      ServeRanks();
     }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closing_ = true;
+    }
+    changed_.notify_all();
+    for (auto& t : pool) t.join();
   }
 
  private:
-  std::mutex mutex_;
-  std::condition_variable main_, starts_;
-  int active_;
-  std::vector<Request*> pending_;
-};
+  void Worker() {
+    ModelCache cache;  // compiled models kept across this worker's rollouts
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      changed_.wait(lock, [&] { return closing_ || !queue_.empty(); });
+      if (queue_.empty()) return;
+      const Task t = queue_.front();
+      queue_.pop_front();
+      lock.unlock();
+      const Cost c = Rollout(problem_, t.batch->xs[t.k], t.run, t.bound, cache);
+      lock.lock();
+      Deliver(t, c);
+    }
+  }
 
-// Evaluates rounds: replays recorded evaluations, runs the others' rollouts on this rank's
-// share and exchanges the shares.
-class RoundEvaluator {
- public:
-  RoundEvaluator(const Problem& problem, Shared& shared, int threads, const Comm& comm)
-      : problem_(problem), shared_(shared), threads_(threads), comm_(comm), caches_(threads),
-        next_index_(problem.params().starts, 0) {}
-
-  void operator()(std::vector<Request*>& batch) {
-    const sim::ObjectiveParams& o = problem_.params().objective;
-    struct Item {
-      Request* request;
-      size_t k;
-      int index;
-      bool replayed;
-    };
-    std::vector<Item> items;
-    for (Request* r : batch) {
-      r->out.resize(r->xs.size());
-      for (size_t k = 0; k < r->xs.size(); ++k) {
-        const int index = next_index_[r->start]++;
-        bool replayed = false;
-        const auto& rec = shared_.recorded[r->start];
-        if (index < static_cast<int>(rec.size())) {
-          if (rec[index].x == r->xs[k]) {
-            r->out[k] = rec[index];
-            replayed = true;
-          } else if (shared_.error.empty()) {
-            shared_.error = "checkpoint.json does not match this run at start " +
-                            std::to_string(r->start) + ", evaluation " + std::to_string(index) +
-                            ": evaluations from here are computed anew";
+  // Rank 0 with other ranks: a rank asks for up to n tasks when it has n idle workers; it gets
+  // the queue's next tasks (or waits for some), sends their costs back, and gets a stop when
+  // every start has finished.
+  void ServeRanks() {
+    std::vector<int> wants(comm_.size(), 0);
+    std::vector<char> stopped(comm_.size(), 0);
+    stopped[0] = 1;
+    std::map<long, Task> away;  // tasks on other ranks, by id
+    long next_id = 0;
+    int from = 0, tag = 0;
+    std::string payload;
+    for (;;) {
+      bool busy = false;
+      while (comm_.Poll(&from, &tag, &payload)) {
+        busy = true;
+        if (tag == kAskTag) {
+          wants[from] = std::stoi(payload);
+        } else if (tag == kCostsTag) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          for (const auto& entry : nlohmann::json::parse(payload)) {
+            const auto it = away.find(entry[0].get<long>());
+            const Task t = it->second;
+            away.erase(it);
+            Deliver(t, CostFromJson(entry[1]));
           }
         }
-        items.push_back({r, k, index, replayed});
       }
-    }
-
-    // The rollouts to compute, in a fixed order: item, then run.
-    struct Task {
-      size_t item;
-      int run;
-    };
-    std::vector<Task> tasks;
-    for (size_t i = 0; i < items.size(); ++i) {
-      if (items[i].replayed) continue;
-      for (int run = 0; run < o.runs; ++run) tasks.push_back({i, run});
-    }
-    // The cost a rollout must beat to matter: the scenario as given (start 0's first
-    // evaluation), known from the first round on. With `mean` over K runs, one run may be
-    // as bad as K·B + (K−1)·v_max while the others at v_max bring the mean under B.
-    double bound = std::numeric_limits<double>::infinity();
-    if (!shared_.by_start[0].empty() && !shared_.by_start[0][0].nominal.failed) {
-      const double b = shared_.by_start[0][0].objective;
-      bound = o.aggregate == "worst" ? b : o.runs * b + (o.runs - 1) * o.max_speed_mps;
-    }
-
-    std::vector<Cost> costs(tasks.size());
-    std::vector<size_t> mine;
-    for (size_t t = 0; t < tasks.size(); ++t) {
-      if (static_cast<int>(t % comm_.size()) == comm_.rank()) mine.push_back(t);
-    }
-    std::atomic<size_t> next{0};
-    auto worker = [&](int slot) {
-      for (size_t m = next++; m < mine.size(); m = next++) {
-        const Task& task = tasks[mine[m]];
-        costs[mine[m]] = Rollout(items[task.item].request->xs[items[task.item].k], task.run,
-                                 bound, caches_[slot]);
-      }
-    };
-    const int n = std::max(1, std::min<int>(threads_, static_cast<int>(mine.size())));
-    std::vector<std::thread> pool;
-    for (int k = 1; k < n; ++k) pool.emplace_back(worker, k);
-    worker(0);
-    for (auto& th : pool) th.join();
-    if (comm_.size() > 1) {
-      nlohmann::json local = nlohmann::json::array();
-      for (size_t t : mine) local.push_back({t, CostToJson(costs[t])});
-      for (const std::string& part : comm_.AllGather(local.dump())) {
-        for (const auto& entry : nlohmann::json::parse(part)) {
-          costs[entry[0].get<size_t>()] = CostFromJson(entry[1]);
+      bool finished = false;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (int r = 1; r < comm_.size(); ++r) {
+          if (wants[r] == 0 || queue_.empty()) continue;
+          nlohmann::json tasks = nlohmann::json::array();
+          for (; wants[r] > 0 && !queue_.empty(); --wants[r]) {
+            const Task t = queue_.front();
+            queue_.pop_front();
+            away[next_id] = t;
+            // JSON has no infinity: no bound travels as null.
+            nlohmann::json bound = nullptr;
+            if (std::isfinite(t.bound)) bound = t.bound;
+            tasks.push_back({next_id++, t.batch->xs[t.k], t.run, bound});
+          }
+          wants[r] = 0;
+          comm_.Send(r, kTasksTag, tasks.dump());
+          busy = true;
         }
+        finished = active_ == 0;
       }
-    }
-
-    // Aggregate each computed item's runs, in run order.
-    std::vector<double> sum(items.size(), 0.0),
-        worst(items.size(), -std::numeric_limits<double>::infinity());
-    for (size_t t = 0; t < tasks.size(); ++t) {
-      const Item& it = items[tasks[t].item];
-      Evaluation& e = it.request->out[it.k];
-      const Cost& c = costs[t];
-      if (tasks[t].run == 0) {
-        e.x = it.request->xs[it.k];
-        e.nominal = c;
-      }
-      if (c.failed) {
-        ++e.failed_runs;
-        if (comm_.root()) {
-          shared_.failures << "start " << it.request->start << " evaluation " << it.index
-                           << " run " << tasks[t].run << ": " << c.failure << "\n";
+      if (finished) {
+        int running = 0;
+        for (int r = 1; r < comm_.size(); ++r) {
+          if (!stopped[r] && wants[r] > 0) {
+            comm_.Send(r, kStopTag, "");
+            stopped[r] = 1;
+          }
+          running += !stopped[r];
         }
+        if (running == 0) break;
       }
-      sum[tasks[t].item] += c.total;
-      worst[tasks[t].item] = std::max(worst[tasks[t].item], c.total);
-      e.wall_time_s += c.wall_time_s;
-      shared_.rollouts += 1;
-      shared_.stalled += c.early_stop == "stalled";
-      shared_.bounded += c.early_stop == "bound";
-      shared_.simulated_s += c.stop_time_s;
+      if (!busy) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        changed_.wait_for(lock, std::chrono::milliseconds(1));
+      }
     }
-    if (comm_.root()) shared_.failures.flush();
-    for (size_t i = 0; i < items.size(); ++i) {
-      Evaluation& e = items[i].request->out[items[i].k];
-      if (!items[i].replayed) e.objective = o.aggregate == "worst" ? worst[i] : sum[i] / o.runs;
-      e.start = items[i].request->start;
-      e.index = items[i].index;
-      shared_.by_start[e.start].push_back(e);
+    comm_.Drain();
+  }
+
+  // Under mutex_: a rollout's cost is back.
+  void Deliver(const Task& t, const Cost& c) {
+    Batch& b = *t.batch;
+    b.costs[t.k * problem_.params().objective.runs + t.run] = c;
+    if (--b.pending == 0) Complete(b);
+  }
+
+  // Under mutex_: every rollout of `b` is back. Aggregates each candidate's runs in run
+  // order, records the evaluations, writes the checkpoint and wakes the start.
+  void Complete(Batch& b) {
+    const sim::ObjectiveParams& o = problem_.params().objective;
+    bool computed_any = false, failures = false;
+    for (size_t k = 0; k < b.xs.size(); ++k) {
+      Evaluation& e = b.out[k];
+      if (!b.replayed[k]) {
+        computed_any = true;
+        e.x = b.xs[k];
+        e.nominal = b.costs[k * o.runs];
+        double sum = 0.0, worst = -std::numeric_limits<double>::infinity();
+        for (int run = 0; run < o.runs; ++run) {
+          const Cost& c = b.costs[k * o.runs + run];
+          if (c.failed) {
+            ++e.failed_runs;
+            failures = true;
+            shared_.failure_lines[{b.start, b.index[k], run}] = c.failure;
+          }
+          sum += c.total;
+          worst = std::max(worst, c.total);
+          e.wall_time_s += c.wall_time_s;
+          shared_.rollouts += 1;
+          shared_.stalled += c.early_stop == "stalled";
+          shared_.bounded += c.early_stop == "bound";
+          shared_.simulated_s += c.stop_time_s;
+        }
+        e.objective = o.aggregate == "worst" ? worst : sum / o.runs;
+      }
+      e.start = b.start;
+      e.index = b.index[k];
+      shared_.by_start[b.start].push_back(e);
       shared_.done += 1;
-      shared_.computed += !items[i].replayed;
+      shared_.computed += !b.replayed[k];
       shared_.best = std::min(shared_.best, e.objective);
     }
-    if (comm_.root() && !tasks.empty()) WriteCheckpoint(shared_);
+    if (b.start == 0 && b.number == 0) {
+      // The cost a rollout must beat to matter: the scenario as given. With `mean` over K
+      // runs, one run may be as bad as K·B + (K−1)·v_max while the others at v_max bring
+      // the mean under B.
+      const Evaluation& first = shared_.by_start[0][0];
+      if (!first.nominal.failed) {
+        const double v = first.objective;
+        bound_ = o.aggregate == "worst" ? v : o.runs * v + (o.runs - 1) * o.max_speed_mps;
+      }
+      bound_known_ = true;
+    }
+    if (comm_.root()) {
+      if (failures) WriteFailures(shared_);
+      if (computed_any) WriteCheckpoint(shared_);
+    }
     if (shared_.progress && *shared_.progress) {
       (*shared_.progress)(std::min(1.0, static_cast<double>(shared_.done) / shared_.total_budget),
                           shared_.best);
     }
-  }
-
- private:
-  // Never throws: a bad candidate costs kFailedCost and is logged.
-  Cost Rollout(const std::vector<double>& x, int run, double bound, ModelCache& cache) {
-    const auto t0 = Clock::now();
-    Cost c;
-    try {
-      const sim::Scenario s = problem_.ScenarioFor(x, run);
-      sim::Simulation rollout(s, cache.For(s));
-      c = RunRollout(rollout, problem_.params().objective, bound);
-    } catch (const std::exception& ex) {
-      c = Cost{};
-      c.failed = true;
-      c.failure = ex.what();
-      c.total = kFailedCost;
-    }
-    if (!std::isfinite(c.total)) {
-      c.failed = true;
-      c.failure = "the cost is not finite";
-      c.total = kFailedCost;
-    }
-    c.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
-    return c;
+    b.done = true;
+    changed_.notify_all();
   }
 
   const Problem& problem_;
   Shared& shared_;
   const int threads_;
-  const Comm& comm_;
-  std::vector<ModelCache> caches_;  // one per worker slot, kept across rounds
+  Comm& comm_;
+  std::mutex mutex_;
+  std::condition_variable changed_;  // queue, batches, bound, active starts
+  std::deque<Task> queue_;
+  int active_;
+  bool closing_ = false;
+  bool bound_known_ = false;
+  double bound_ = std::numeric_limits<double>::infinity();
+  std::vector<int> batches_;
   std::vector<int> next_index_;
 };
+
+// A rank other than 0: asks rank 0 for as many tasks as it has idle workers, computes them on
+// its threads and sends their costs back, until rank 0 says stop.
+void WorkForRankZero(const Problem& problem, int threads, Comm& comm) {
+  struct Local {
+    long id;
+    std::vector<double> x;
+    int run;
+    double bound;
+  };
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::deque<Local> queue;
+  nlohmann::json costs = nlohmann::json::array();
+  int busy = 0;  // tasks received and not yet computed
+  bool closing = false;
+  std::vector<std::thread> pool;
+  for (int k = 0; k < threads; ++k) {
+    pool.emplace_back([&] {
+      ModelCache cache;
+      std::unique_lock<std::mutex> lock(mutex);
+      for (;;) {
+        cv.wait(lock, [&] { return closing || !queue.empty(); });
+        if (queue.empty()) return;
+        const Local t = queue.front();
+        queue.pop_front();
+        lock.unlock();
+        const Cost c = Rollout(problem, t.x, t.run, t.bound, cache);
+        lock.lock();
+        costs.push_back({t.id, CostToJson(c)});
+        --busy;
+      }
+    });
+  }
+  bool asked = false, stopped = false;
+  int from = 0, tag = 0;
+  std::string payload;
+  for (;;) {
+    std::string done;
+    int idle = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!costs.empty()) {
+        done = costs.dump();
+        costs = nlohmann::json::array();
+      }
+      idle = threads - busy;
+    }
+    if (!done.empty()) comm.Send(0, kCostsTag, done);
+    if (stopped && idle == threads && done.empty()) break;
+    if (!stopped && !asked && idle > 0) {
+      comm.Send(0, kAskTag, std::to_string(idle));
+      asked = true;
+    }
+    bool got = false;
+    while (comm.Poll(&from, &tag, &payload)) {
+      got = true;
+      if (tag == kStopTag) {
+        stopped = true;
+      } else if (tag == kTasksTag) {
+        asked = false;
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& t : nlohmann::json::parse(payload)) {
+          queue.push_back(
+              {t[0].get<long>(), t[1].get<std::vector<double>>(), t[2].get<int>(),
+               t[3].is_null() ? std::numeric_limits<double>::infinity() : t[3].get<double>()});
+          ++busy;
+        }
+        cv.notify_all();
+      }
+    }
+    if (!got && done.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    closing = true;
+  }
+  cv.notify_all();
+  for (auto& t : pool) t.join();
+  comm.Drain();
+}
 
 // The first point of a start, in [0, 1] coordinates: start 0 at the given values, start s
 // drawn uniformly in the bounds with a seed from `seed` and s.
@@ -429,7 +609,7 @@ std::vector<double> StartPoint(const Problem& problem, int start) {
 // One start with NLopt: its own NLopt object and seed; evaluations in a fixed order.
 class StartRunner {
  public:
-  StartRunner(const Problem& problem, int start, int budget, Rounds& rounds)
+  StartRunner(const Problem& problem, int start, int budget, Evaluator& rounds)
       : problem_(problem), start_(start), budget_(budget), rounds_(rounds),
         lo_(problem.lower()), hi_(problem.upper()) {}
 
@@ -491,7 +671,7 @@ class StartRunner {
   const Problem& problem_;
   const int start_;
   const int budget_;
-  Rounds& rounds_;
+  Evaluator& rounds_;
   const std::vector<double> lo_, hi_;
   int count_ = 0;
   double best_f_ = std::numeric_limits<double>::infinity();
@@ -534,7 +714,7 @@ struct CmaesProblem {
 
 class CmaesStart {
  public:
-  CmaesStart(const Problem& problem, int start, int budget, Rounds& rounds)
+  CmaesStart(const Problem& problem, int start, int budget, Evaluator& rounds)
       : problem_(problem), start_(start), budget_(budget), rounds_(rounds),
         lo_(problem.lower()), hi_(problem.upper()) {}
 
@@ -585,7 +765,7 @@ class CmaesStart {
   const Problem& problem_;
   const int start_;
   const int budget_;
-  Rounds& rounds_;
+  Evaluator& rounds_;
   const std::vector<double> lo_, hi_;
 };
 
@@ -649,6 +829,7 @@ const sim::CompiledModel& ModelCache::For(const sim::Scenario& s) {
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress) {
   const auto t0 = Clock::now();
+  const double cpu0 = CpuSeconds();
   const Problem problem(scenario_file);
   sim::OptimiseParams params = problem.params();
   if (options.max_evaluations > 0) params.max_evaluations = options.max_evaluations;
@@ -658,7 +839,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
                      "must be at least the number of starts (" + std::to_string(starts) + ")");
   }
 
-  const Comm& comm = Comm::World();
+  Comm& comm = Comm::World();
   // The results folder: checked and locked by rank 0 before any rollout (sim/run_folder.h);
   // every rank learns whether it was refused, so that all stop together.
   std::optional<sim::RunFolder> folder;
@@ -699,34 +880,75 @@ Result Optimise(const std::string& scenario_file, const Options& options,
     shared.recorded =
         ReadCheckpoint(shared.checkpoint_path, shared.fingerprint, starts, problem.start().size());
   }
-  if (comm.root()) shared.failures.open(options.out_dir + "/failures.log", std::ios::app);
+  shared.failures_path = options.out_dir + "/failures.log";
+  if (comm.root()) {
+    std::ifstream in(shared.failures_path);
+    shared.failures_before.assign(std::istreambuf_iterator<char>(in), {});
+    if (!fs::exists(shared.failures_path)) sim::WriteFileAtomic(shared.failures_path, "");
+  }
 
   // Budgets are fixed per start, so the split does not depend on the thread count.
   std::vector<int> budget(starts, params.max_evaluations / starts);
   for (int s = 0; s < params.max_evaluations % starts; ++s) budget[s] += 1;
 
-  // Each start drives its algorithm on its own thread; this thread evaluates the rounds.
+  // Rank 0: each start drives its algorithm on its own thread; this thread serves their
+  // rollouts to the workers (and to the other ranks). The other ranks only compute rollouts.
   const int threads = std::max(1, options.threads > 0 ? options.threads : DefaultThreads());
-  Rounds rounds(starts);
   std::vector<std::string> errors(starts);
-  std::vector<std::thread> drivers;
-  for (int s = 0; s < starts; ++s) {
-    drivers.emplace_back([&, s] {
-      try {
-        if (params.algorithm == "cmaes") {
-          CmaesStart(problem, s, budget[s], rounds).Run();
-        } else {
-          StartRunner(problem, s, budget[s], rounds).Run();
+  if (comm.root()) {
+    Evaluator evaluator(problem, shared, threads, comm);
+    std::vector<std::thread> drivers;
+    for (int s = 0; s < starts; ++s) {
+      drivers.emplace_back([&, s] {
+        try {
+          if (params.algorithm == "cmaes") {
+            CmaesStart(problem, s, budget[s], evaluator).Run();
+          } else {
+            StartRunner(problem, s, budget[s], evaluator).Run();
+          }
+        } catch (const std::exception& e) {
+          errors[s] = e.what();
         }
-      } catch (const std::exception& e) {
-        errors[s] = e.what();
-      }
-      rounds.Finish();
-    });
+        evaluator.Finish(s);
+      });
+    }
+    evaluator.Serve();
+    for (auto& t : drivers) t.join();
+  } else {
+    WorkForRankZero(problem, threads, comm);
   }
-  RoundEvaluator evaluate(problem, shared, threads, comm);
-  rounds.Serve(std::ref(evaluate));
-  for (auto& t : drivers) t.join();
+  if (comm.size() > 1) {
+    // Every rank returns the same result: rank 0's evaluations and counts, and its errors.
+    nlohmann::json mine;
+    if (comm.root()) {
+      nlohmann::json by_start = nlohmann::json::array();
+      for (const auto& evals : shared.by_start) {
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& e : evals) list.push_back(ToJson(e));
+        by_start.push_back(list);
+      }
+      mine = {{"by_start", by_start},     {"errors", errors},
+              {"computed", shared.computed}, {"rollouts", shared.rollouts},
+              {"stalled", shared.stalled}, {"bounded", shared.bounded},
+              {"simulated_s", shared.simulated_s}};
+    }
+    const nlohmann::json all = nlohmann::json::parse(comm.AllGather(mine.dump())[0]);
+    if (!comm.root()) {
+      for (int s = 0; s < starts; ++s) {
+        shared.by_start[s].clear();
+        const auto& list = all["by_start"][s];
+        for (size_t i = 0; i < list.size(); ++i) {
+          shared.by_start[s].push_back(FromJson(list[i], s, static_cast<int>(i)));
+        }
+      }
+      errors = all["errors"].get<std::vector<std::string>>();
+      shared.computed = all["computed"].get<int>();
+      shared.rollouts = all["rollouts"].get<int>();
+      shared.stalled = all["stalled"].get<int>();
+      shared.bounded = all["bounded"].get<int>();
+      shared.simulated_s = all["simulated_s"].get<double>();
+    }
+  }
   for (int s = 0; s < starts; ++s) {
     if (!errors[s].empty()) {
       throw std::runtime_error("start " + std::to_string(s) + ": " + errors[s]);
@@ -784,6 +1006,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
       {"evaluations", result.history.size()},
       {"evaluations_computed", result.evaluations_computed},
       {"wall_time_s", result.wall_time_s},
+      {"cpu_s_rank0", CpuSeconds() - cpu0},
       {"evaluations_per_s",
        result.wall_time_s > 0 ? result.evaluations_computed / result.wall_time_s : 0.0},
       {"start_objective", result.start_objective},

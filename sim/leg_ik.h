@@ -6,7 +6,8 @@
 // stance feet welded to a wall then do not fight each other through the pads, as feet
 // swept on arcs by hip yaw alone do. The inverse kinematics is solved once, at
 // construction, with MuJoCo's kinematics (damped least squares on a scratch mjData, base
-// fixed, ankles at zero) on a grid; the step only interpolates it (bilinear, no
+// fixed, ankles at zero; mj_kinematics' operations for the one leg's chain of bodies, which
+// gives its poses bit for bit at a fraction of the whole robot's cost) on a grid; the step only interpolates it (bilinear, no
 // allocation). Solutions are continuous across the grid (each cell starts from its
 // neighbour's solution) and clamped to the joint ranges.
 #ifndef CLIMBSIM_SIM_LEG_IK_H_
@@ -33,6 +34,10 @@ class LegIk {
   // Largest distance between the foot a table entry reaches and its target (m): how well
   // the table's box fits the leg (a test bounds it).
   double worst_error_m() const { return worst_error_m_; }
+  // Table entry of leg `leg` at grid node (ix, iz), each in [0, cells] (tests).
+  const std::array<double, 3>& entry(int leg, int ix, int iz) const {
+    return table_[leg][iz * (cells_ + 1) + ix];
+  }
 
  private:
   int cells_;

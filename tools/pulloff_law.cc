@@ -7,7 +7,7 @@
 #include <sstream>
 #include <vector>
 
-#include "sim/gnuplot.h"
+#include "common/common.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 
@@ -54,7 +54,7 @@ std::string Script(const PulloffLawOptions& o, const std::string& data, const st
   s << "set terminal pngcairo size 1400,620 font \",11\" noenhanced\n"
     << "set output " << output << "\n"
     << "set datafile separator \",\"\n"
-    << "set multiplot layout 1,2 title " << sim::GnuplotQuote(title) << "\n"
+    << "set multiplot layout 1,2 title " << common::GnuplotQuote(title) << "\n"
     << "set grid\nset key bottom left Left reverse\n"
     << "set title \"limit curve: the pad holds inside\"\n"
     << "set xlabel \"F_t, shear along the gripping direction (N)\"\n"
@@ -181,8 +181,8 @@ void RunPulloffLaws(const PulloffLawOptions& o) {
   const std::string csv_path = dir + "/pulloff.csv";
   const std::string limit_path = dir + "/limit.csv";
   const std::string png_path = dir + "/pulloff.png";
-  sim::WriteFileAtomic(csv_path, csv);
-  sim::WriteFileAtomic(limit_path, limit.str());
+  common::WriteFileAtomic(csv_path, csv);
+  common::WriteFileAtomic(limit_path, limit.str());
   double y_max = 0.0;
   for (const LawRow& r : rows) {
     for (double f : {r.frictional_n, r.reversed_n, r.von_mises_n}) {
@@ -190,12 +190,12 @@ void RunPulloffLaws(const PulloffLawOptions& o) {
     }
   }
   y_max = std::min(3.0 * std::max(capacity, shear), 1.15 * y_max);
-  sim::WriteFileAtomic(dir + "/pulloff.gp",
+  common::WriteFileAtomic(dir + "/pulloff.gp",
                        "# cd into this folder and run: gnuplot pulloff.gp\n" +
                            Script(o, "\"pulloff.csv\"", "\"limit.csv\"", "\"pulloff.png\"",
                                   capacity, shear, y_max));
   const std::string error =
-      sim::RunGnuplot(Script(o, sim::GnuplotQuote(csv_path), sim::GnuplotQuote(limit_path),
+      common::RunGnuplot(Script(o, common::GnuplotQuote(csv_path), common::GnuplotQuote(limit_path),
                              "OUTPUT(0)", capacity, shear, y_max),
                       {png_path});
   folder.Commit();
