@@ -142,7 +142,7 @@ void WriteFailures(const Shared& s) {
     text += "start " + std::to_string(start) + " evaluation " + std::to_string(index) + " run " +
             std::to_string(run) + ": " + what + "\n";
   }
-  sim::WriteFileAtomic(s.failures_path, text);
+  common::WriteFileAtomic(s.failures_path, text);
 }
 
 void WriteCheckpoint(Shared& s) {
@@ -884,7 +884,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   if (comm.root()) {
     std::ifstream in(shared.failures_path);
     shared.failures_before.assign(std::istreambuf_iterator<char>(in), {});
-    if (!fs::exists(shared.failures_path)) sim::WriteFileAtomic(shared.failures_path, "");
+    if (!fs::exists(shared.failures_path)) common::WriteFileAtomic(shared.failures_path, "");
   }
 
   // Budgets are fixed per start, so the split does not depend on the thread count.
