@@ -207,8 +207,8 @@ PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& pa
   result.force_per_capacity = hi / capacity_n;
   result.rounds = last.rounds;
   for (const BrokenBond& b : grid.last_broken()) {
-    result.sequence.push_back(
-        BrokenBondAt{.x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
+    result.sequence.push_back(BrokenBondAt{
+        .x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
   }
   return result;
 }
