@@ -216,9 +216,12 @@ void BondGrid::ComputeField(const PadLoad& load) {
 
   // Centred second moments: n·Σ(k − k̄)² and the like are exact integers (< 2^61 within the
   // grid limits), so whether the set is a line or a point is decided exactly.
-  const __int128 cxx = static_cast<__int128>(sums_.n) * sums_.kxx - static_cast<__int128>(sums_.kx) * sums_.kx;
-  const __int128 cyy = static_cast<__int128>(sums_.n) * sums_.kyy - static_cast<__int128>(sums_.ky) * sums_.ky;
-  const __int128 cxy = static_cast<__int128>(sums_.n) * sums_.kxy - static_cast<__int128>(sums_.kx) * sums_.ky;
+  const __int128 cxx =
+      static_cast<__int128>(sums_.n) * sums_.kxx - static_cast<__int128>(sums_.kx) * sums_.kx;
+  const __int128 cyy =
+      static_cast<__int128>(sums_.n) * sums_.kyy - static_cast<__int128>(sums_.ky) * sums_.ky;
+  const __int128 cxy =
+      static_cast<__int128>(sums_.n) * sums_.kxy - static_cast<__int128>(sums_.kx) * sums_.ky;
   const bool is_point = cxx == 0 && cyy == 0;
   const bool is_line = !is_point && cxx * cyy == cxy * cxy;
   const double scale = da / n;
@@ -410,7 +413,8 @@ StressSummary BondGrid::Evaluate(const PadLoad& load_pad) {
 void BondGrid::Break(int index, int round) {
   if (!bonded(index)) return;
   SetState(index, BondState::kBroken);
-  if (broken_count_ < size()) broken_log_[broken_count_++] = BrokenBond{.index = index, .round = round};
+  if (broken_count_ < size())
+    broken_log_[broken_count_++] = BrokenBond{.index = index, .round = round};
 }
 
 BondStress BondGrid::stress(int index) const {

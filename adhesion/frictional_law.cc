@@ -137,17 +137,6 @@ BondGrid::UpdateResult FrictionalUpdate(BondGrid* grid, const FrictionalLaw& law
   return result;
 }
 
-namespace {
-
-bool FrictionalDetaches(BondGrid* grid, const FrictionalLaw& law, double force_n,
-                        const PullSetup& setup, int* evaluations) {
-  ++*evaluations;
-  grid->BondAll();
-  return FrictionalUpdate(grid, law, PullLoad(force_n, setup), nullptr).detached;
-}
-
-}  // namespace
-
 PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& params,
                                 const PullSetup& setup, const PulloffOptions& options) {
   if (!std::isfinite(setup.angle_rad) || !std::isfinite(setup.azimuth_rad) ||
@@ -157,60 +146,12 @@ PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& pa
   }
   const FrictionalLaw law(params);
   BondGrid grid(pad);
-  PulloffResult result;
-  const double capacity_n = params.shear_limit_pa * grid.pad_area_m2();
-  const double cap_n = options.max_force_factor * capacity_n;
-
-  double lo = 0.0, hi = capacity_n;
-  if (FrictionalDetaches(&grid, law, hi, setup, &result.evaluations)) {
-    lo = 0.5 * hi;
-    int halvings = 0;
-    while (FrictionalDetaches(&grid, law, lo, setup, &result.evaluations)) {
-      hi = lo;
-      lo *= 0.5;
-      if (++halvings > 60) {  // lets go at any force: no hold at this angle
-        result.detaches = true;
-        result.force_n = 0.0;
-        result.holding_force_n = 0.0;
-        result.force_per_capacity = 0.0;
-        return result;
-      }
-    }
-  } else {
-    lo = hi;
-    while (true) {
-      hi = std::min(2.0 * lo, cap_n);
-      if (FrictionalDetaches(&grid, law, hi, setup, &result.evaluations)) break;
-      if (hi >= cap_n) {
-        result.force_n = std::numeric_limits<double>::infinity();
-        result.holding_force_n = cap_n;
-        result.force_per_capacity = result.force_n;
-        return result;
-      }
-      lo = hi;
-    }
-  }
-  while (hi - lo > options.rel_tol * hi) {
-    const double mid = 0.5 * (lo + hi);
-    if (FrictionalDetaches(&grid, law, mid, setup, &result.evaluations)) {
-      hi = mid;
-    } else {
-      lo = mid;
-    }
-  }
-  grid.BondAll();
-  const BondGrid::UpdateResult last = FrictionalUpdate(&grid, law, PullLoad(hi, setup), nullptr);
-  ++result.evaluations;
-  result.detaches = true;
-  result.force_n = hi;
-  result.holding_force_n = lo;
-  result.force_per_capacity = hi / capacity_n;
-  result.rounds = last.rounds;
-  for (const BrokenBond& b : grid.last_broken()) {
-    result.sequence.push_back(
-        BrokenBondAt{.x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
-  }
-  return result;
+  return SearchPulloff(
+      &grid, params.shear_limit_pa * grid.pad_area_m2(), options,
+      {.cascade =
+           [&](double f) { return FrictionalUpdate(&grid, law, PullLoad(f, setup), nullptr); },
+       .max_halvings = 60,
+       .zero_if_never_holds = true});
 }
 
 std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, double area_m2,

@@ -66,9 +66,9 @@ enum class PadLaw { kVonMises, kFrictional };
 inline constexpr double kFrictionalCap = 1e3;
 
 // The law's parameters. Defaults: α* = 30° (Autumn et al. 2006: a critical angle near 25°
-// for isolated setal arrays and live toes; 25–30° is the range quoted for geckos), τ_max = 10 kPa (the von Mises law's σ_T, so
-// the two compare on the same pad; Stickybot's directional polymer gives a few kPa, gecko
-// toes about 100 kPa), μ = 1 (MuJoCo's default geom friction).
+// for isolated setal arrays and live toes; 25–30° is the range quoted for geckos), τ_max = 10 kPa
+// (the von Mises law's σ_T, so the two compare on the same pad; Stickybot's directional polymer
+// gives a few kPa, gecko toes about 100 kPa), μ = 1 (MuJoCo's default geom friction).
 struct FrictionalParams {
   double critical_angle_deg = 30.0;  // α*, in (0, 90)
   double shear_limit_pa = 10e3;      // τ_max > 0; F_t,max = τ_max·A

@@ -28,11 +28,6 @@ void ValidateSetup(const PullSetup& setup, const PulloffOptions& options) {
 }
 
 // Does a fully bonded grid come off under the pull F?
-bool Detaches(BondGrid* grid, double force_n, const PullSetup& setup, int* evaluations) {
-  ++*evaluations;
-  grid->BondAll();
-  return grid->Update(PullLoad(force_n, setup)).detached;
-}
 
 }  // namespace
 
@@ -48,25 +43,31 @@ PadLoad PullLoad(double force_n, const PullSetup& setup) {
                  .my_nm = setup.arm_m * fx};
 }
 
-PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
-                      const PulloffOptions& options) {
-  ValidateSetup(setup, options);
-  BondGrid grid(pad);  // validates pad
+PulloffResult SearchPulloff(BondGrid* grid, double capacity_n, const PulloffOptions& options,
+                            const PulloffSearchLaw& law) {
   PulloffResult result;
-  const double capacity_n = pad.sigma_t_pa * grid.pad_area_m2();
   const double cap_n = options.max_force_factor * capacity_n;
+  const auto detaches = [&](double force_n) {
+    ++result.evaluations;
+    grid->BondAll();
+    return law.cascade(force_n).detached;
+  };
 
   // Bracket [lo, hi]: lo holds, hi detaches.
   double lo = 0.0;
   double hi = capacity_n;
-  if (Detaches(&grid, hi, setup, &result.evaluations)) {
+  if (detaches(hi)) {
     lo = 0.5 * hi;
     int halvings = 0;
-    while (Detaches(&grid, lo, setup, &result.evaluations)) {
+    while (detaches(lo)) {
       hi = lo;
       lo *= 0.5;
-      if (++halvings > 100) {  // detaches at any force worth the name (a hinge)
-        lo = 0.0;
+      if (++halvings > law.max_halvings) {  // lets go at any force worth the name
+        if (law.zero_if_never_holds) {
+          result.detaches = true;
+          return result;  // force_n = holding_force_n = 0
+        }
+        lo = 0.0;  // a hinge: bisect down to the smallest force that still lets go
         break;
       }
     }
@@ -74,7 +75,7 @@ PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
     lo = hi;
     while (true) {
       hi = std::min(2.0 * lo, cap_n);
-      if (Detaches(&grid, hi, setup, &result.evaluations)) break;
+      if (detaches(hi)) break;
       if (hi >= cap_n) {
         result.detaches = false;
         result.force_n = std::numeric_limits<double>::infinity();
@@ -89,7 +90,7 @@ PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
   // Bisection of the predicate.
   while (hi - lo > options.rel_tol * hi) {
     const double mid = 0.5 * (lo + hi);
-    if (Detaches(&grid, mid, setup, &result.evaluations)) {
+    if (detaches(mid)) {
       hi = mid;
     } else {
       lo = mid;
@@ -97,20 +98,30 @@ PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
   }
 
   // The detaching cascade once more, for its log.
-  grid.BondAll();
-  const BondGrid::UpdateResult last = grid.Update(PullLoad(hi, setup));
+  grid->BondAll();
+  const BondGrid::UpdateResult last = law.cascade(hi);
   ++result.evaluations;
   result.detaches = true;
   result.force_n = hi;
   result.holding_force_n = lo;
   result.force_per_capacity = hi / capacity_n;
   result.rounds = last.rounds;
-  result.sequence.reserve(grid.last_broken().size());
-  for (const BrokenBond& b : grid.last_broken()) {
+  result.sequence.reserve(grid->last_broken().size());
+  for (const BrokenBond& b : grid->last_broken()) {
     result.sequence.push_back(BrokenBondAt{
-        .x_m = grid.bond_x_m(b.index), .y_m = grid.bond_y_m(b.index), .round = b.round});
+        .x_m = grid->bond_x_m(b.index), .y_m = grid->bond_y_m(b.index), .round = b.round});
   }
   return result;
+}
+
+PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
+                      const PulloffOptions& options) {
+  ValidateSetup(setup, options);
+  BondGrid grid(pad);  // validates pad
+  return SearchPulloff(&grid, pad.sigma_t_pa * grid.pad_area_m2(), options,
+                       {.cascade = [&](double f) { return grid.Update(PullLoad(f, setup)); },
+                        .max_halvings = 100,
+                        .zero_if_never_holds = false});
 }
 
 std::vector<double> SweepAnglesDeg(const SweepRange& range) {

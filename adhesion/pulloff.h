@@ -37,6 +37,7 @@
 #ifndef CLIMBSIM_ADHESION_PULLOFF_H_
 #define CLIMBSIM_ADHESION_PULLOFF_H_
 
+#include <functional>
 #include <vector>
 
 #include "adhesion/bond_grid.h"
@@ -74,6 +75,19 @@ struct PulloffResult {
 
 // The load that the pull F puts on the bond layer (equations in the file comment).
 PadLoad PullLoad(double force_n, const PullSetup& setup);
+
+// The search every pad law's pull-off shares: bracket the force from σ_T·A (halving down,
+// doubling up to max_force_factor·capacity_n), then bisect to rel_tol; `cascade(F)` loads the
+// freshly bonded grid with the pull F and runs the law's cascade (one evaluation each). A pad
+// still letting go after max_halvings halvings holds nothing: with zero_if_never_holds the
+// result is 0 at once, else the bisection goes on from 0 (a hinge).
+struct PulloffSearchLaw {
+  std::function<BondGrid::UpdateResult(double force_n)> cascade;
+  int max_halvings = 100;
+  bool zero_if_never_holds = false;
+};
+PulloffResult SearchPulloff(BondGrid* grid, double capacity_n, const PulloffOptions& options,
+                            const PulloffSearchLaw& law);
 
 // The pull-off force of a fully bonded pad. Throws std::invalid_argument on bad params
 // (ValidatePadParams), a non-finite angle, a negative or non-finite arm, or bad options.

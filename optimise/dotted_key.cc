@@ -67,8 +67,9 @@ YAML::Node Walk(YAML::Node root, std::string_view key, bool create) {
     YAML::Node next = cur[part.key];
     if (!next.IsDefined() || next.IsNull()) {
       if (!create || !part.index.empty()) {
-        throw std::invalid_argument(done + " is not in the file" +
-                                    (part.index.empty() ? "" : ": write the list out to tune one of its elements"));
+        throw std::invalid_argument(
+            done + " is not in the file" +
+            (part.index.empty() ? "" : ": write the list out to tune one of its elements"));
       }
       if (p + 1 < parts.size()) cur[part.key] = YAML::Node(YAML::NodeType::Map);
       next.reset(cur[part.key]);

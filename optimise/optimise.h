@@ -15,6 +15,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -180,8 +181,8 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 //   push_off    10 ms push along the surface normal, away from it      N s   0.005 .. 1
 //   push_down   10 ms push down the slope (gravity along the surface)  N s   0.005 .. 1
 //   push_side   10 ms push across the slope (normal x down: -y on the wall) N s   0.005 .. 1
-//   payload     payload_kg on the base                                 kg    2 % .. 400 % of the robot's mass
-//   pad_failure adhesion.pad_failure_probability                       -     0.01 .. 1
+//   payload     payload_kg on the base                                 kg    2 % .. 400 % of the
+//   robot's mass pad_failure adhesion.pad_failure_probability                       -     0.01 .. 1
 //   weak_patch  1 − scene.weak_patches.fraction (σ_T lost on a patch; 5 cm cells, 30 % weak)
 //                                                                      -     0.02 .. 0.99
 //   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
@@ -292,6 +293,45 @@ Result Optimise(const std::string& scenario_file, const Options& options,
 // The cost of a nominal rollout of a scenario with an optimise block: what `climbsim
 // simulate` reports as "objective" for best.yaml.
 Cost NominalCost(const sim::Simulation& sim);
+
+// ---- climbsim pulloff (pulloff.cc) --------------------------------------------------------
+// The options: the rig's and the sweep's own parameters (their defaults are the library's),
+// and what only the command has.
+struct PulloffExperimentOptions {
+  std::string out_dir;
+  std::string model = "both";
+  adhesion::PulloffRigParams rig;
+  adhesion::SweepRange range;
+  std::optional<double> length_m;  // default: the width
+  int grid = 0;                    // > 0 sets both sides
+  double azimuth_deg = 0.0;        // rig.azimuth_rad in degrees
+  bool quiet = false;
+  bool force = false;
+  std::string law = "von_mises";  // frictional: RunPulloffLaws
+  adhesion::FrictionalParams frictional;
+  double grip_deg = 0.0;
+};
+
+// Sweeps the angles, writes DIR/pulloff.csv, pulloff.gp and pulloff.png and prints the table
+// (unless quiet). Throws InputError for options that do not fit (exit code 2), before
+// anything runs; returns false when only the plot could not be drawn (exit code 1).
+bool RunPulloffExperiment(PulloffExperimentOptions options);
+
+struct PulloffLawOptions {
+  std::string out_dir;
+  bool force = false;
+  bool quiet = false;
+  adhesion::PadParams pad;             // the von Mises law's pad (σ_T, μ) and the grid
+  adhesion::FrictionalParams law;      // the frictional law (grip direction in the pad frame)
+  double arm_m = 0.0;                  // lever of the pull (0: the closed forms apply)
+  double from_deg = 0.0, to_deg = 180.0, step_deg = 5.0;
+  double max_force_factor = 8.0;
+};
+
+// Runs both quasi-static sweeps (along the gripping direction and against it), writes the
+// files and prints the table. Returns false when the plot could not be drawn (as
+// RunPulloffExperiment).
+bool RunPulloffLaws(const PulloffLawOptions& options);
 
 }  // namespace climbsim::optimise
 

@@ -330,7 +330,8 @@ struct DocArchive {
   void Visit(const Field& f, std::optional<double>*) { Add(f, "(see meaning)"); }
   void Visit(const Field& f, int* v) { Add(f, std::to_string(*v)); }
   void Visit(const Field& f, std::optional<int>*) { Add(f, "(see meaning)"); }
-  void Choice(const Field& f, std::optional<std::string>*, const std::vector<std::string>& allowed) {
+  void Choice(const Field& f, std::optional<std::string>*,
+              const std::vector<std::string>& allowed) {
     std::string a;
     for (const auto& x : allowed) a += (a.empty() ? "" : ", ") + x;
     Add(f, "(see meaning)", a);

@@ -123,7 +123,8 @@ std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
   stepper.rel_tol = params_.rel_tol;
   Eigen::VectorXd theta(n);
   // Start on the locked gait: θ_i = −2π·offset_i, so the phases have no transient.
-  for (int i = 0; i < n; ++i) theta[i] = std::fmod(-2 * M_PI * offsets_cycles_[i] + 4 * M_PI, 2 * M_PI);
+  for (int i = 0; i < n; ++i)
+    theta[i] = std::fmod(-2 * M_PI * offsets_cycles_[i] + 4 * M_PI, 2 * M_PI);
   if (params_.oscillator == "hopf") {
     cpg::HopfNetworkParams h;
     const cpg::HopfFrequencies f =

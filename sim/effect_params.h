@@ -204,15 +204,40 @@ struct AdhesionPadOverride {
 struct FrictionalKeys : adhesion::FrictionalParams {
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"critical_angle_deg", "deg", "alpha*: a pulled pad holds while F_n <= F_t tan(alpha*) (Autumn et al. 2006: about 25-30 deg for geckos)", Range{0.0, 90.0, true, true}}, &critical_angle_deg);
-    a->Visit({"shear_limit_pa", "Pa", "tau_max: the shear limit F_t,max = tau_max times the pad area (also per bond)", Range::Positive()}, &shear_limit_pa);
-    a->Visit({"friction_mu", "", "Coulomb friction of a pressed pad: reversed shear up to mu C, gripping shear up to F_t,max + mu C (C the compression)", Range::NonNegative()}, &friction_mu);
-    a->Visit({"grip_x", "", "gripping direction d in the pad frame, x component (x across the pad width, along the heading for the bundled robots); normalised; default -1: down the wall for a robot climbing +x", Range::Any()}, &grip_x);
-    a->Visit({"grip_y", "", "gripping direction d in the pad frame, y component (y along the pad length); a climber's d points down the wall", Range::Any()}, &grip_y);
-    a->Visit({"moment_share", "", "share of the pad's moments the bonds carry: 1 a rigid pad on a rigid ankle (moments peel it bond by bond); 0 a compliant toe or passive ankle (the pad-level law)", Range::Closed(0, 1)}, &moment_share);
+    a->Visit({"critical_angle_deg", "deg",
+              "alpha*: a pulled pad holds while F_n <= F_t tan(alpha*) (Autumn et al. 2006: about "
+              "25-30 deg for geckos)",
+              Range{0.0, 90.0, true, true}},
+             &critical_angle_deg);
+    a->Visit({"shear_limit_pa", "Pa",
+              "tau_max: the shear limit F_t,max = tau_max times the pad area (also per bond)",
+              Range::Positive()},
+             &shear_limit_pa);
+    a->Visit({"friction_mu", "",
+              "Coulomb friction of a pressed pad: reversed shear up to mu C, gripping shear up to "
+              "F_t,max + mu C (C the compression)",
+              Range::NonNegative()},
+             &friction_mu);
+    a->Visit({"grip_x", "",
+              "gripping direction d in the pad frame, x component (x across the pad width, along "
+              "the heading for the bundled robots); normalised; default -1: down the wall for a "
+              "robot climbing +x",
+              Range::Any()},
+             &grip_x);
+    a->Visit({"grip_y", "",
+              "gripping direction d in the pad frame, y component (y along the pad length); a "
+              "climber's d points down the wall",
+              Range::Any()},
+             &grip_y);
+    a->Visit({"moment_share", "",
+              "share of the pad's moments the bonds carry: 1 a rigid pad on a rigid ankle (moments "
+              "peel it bond by bond); 0 a compliant toe or passive ankle (the pad-level law)",
+              Range::Closed(0, 1)},
+             &moment_share);
   }
   void Validate(const Checker& c) const {
-    if (!(std::hypot(grip_x, grip_y) > 1e-9)) c.Fail("grip_x", "the gripping direction (grip_x, grip_y) must not be zero");
+    if (!(std::hypot(grip_x, grip_y) > 1e-9))
+      c.Fail("grip_x", "the gripping direction (grip_x, grip_y) must not be zero");
   }
 };
 
@@ -333,7 +358,11 @@ struct AdhesionParams : adhesion::PadParams, adhesion::AttachParams {
               "stance of the example gaits: 1.25 s gecko, 0.95 s spider)",
               Range::Positive()},
              &pad_failure_window_s);
-    a->Choice({"law", "", "model bonds: when bonds break. von_mises: the seed's isotropic law (sigma_T, mu); frictional: directional dry adhesion, adhesion only under shear along the gripping direction (adhesion.frictional)"}, &law, {"von_mises", "frictional"});
+    a->Choice({"law", "",
+               "model bonds: when bonds break. von_mises: the seed's isotropic law (sigma_T, mu); "
+               "frictional: directional dry adhesion, adhesion only under shear along the gripping "
+               "direction (adhesion.frictional)"},
+              &law, {"von_mises", "frictional"});
     a->Visit({"frictional", "", "the frictional law's parameters (law: frictional)"}, &frictional);
   }
 

@@ -7,9 +7,9 @@
 // swept on arcs by hip yaw alone do. The inverse kinematics is solved once, at
 // construction, with MuJoCo's kinematics (damped least squares on a scratch mjData, base
 // fixed, ankles at zero; mj_kinematics' operations for the one leg's chain of bodies, which
-// gives its poses bit for bit at a fraction of the whole robot's cost) on a grid; the step only interpolates it (bilinear, no
-// allocation). Solutions are continuous across the grid (each cell starts from its
-// neighbour's solution) and clamped to the joint ranges.
+// gives its poses bit for bit at a fraction of the whole robot's cost) on a grid; the step only
+// interpolates it (bilinear, no allocation). Solutions are continuous across the grid (each cell
+// starts from its neighbour's solution) and clamped to the joint ranges.
 #ifndef CLIMBSIM_SIM_LEG_IK_H_
 #define CLIMBSIM_SIM_LEG_IK_H_
 

@@ -23,10 +23,13 @@ void SetKp(mjModel* m, int actuator, double kp) {
 
 }  // namespace
 
-ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
-                           const World& world, const CpgEffect& cpg, AdhesionEffect* adhesion,
+ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params, const World& world,
+                           const CpgEffect& cpg, AdhesionEffect* adhesion,
                            std::vector<int> event_pad)
-    : params_(params), adhesion_(adhesion), support_(cpg.support()), event_pad_(std::move(event_pad)) {
+    : params_(params),
+      adhesion_(adhesion),
+      support_(cpg.support()),
+      event_pad_(std::move(event_pad)) {
   const double dt = cpg.control_period_s();
   period_steps_ = static_cast<int>(std::lround(dt / world.model()->opt.timestep));
   const reflex::LegReflexParams leg = params.Leg();

@@ -53,7 +53,8 @@ std::string MjcfDir() {
   // An installed package: the folder its climbsimConfig.cmake registered.
   if (!PackageMjcfDir().empty()) return PackageMjcfDir();
   std::error_code ec;
-  if (std::filesystem::is_directory(CLIMBSIM_DEFAULT_MJCF_DIR, ec)) return CLIMBSIM_DEFAULT_MJCF_DIR;
+  if (std::filesystem::is_directory(CLIMBSIM_DEFAULT_MJCF_DIR, ec))
+    return CLIMBSIM_DEFAULT_MJCF_DIR;
   // An installed climbsim tool: PREFIX/bin/climbsim → PREFIX/share/climbsim/mjcf.
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (!ec) {

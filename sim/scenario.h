@@ -87,13 +87,14 @@ struct SceneParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"name",
-              "",
-              "floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet, wall_to_ceiling, "
-              "wall_to_top, or a path to an MJCF scene file",
-              {},
-              true},
-             &name);
+    a->Visit(
+        {"name",
+         "",
+         "floor, wall, ceiling, incline, floor_to_wall, floor_to_wall_fillet, wall_to_ceiling, "
+         "wall_to_top, or a path to an MJCF scene file",
+         {},
+         true},
+        &name);
     a->Visit({"incline_deg", "deg",
               "slope of the incline scene, default 30 (0 floor, 90 wall, 180 ceiling); gravity is "
               "rotated, uphill is +x; incline scene only",

@@ -54,7 +54,8 @@ void SpeedVersus(const std::string& file, const std::vector<std::string>& versus
   for (const std::string& kv : versus) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) {
-      throw InputError("--versus", 0, 0, kv, "expected KEY=VALUE, e.g. physics.integrator=implicit");
+      throw InputError("--versus", 0, 0, kv,
+                       "expected KEY=VALUE, e.g. physics.integrator=implicit");
     }
     try {
       optimise::SetDottedKeyText(tree, kv.substr(0, eq), kv.substr(eq + 1));
@@ -214,7 +215,8 @@ void AddBenchCommand(CLI::App& app) {
 
   auto* speed = cmd->add_subcommand("speed", "steps per second: bare mj_step against each effect");
   speed->add_option("scenario", file, "scenario file")->required();
-  speed->add_option("--duration", duration_s, "simulated seconds per run")->check(CLI::PositiveNumber);
+  speed->add_option("--duration", duration_s, "simulated seconds per run")
+      ->check(CLI::PositiveNumber);
   speed->add_option("--repetitions", repetitions, "runs per variant, interleaved")
       ->check(CLI::Range(1, 1000));
   speed->add_option("--versus", versus,
@@ -232,9 +234,11 @@ void AddBenchCommand(CLI::App& app) {
     }
   });
 
-  auto* accuracy = cmd->add_subcommand("accuracy", "error of the observables against wall time, per knob");
+  auto* accuracy =
+      cmd->add_subcommand("accuracy", "error of the observables against wall time, per knob");
   accuracy->add_option("scenario", file, "scenario file")->required();
-  accuracy->add_option("--duration", duration_s, "simulated seconds per run")->check(CLI::PositiveNumber);
+  accuracy->add_option("--duration", duration_s, "simulated seconds per run")
+      ->check(CLI::PositiveNumber);
   accuracy->add_option("--threads", threads, "runs side by side (default: all cores)")
       ->check(CLI::Range(0, 1024));
   accuracy->add_option("--out", out_dir, "folder for accuracy.csv and accuracy.png");
@@ -245,13 +249,15 @@ void AddBenchCommand(CLI::App& app) {
   auto* opt = cmd->add_subcommand(
       "optimise", "evaluations per second with 1 and 2 threads (and 1 and 2 MPI ranks)");
   opt->add_option("scenario", file, "scenario file with an optimise block")->required();
-  opt->add_option("--evaluations", evaluations, "evaluations per run")->check(CLI::Range(2, 100000));
+  opt->add_option("--evaluations", evaluations, "evaluations per run")
+      ->check(CLI::Range(2, 100000));
   opt->add_option("--out", out_dir, "folder for the two optimisation runs");
   static std::string only = "all";
   opt->add_option("--only", only, "threads: only the 1- and 2-thread runs; mpi: only the 1- and "
                   "2-rank runs")->check(CLI::IsMember({"all", "threads", "mpi"}));
-  opt->footer("Examples:\n  climbsim bench optimise examples/gecko_wall.yaml --evaluations 8\n"
-              "  climbsim bench optimise examples/gecko_wall.yaml --evaluations 400 --only threads");
+  opt->footer(
+      "Examples:\n  climbsim bench optimise examples/gecko_wall.yaml --evaluations 8\n"
+      "  climbsim bench optimise examples/gecko_wall.yaml --evaluations 400 --only threads");
   opt->callback([] { OptimiseSpeed(file, evaluations, out_dir, only); });
 
   static optimise::RobustnessOptions robust;
@@ -260,7 +266,8 @@ void AddBenchCommand(CLI::App& app) {
       "robustness",
       "largest disturbance of each family survived, reflexes on and spindle + GTO off");
   rob->add_option("scenario", file, "scenario file")->required();
-  rob->add_option("--out", robust_out, "new (or empty) folder for robustness.csv and robustness.png")
+  rob->add_option("--out", robust_out,
+                  "new (or empty) folder for robustness.csv and robustness.png")
       ->required();
   rob->add_option("--duration", robust.duration_s, "simulated seconds per run (0: the scenario's)")
       ->check(CLI::NonNegativeNumber)
@@ -271,7 +278,8 @@ void AddBenchCommand(CLI::App& app) {
   rob->add_option("--phases", robust.phases, "push times spread over one gait cycle")
       ->check(CLI::Range(1, 32))
       ->capture_default_str();
-  rob->add_option("--push-time", robust.push_time_s, "first push [s] (at most a third of the duration)")
+  rob->add_option("--push-time", robust.push_time_s,
+                  "first push [s] (at most a third of the duration)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   rob->add_option("--families", families,

@@ -40,7 +40,8 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
                 s["stall_reason"].get<std::string>().c_str());
   }
   std::string effects;
-  for (const auto& e : s["effects"]) effects += (effects.empty() ? "" : ", ") + e.get<std::string>();
+  for (const auto& e : s["effects"])
+    effects += (effects.empty() ? "" : ", ") + e.get<std::string>();
   std::printf("  effects         %s\n", effects.empty() ? "(none)" : effects.c_str());
   if (s.contains("objective")) {
     std::printf("  objective       %.17g m/s (optimise cost of this run)\n",
@@ -49,8 +50,9 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
   if (!s["stable"].get<bool>()) {
     std::printf("  UNSTABLE        %s\n", s["failure"].get<std::string>().c_str());
   }
-  std::printf("  outputs         %s/{scenario.yaml,model.xml,trajectory.csv,events.csv,summary.json}\n",
-              dir.c_str());
+  std::printf(
+      "  outputs         %s/{scenario.yaml,model.xml,trajectory.csv,events.csv,summary.json}\n",
+      dir.c_str());
 }
 
 }  // namespace

@@ -55,7 +55,8 @@ void AddSweepCommand(CLI::App& app) {
     std::vector<std::string> inputs = files;
     std::optional<sim::RunFolder> folder;
     if (optimise::ProcessRank() == 0) {
-      folder.emplace(out_dir, sim::RunFolderOptions{.made_by = "sweep", .force = force, .inputs = inputs});
+      folder.emplace(out_dir,
+                     sim::RunFolderOptions{.made_by = "sweep", .force = force, .inputs = inputs});
     }
     const auto rows = optimise::Sweep(files, o);
     if (optimise::ProcessRank() != 0) return;  // under mpirun rank 0 writes and prints

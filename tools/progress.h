@@ -28,7 +28,8 @@ class Progress {
       std::fflush(stderr);
     } else if (percent / 10 > last_decile_) {
       last_decile_ = percent / 10;
-      std::fprintf(stderr, "%s: %d%%%s%s\n", label_.c_str(), last_decile_ * 10, *note ? " " : "", note);
+      std::fprintf(stderr, "%s: %d%%%s%s\n", label_.c_str(), last_decile_ * 10, *note ? " " : "",
+                   note);
     }
   }
 

@@ -245,8 +245,8 @@ TEST(FrictionalLaw, LimitBoundaryLiesOnTheLimitSurface) {
   EXPECT_NEAR(f60 * std::cos(60.0 * kDeg), b[2].fn_n, 1e-9 * ft_max);
   // The pressed side: the pull-off vector at 120° lies on the shear-limit-plus-friction line.
   const double f120 = law.PulloffClosedForm(area, 120.0 * kDeg, 0.0);
-  EXPECT_NEAR(f120 * std::sin(120.0 * kDeg), ft_max + f.friction_mu * -f120 * std::cos(120.0 * kDeg),
-              1e-9 * ft_max);
+  EXPECT_NEAR(f120 * std::sin(120.0 * kDeg),
+              ft_max + f.friction_mu * -f120 * std::cos(120.0 * kDeg), 1e-9 * ft_max);
   // The von Mises closed form used by the plots: σ_T·A at 0°, 0.385 σ_T·A at 90°.
   EXPECT_DOUBLE_EQ(VonMisesPulloffClosedForm(1.0, 0.0, 0.0), 1.0);
   EXPECT_NEAR(VonMisesPulloffClosedForm(1.0, 90.0 * kDeg, 0.0), 1.0 / std::sqrt(6.75), 1e-12);

@@ -75,7 +75,8 @@ TEST(FrictionalSim, BadKeysAreNamedWithTheirPlace) {
   EXPECT_NE(e.find("critical_angle_deg"), std::string::npos) << e;
   e = ErrorOf("bad_grip.yaml", base + "  frictional:\n    grip_x: 0\n    grip_y: 0\n");
   EXPECT_NE(e.find("grip_x"), std::string::npos) << e;
-  e = ErrorOf("bad_law.yaml", "robot: gecko\nscene: wall\nduration_s: 1\nadhesion:\n  law: sticky\n");
+  e = ErrorOf("bad_law.yaml",
+              "robot: gecko\nscene: wall\nduration_s: 1\nadhesion:\n  law: sticky\n");
   EXPECT_NE(e.find("bad_law.yaml:5"), std::string::npos) << e;
   EXPECT_EQ(ErrorOf("good.yaml", base), "");
 }

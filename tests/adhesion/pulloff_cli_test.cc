@@ -18,16 +18,8 @@ namespace {
 using climbsim::testing::CliResult;
 using climbsim::testing::ReadFile;
 using climbsim::testing::RunClimbsim;
+using climbsim::testing::SplitCsv;
 using climbsim::testing::TempDir;
-
-
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream s(line);
-  for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
-  if (!line.empty() && line.back() == ',') cells.push_back("");
-  return cells;
-}
 
 // 0°, 30°, ..., 180° for both models: the bond model in MuJoCo within 0.3 % of the
 // quasi-static column (one ramp step plus the weld's lag), and a PNG that draws both.
@@ -43,7 +35,7 @@ TEST(PulloffCli, SweepWritesBothModelsAndThePlot) {
             "closed_form_n,mujoco_closed_form_n,capacity_n");
   int rows = 0;
   while (std::getline(csv, line)) {
-    const auto c = Split(line);
+    const auto c = SplitCsv(line);
     ASSERT_EQ(c.size(), 10u) << line;
     EXPECT_EQ(std::stod(c[0]), 30.0 * rows);
     const double bonds = std::stod(c[1]), quasi = std::stod(c[6]);

@@ -15,15 +15,8 @@ namespace {
 using climbsim::testing::CliResult;
 using climbsim::testing::ReadFile;
 using climbsim::testing::RunClimbsim;
+using climbsim::testing::SplitCsv;
 using climbsim::testing::TempDir;
-
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream s(line);
-  for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
-  if (!line.empty() && line.back() == ',') cells.push_back("");
-  return cells;
-}
 
 TEST(PulloffLawCli, FrictionalSweepMatchesItsClosedFormBesideVonMises) {
   const std::string dir = TempDir() + "/pulloff_laws";
@@ -40,7 +33,7 @@ TEST(PulloffLawCli, FrictionalSweepMatchesItsClosedFormBesideVonMises) {
   const double shear_n = 10e3 * 0.025 * 0.025;
   int rows = 0, zero = 0, held = 0;
   while (std::getline(csv, line)) {
-    const auto c = Split(line);
+    const auto c = SplitCsv(line);
     ASSERT_EQ(c.size(), 9u) << line;
     const double angle = std::stod(c[0]);
     EXPECT_EQ(angle, 15.0 * rows++);

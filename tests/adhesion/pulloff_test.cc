@@ -171,10 +171,12 @@ TEST(PullOff, PushingNeedsMoreForceAndCanNeverDetach) {
       const double first = 1.0 / den_first, last = (2.0 / n) / den_last;
       if (std::max(first, last) > 900) continue;  // beyond the search cap (1000 σ_T·A)
       ASSERT_TRUE(r.detaches) << mu << " " << deg;
-      EXPECT_NEAR(r.force_per_capacity / std::max(first, last), 1.0, kSearchTol) << mu << " " << deg;
+      EXPECT_NEAR(r.force_per_capacity / std::max(first, last), 1.0, kSearchTol)
+          << mu << " " << deg;
       EXPECT_EQ(r.sequence.size(), 1024u);
       if (first >= last) {
-        EXPECT_NEAR(r.force_per_capacity * PushDenominator(theta, mu), 1.0, 0.02) << mu << " " << deg;
+        EXPECT_NEAR(r.force_per_capacity * PushDenominator(theta, mu), 1.0, 0.02)
+            << mu << " " << deg;
         ++continuum_checked;
       }
     }
@@ -211,8 +213,9 @@ TEST(PullOff, OneByOneAndLargeGridsAreSensible) {
   for (double deg : {0.0, 45.0, 90.0}) {
     const double t = deg * kDeg;
     const PulloffResult r = PullOff(Pad(0.02, 0.02, 1), PullSetup{.angle_rad = t});
-    EXPECT_NEAR(r.force_per_capacity * std::sqrt(std::pow(std::cos(t), 2) + 3 * std::pow(std::sin(t), 2)),
-                1.0, kSearchTol)
+    EXPECT_NEAR(
+        r.force_per_capacity * std::sqrt(std::pow(std::cos(t), 2) + 3 * std::pow(std::sin(t), 2)),
+        1.0, kSearchTol)
         << deg;
   }
   // With an arm, one bond is a hinge: it holds no moment, so any pull with a lever peels it.

@@ -136,13 +136,8 @@ TEST(AdhesionSim, PadLoadColumnsSumToTheRobotsWeight) {
   std::string header, line, last;
   std::getline(traj, header);
   while (std::getline(traj, line)) last = line;
-  auto split = [](const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream ss(text);
-    for (std::string cell; std::getline(ss, cell, ',');) out.push_back(cell);
-    return out;
-  };
-  const std::vector<std::string> names = split(header), values = split(last);
+  const std::vector<std::string> names = climbsim::testing::SplitCsv(header),
+                                 values = climbsim::testing::SplitCsv(last);
   ASSERT_EQ(names.size(), values.size());
   auto column = [&](const std::string& name) {
     for (size_t i = 0; i < names.size(); ++i)

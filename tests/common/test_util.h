@@ -10,8 +10,20 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
+#include <sstream>
 
 namespace climbsim::testing {
+
+// The cells of one CSV line (no quoting in climbsim's files); a trailing comma is an empty
+// last cell.
+inline std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream s(line);
+  for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
+  if (!line.empty() && line.back() == ',') cells.push_back("");
+  return cells;
+}
 
 // A fresh folder per test process, removed by nobody (tests may inspect it after failure).
 inline std::string TempDir() {

@@ -180,7 +180,10 @@ INSTANTIATE_TEST_SUITE_P(
                     SceneSpec{"ceiling", {0, 0, 9.81}, {"ceiling"}, {1, 0, 0}},
                     SceneSpec{"incline", {-4.905, 0, -8.49571}, {"incline"}, {1, 0, 0}},
                     SceneSpec{"floor_to_wall", {0, 0, -9.81}, {"floor", "wall"}, {1, 0, 1}},
-                    SceneSpec{"floor_to_wall_fillet", {0, 0, -9.81}, {"floor", "wall", "fillet0", "fillet17"}, {1, 0, 1}},
+                    SceneSpec{"floor_to_wall_fillet",
+                              {0, 0, -9.81},
+                              {"floor", "wall", "fillet0", "fillet17"},
+                              {1, 0, 1}},
                     SceneSpec{"wall_to_ceiling", {-9.81, 0, 0}, {"wall", "ceiling"}, {1, 0, 1}},
                     SceneSpec{"wall_to_top", {-9.81, 0, 0}, {"wall", "top"}, {1, 0, -1}}),
     [](const testing::TestParamInfo<SceneSpec>& info) { return info.param.scene; });

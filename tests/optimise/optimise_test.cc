@@ -62,25 +62,29 @@ TEST(OptimiseDottedKey, RejectsWhatTheFileDoesNotHold) {
 TEST(OptimiseProblem, BlockErrorsNameTheirPlace) {
   EXPECT_EQ(ErrorOf("noblock.yaml", kFloor),
             "noblock.yaml: optimise: the scenario has no optimise block");
-  EXPECT_EQ(ErrorOf("bounds.yaml", kFloor + "optimise:\n  parameters:\n"
-                                            "    - {key: cpg.frequency_hz, start: 1, min: 2, max: 1}\n"),
-            "bounds.yaml:13:54: optimise.parameters[0].max: must be greater than min");
-  EXPECT_EQ(ErrorOf("start.yaml", kFloor + "optimise:\n  parameters:\n"
-                                           "    - {key: cpg.frequency_hz, start: 9, min: 0.5, max: 2}\n"),
-            "start.yaml:13:38: optimise.parameters[0].start: must lie in [min, max]");
-  EXPECT_EQ(ErrorOf("nokey.yaml", kFloor + "optimise:\n  parameters:\n"
-                                           "    - {key: \"cpg.lift_rad[7]\", start: 0.1, min: 0, max: 1}\n"),
+  EXPECT_EQ(
+      ErrorOf("bounds.yaml", kFloor + "optimise:\n  parameters:\n"
+                                      "    - {key: cpg.frequency_hz, start: 1, min: 2, max: 1}\n"),
+      "bounds.yaml:13:54: optimise.parameters[0].max: must be greater than min");
+  EXPECT_EQ(
+      ErrorOf("start.yaml", kFloor + "optimise:\n  parameters:\n"
+                                     "    - {key: cpg.frequency_hz, start: 9, min: 0.5, max: 2}\n"),
+      "start.yaml:13:38: optimise.parameters[0].start: must lie in [min, max]");
+  EXPECT_EQ(ErrorOf("nokey.yaml",
+                    kFloor + "optimise:\n  parameters:\n"
+                             "    - {key: \"cpg.lift_rad[7]\", start: 0.1, min: 0, max: 1}\n"),
             "nokey.yaml:13:13: optimise.parameters[0].key: cpg.lift_rad[7] is not in the file");
   // A bound outside what the key accepts is caught before any rollout.
-  EXPECT_EQ(ErrorOf("range.yaml", kFloor + "optimise:\n  parameters:\n"
-                                           "    - {key: cpg.frequency_hz, start: 1, min: -1, max: 2}\n"),
-            "range.yaml:13:13: optimise.parameters[0].key: cpg.frequency_hz = -1 does not give a "
-            "valid scenario: cpg.frequency_hz must be in (0, 20], got -1");
+  EXPECT_EQ(
+      ErrorOf("range.yaml", kFloor + "optimise:\n  parameters:\n"
+                                     "    - {key: cpg.frequency_hz, start: 1, min: -1, max: 2}\n"),
+      "range.yaml:13:13: optimise.parameters[0].key: cpg.frequency_hz = -1 does not give a "
+      "valid scenario: cpg.frequency_hz must be in (0, 20], got -1");
 }
 
 TEST(OptimiseCost, FollowsTheDocumentedFormula) {
-  const std::string path = WriteFile("cost.yaml", kFloor + kBlock +
-                                                      "  objective:\n    energy_weight_mps: 0.01\n");
+  const std::string path =
+      WriteFile("cost.yaml", kFloor + kBlock + "  objective:\n    energy_weight_mps: 0.01\n");
   Problem p(path);
   const sim::Scenario s = p.ScenarioFor(p.start(), 0);
   EXPECT_TRUE(s.fall.stop);  // a fall ends a rollout
@@ -141,12 +145,12 @@ TEST(Optimise, ThreadCountDoesNotChangeTheResultAndBestReplaysBitForBit) {
 // goes on (an exception through NLopt would end it).
 TEST(Optimise, FailedRolloutsScoreLargeAndAreLogged) {
   WriteFile("models/fragile.xml", climbsim::testing::kUnstableRobotMjcf);
-  const std::string path = WriteFile(
-      "fragile.yaml",
-      "robot: models/fragile.xml\nscene: floor\nduration_s: 0.5\n"
-      "physics:\n  integrator: euler\n  timestep_s: 0.005\n"
-      "optimise:\n  parameters:\n    - {key: physics.timestep_s, start: 0.005, min: 0.004, max: 0.006}\n"
-      "  max_evaluations: 3\n  starts: 1\n");
+  const std::string path = WriteFile("fragile.yaml",
+                                     "robot: models/fragile.xml\nscene: floor\nduration_s: 0.5\n"
+                                     "physics:\n  integrator: euler\n  timestep_s: 0.005\n"
+                                     "optimise:\n  parameters:\n    - {key: physics.timestep_s, "
+                                     "start: 0.005, min: 0.004, max: 0.006}\n"
+                                     "  max_evaluations: 3\n  starts: 1\n");
   Options o;
   o.out_dir = TempDir() + "/fragile";
   const Result r = Optimise(path, o);

@@ -40,7 +40,8 @@ TEST(SimulationAllocation, StepLoopAllocatesNothing) {
 // stance compliance setting the servos' kp), the adhesion effect's utilisation and the
 // trajectory's utilisation columns: still nothing allocated per step.
 TEST(SimulationAllocation, ClimbingReflexesAllocateNothing) {
-  std::string text = climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
+  std::string text =
+      climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
   text.replace(text.find("reflex:\n"), 8, "reflex:\n  compliance: {enabled: true}\n");
   const Scenario s = LoadScenario(climbsim::testing::WriteFile("alloc_climb.yaml", text));
   ASSERT_TRUE(s.reflex.has_value());

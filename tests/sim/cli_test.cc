@@ -68,8 +68,9 @@ TEST(Cli, SimulatePrintsTheSummaryAndWritesTheRun) {
 
 TEST(Cli, BenchSpeedVersusComparesTwoSettingsAndRejectsABadKey) {
   const std::string scenario = climbsim::testing::Source("examples/gecko_floor.yaml");
-  const CliResult r = RunClimbsim("bench speed " + scenario +
-                                  " --duration 0.1 --repetitions 1 --versus physics.integrator=implicit");
+  const CliResult r =
+      RunClimbsim("bench speed " + scenario +
+                  " --duration 0.1 --repetitions 1 --versus physics.integrator=implicit");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("B   physics.integrator=implicit"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("A runs "), std::string::npos) << r.out;

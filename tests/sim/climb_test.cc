@@ -1,8 +1,8 @@
 // Climbing control (issue: climbing gaits; issue 12: spindle and GTO on): the bundled wall and
-// ceiling examples climb and hang as documented, the gecko walks from the floor onto the wall round a fillet, the
-// climbing reflexes recover from a push that the same gait without them does not survive,
-// and every climbing reflex is logged on the leg that fired it.
-// Body lengths are those of mjcf/README.md: gecko 0.10 m, spider 0.16 m.
+// ceiling examples climb and hang as documented, the gecko walks from the floor onto the wall round
+// a fillet, the climbing reflexes recover from a push that the same gait without them does not
+// survive, and every climbing reflex is logged on the leg that fired it. Body lengths are those of
+// mjcf/README.md: gecko 0.10 m, spider 0.16 m.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -108,7 +108,8 @@ TEST(Climb, WithoutReflexesTheWallGaitFalls) {
 // row and the re-grip reflex saved it). The same gait and push with re-grip and GTO off
 // falls: the crack runs on through the pad and the robot peels off the wall.
 const char* kPush =
-    "perturbations:\n  - {time_s: 3.0, body: RF_tibia, impulse_ns: [0, 0.18, 0], duration_s: 0.3}\n";
+    "perturbations:\n  - {time_s: 3.0, body: RF_tibia, impulse_ns: [0, 0.18, 0], duration_s: "
+    "0.3}\n";
 
 TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
   const Scenario with = ExampleWith("examples/gecko_wall.yaml", "push_on.yaml", "", "", kPush);
