@@ -379,6 +379,56 @@ StressSummary BondGrid::Summary() const {
   return summary;
 }
 
+double BondGrid::PeakUtilisation() const {
+  if (bonded_count_ == 0) return 0.0;
+  if (unsupported_) return std::numeric_limits<double>::infinity();
+  const int nx = params_.grid_x;
+  const int ny = params_.grid_y;
+  const double sigma_t = params_.sigma_t_pa;
+  const double mu = params_.mu;
+  // u² of a bond: (σ² + 3τ²)/σ_T² in tension, 3τ²/(σ_T + μ|σ|)² in compression. Both are at
+  // most the row's bound/σ_T² (σ ≤ max σ; σ_T + μ|σ| ≥ σ_T; rounding is monotone), so once
+  // the largest u² found beats every row left, the peak is found.
+  const auto row_bound_u2 = [&](int iy) {
+    const double sigma_bound = std::max(col_sigma_max_ + row_sigma_[iy], 0.0);
+    return (sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy])) / sigma_t_sq_;
+  };
+  double peak_u2 = 0.0;
+  // Rows in order of (bound descending, index ascending), without a buffer: each pick is the
+  // largest key below the last one. O(N_y) per pick; a comfortable pad stops after a row or two.
+  double last_bound = std::numeric_limits<double>::infinity();
+  int last_row = -1;
+  for (int pick = 0; pick < ny; ++pick) {
+    int row = -1;
+    double bound = -1.0;
+    for (int iy = 0; iy < ny; ++iy) {
+      if (row_count_[iy] == 0) continue;
+      const double b = row_bound_u2(iy);
+      const bool after_last = b < last_bound || (b == last_bound && iy > last_row);
+      if (after_last && b > bound) {
+        bound = b;
+        row = iy;
+      }
+    }
+    if (row < 0 || bound < peak_u2) break;
+    last_bound = bound;
+    last_row = row;
+    const uint8_t* state = state_.data() + row * nx;
+    for (int ix = 0; ix < nx; ++ix) {
+      if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
+      const double sigma = col_sigma_[ix] + row_sigma_[row];
+      const double tau3 = col_tau3_[ix] + row_tau3_[row];
+      if (sigma >= 0.0) {
+        peak_u2 = std::max(peak_u2, (sigma * sigma + tau3) / sigma_t_sq_);
+      } else {
+        const double threshold = sigma_t - mu * sigma;
+        peak_u2 = std::max(peak_u2, tau3 / (threshold * threshold));
+      }
+    }
+  }
+  return std::sqrt(peak_u2);
+}
+
 BondGrid::UpdateResult BondGrid::Update(const PadLoad& load_pad) {
   UpdateResult result;
   broken_count_ = 0;

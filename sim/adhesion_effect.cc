@@ -172,7 +172,7 @@ void AdhesionEffect::DrawDisturbances(int pad, double time_s) {
   }
 }
 
-// One scan of each attached pad's bonds (BondGrid::Summary), once per step after the bonds
+// Each attached pad's peak utilisation (BondGrid::PeakUtilisation), once per step after the bonds
 // have seen the step's load; a pad that let go reads 0.
 void AdhesionEffect::UpdateUtilisation() {
   for (int i = 0; i < system_->size(); ++i) {
@@ -181,7 +181,7 @@ void AdhesionEffect::UpdateUtilisation() {
     if (p.attached() && p.params().model == adhesion::AdhesionModel::kBonds) {
       u = std::min(p.params().law == adhesion::PadLaw::kFrictional
                        ? p.frictional_utilisation()
-                       : p.grid().Summary().peak_utilisation,
+                       : p.grid().PeakUtilisation(),
                    kUtilisationCap);
       if (!(u >= 0.0)) u = kUtilisationCap;  // NaN: no field the bonds could carry
     }
