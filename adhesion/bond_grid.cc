@@ -200,6 +200,40 @@ void BondGrid::ClearField() {
   unsupported_ = false;
 }
 
+BondGrid::Bending BondGrid::BendingOfBondedSet() const {
+  const int n = bonded_count_;
+  const double da = cell_area_m2_;
+  Bending b;
+  // Centroid, exact in grid units (0 exactly for a set symmetric about the pad centre).
+  b.x_c = static_cast<double>(sums_.kx) / n * unit_x_m_;
+  b.y_c = static_cast<double>(sums_.ky) / n * unit_y_m_;
+  // Centred second moments: n·Σ(k − k̄)² and the like are exact integers (< 2^61 within the
+  // grid limits), so whether the set is a line or a point is decided exactly.
+  const __int128 cxx =
+      static_cast<__int128>(sums_.n) * sums_.kxx - static_cast<__int128>(sums_.kx) * sums_.kx;
+  const __int128 cyy =
+      static_cast<__int128>(sums_.n) * sums_.kyy - static_cast<__int128>(sums_.ky) * sums_.ky;
+  const __int128 cxy =
+      static_cast<__int128>(sums_.n) * sums_.kxy - static_cast<__int128>(sums_.kx) * sums_.ky;
+  b.is_point = cxx == 0 && cyy == 0;
+  b.is_line = !b.is_point && cxx * cyy == cxy * cxy;
+  const double scale = da / n;
+  b.i_y = static_cast<double>(cxx) * unit_x_m_ * unit_x_m_ * scale;  // Σ(x − x_c)²dA
+  b.i_x = static_cast<double>(cyy) * unit_y_m_ * unit_y_m_ * scale;  // Σ(y − y_c)²dA
+  b.i_xy = static_cast<double>(cxy) * unit_x_m_ * unit_y_m_ * scale;
+  if (b.is_line) {
+    double dx = b.i_y, dy = b.i_xy;  // a column of the rank-1 matrix, ∥ d
+    if (std::abs(dx) + std::abs(dy) == 0.0) {
+      dx = b.i_xy;
+      dy = b.i_x;
+    }
+    const double norm = std::hypot(dx, dy);
+    b.line_dx = dx / norm;
+    b.line_dy = dy / norm;
+  }
+  return b;
+}
+
 void BondGrid::ComputeField(const PadLoad& load) {
   const int n = bonded_count_;
   if (n == 0) {
@@ -210,24 +244,9 @@ void BondGrid::ComputeField(const PadLoad& load) {
   const int ny = params_.grid_y;
   const double da = cell_area_m2_;
 
-  // Centroid, exact in grid units (0 exactly for a set symmetric about the pad centre).
-  const double x_c = static_cast<double>(sums_.kx) / n * unit_x_m_;
-  const double y_c = static_cast<double>(sums_.ky) / n * unit_y_m_;
-
-  // Centred second moments: n·Σ(k − k̄)² and the like are exact integers (< 2^61 within the
-  // grid limits), so whether the set is a line or a point is decided exactly.
-  const __int128 cxx =
-      static_cast<__int128>(sums_.n) * sums_.kxx - static_cast<__int128>(sums_.kx) * sums_.kx;
-  const __int128 cyy =
-      static_cast<__int128>(sums_.n) * sums_.kyy - static_cast<__int128>(sums_.ky) * sums_.ky;
-  const __int128 cxy =
-      static_cast<__int128>(sums_.n) * sums_.kxy - static_cast<__int128>(sums_.kx) * sums_.ky;
-  const bool is_point = cxx == 0 && cyy == 0;
-  const bool is_line = !is_point && cxx * cyy == cxy * cxy;
-  const double scale = da / n;
-  const double i_y = static_cast<double>(cxx) * unit_x_m_ * unit_x_m_ * scale;  // Σ(x − x_c)²dA
-  const double i_x = static_cast<double>(cyy) * unit_y_m_ * unit_y_m_ * scale;  // Σ(y − y_c)²dA
-  const double i_xy = static_cast<double>(cxy) * unit_x_m_ * unit_y_m_ * scale;
+  const Bending bend = BendingOfBondedSet();
+  const double x_c = bend.x_c, y_c = bend.y_c;
+  const double i_x = bend.i_x, i_y = bend.i_y, i_xy = bend.i_xy;
 
   // The moments about the bonded centroid, as the right-hand side p = −M_y^c, q = M_x^c of
   // [I_y I_xy; I_xy I_x]·(g_x, g_y) = (p, q).
@@ -235,19 +254,12 @@ void BondGrid::ComputeField(const PadLoad& load) {
   const double p = -(load.my_nm + x_c * load.fn_n);
   const double q = load.mx_nm - y_c * load.fn_n;
   double g_x = 0.0, g_y = 0.0;  // dσ/dx, dσ/dy
-  if (is_point) {
+  if (bend.is_point) {
     // A single bond: a hinge about every axis.
     if (std::hypot(p, q) > hinge_nm_) unsupported_ = true;
-  } else if (is_line) {
+  } else if (bend.is_line) {
     // A line with direction d: the gradient runs along d, the moment about d is unsupported.
-    double dx = i_y, dy = i_xy;  // a column of the rank-1 matrix, ∥ d
-    if (std::abs(dx) + std::abs(dy) == 0.0) {
-      dx = i_xy;
-      dy = i_x;
-    }
-    const double norm = std::hypot(dx, dy);
-    dx /= norm;
-    dy /= norm;
+    const double dx = bend.line_dx, dy = bend.line_dy;
     const double along = p * dx + q * dy;   // m·d
     const double about = q * dx - p * dy;   // m·d⊥ = M^c·d, the moment about the line
     if (std::abs(about) > hinge_nm_) unsupported_ = true;
@@ -379,7 +391,10 @@ StressSummary BondGrid::Summary() const {
   return summary;
 }
 
-double BondGrid::PeakUtilisation() const {
+double BondGrid::PeakUtilisation() const { return PeakUtilisation(nullptr); }
+
+double BondGrid::PeakUtilisation(int* peak_bond) const {
+  if (peak_bond != nullptr) *peak_bond = -1;
   if (bonded_count_ == 0) return 0.0;
   if (unsupported_) return std::numeric_limits<double>::infinity();
   const int nx = params_.grid_x;
@@ -418,15 +433,84 @@ double BondGrid::PeakUtilisation() const {
       if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
       const double sigma = col_sigma_[ix] + row_sigma_[row];
       const double tau3 = col_tau3_[ix] + row_tau3_[row];
+      double u2;
       if (sigma >= 0.0) {
-        peak_u2 = std::max(peak_u2, (sigma * sigma + tau3) / sigma_t_sq_);
+        u2 = (sigma * sigma + tau3) / sigma_t_sq_;
       } else {
         const double threshold = sigma_t - mu * sigma;
-        peak_u2 = std::max(peak_u2, tau3 / (threshold * threshold));
+        u2 = tau3 / (threshold * threshold);
+      }
+      if (u2 > peak_u2 || (peak_bond != nullptr && *peak_bond < 0)) {
+        peak_u2 = std::max(peak_u2, u2);
+        if (peak_bond != nullptr) *peak_bond = row * nx + ix;
       }
     }
   }
   return std::sqrt(peak_u2);
+}
+
+int BondGrid::PeakSigmaBond() const {
+  const int nx = params_.grid_x;
+  const int ny = params_.grid_y;
+  int best = -1;
+  double best_sigma = -std::numeric_limits<double>::infinity();
+  for (int iy = 0; iy < ny; ++iy) {
+    // No bond of this row beats the best found: every σ here is at most the column maximum
+    // plus the row's part.
+    if (row_count_[iy] == 0 || col_sigma_max_ + row_sigma_[iy] <= best_sigma) continue;
+    const uint8_t* state = state_.data() + iy * nx;
+    for (int ix = 0; ix < nx; ++ix) {
+      if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
+      const double sigma = col_sigma_[ix] + row_sigma_[iy];
+      if (sigma > best_sigma) {
+        best_sigma = sigma;
+        best = iy * nx + ix;
+      }
+    }
+  }
+  return best;
+}
+
+bool BondGrid::Influence(int index, bool uniform_shear, Eigen::Matrix<double, 3, 5>* a) const {
+  if (index < 0 || index >= size() || !bonded(index)) return false;
+  const int n = bonded_count_;
+  const double da = cell_area_m2_;
+  const Bending bend = BendingOfBondedSet();
+  const double rx = bond_x_m(index) - bend.x_c;
+  const double ry = bond_y_m(index) - bend.y_c;
+  // σ_i = F_n/A_B + (g_x, g_y)·(rx, ry) with g = S·(p, q), p = −(M_y + x_c F_n),
+  // q = M_x − y_c F_n (ComputeField); S is the inverse of [I_y I_xy; I_xy I_x], on a line
+  // its pseudo-inverse d·dᵀ/λ, on a point 0.
+  double s00 = 0.0, s01 = 0.0, s10 = 0.0, s11 = 0.0;
+  if (bend.is_line) {
+    const double lambda = bend.i_x + bend.i_y;
+    s00 = bend.line_dx * bend.line_dx / lambda;
+    s01 = s10 = bend.line_dx * bend.line_dy / lambda;
+    s11 = bend.line_dy * bend.line_dy / lambda;
+  } else if (!bend.is_point) {
+    const double det = bend.i_x * bend.i_y - bend.i_xy * bend.i_xy;
+    s00 = bend.i_x / det;
+    s01 = s10 = -bend.i_xy / det;
+    s11 = bend.i_y / det;
+  }
+  // dσ/dp and dσ/dq at this bond.
+  const double dsigma_dp = rx * s00 + ry * s10;
+  const double dsigma_dq = rx * s01 + ry * s11;
+  a->setZero();
+  (*a)(0, 0) = 1.0 / (n * da) - bend.x_c * dsigma_dp - bend.y_c * dsigma_dq;  // F_n
+  (*a)(0, 3) = dsigma_dq;                                                   // M_x
+  (*a)(0, 4) = -dsigma_dp;                                                  // M_y
+  if (uniform_shear) {
+    (*a)(1, 1) = (*a)(2, 2) = 1.0 / (n * da);
+  } else {
+    double sum_v = 0.0;
+    for (int ix = 0; ix < params_.grid_x; ++ix) sum_v += col_count_[ix] * col_v_[ix];
+    double sum_w = 0.0;
+    for (int iy = 0; iy < params_.grid_y; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+    if (sum_w > 0.0) (*a)(1, 1) = row_w_[iy_of(index)] / (sum_w * da);
+    if (sum_v > 0.0) (*a)(2, 2) = col_v_[ix_of(index)] / (sum_v * da);
+  }
+  return true;
 }
 
 BondGrid::UpdateResult BondGrid::Update(const PadLoad& load_pad) {

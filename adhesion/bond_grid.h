@@ -214,6 +214,22 @@ class BondGrid {
   // skips by) until no row left can beat the peak found. Once per step per pad (the reflexes'
   // utilisation signal); a pad far from its limit costs a row or two instead of N_x·N_y bonds.
   double PeakUtilisation() const;
+  // The same, and the index of a bond that carries it (the first in row-bound order; −1 when
+  // none is bonded or the load is unsupported).
+  double PeakUtilisation(int* peak_bond) const;
+  // Index of a bonded bond with the largest σ in the current field (the frictional law's most
+  // loaded bond: its utilisation grows with σ at a uniform shear); −1 when none is bonded.
+  int PeakSigmaBond() const;
+
+  // INFLUENCE of the load on one bond over the current bonded set: the 3×5 matrix A with
+  //   (σ_i, τ_x,i, τ_y,i)ᵀ = A·(F_n, F_x, F_y, M_x, M_y)ᵀ
+  // for the field the first round of Update would compute (the field is linear in the load:
+  // the σ rows follow the 2×2 bending solve of the file comment, the τ rows the parabolic
+  // profile, or with `uniform_shear` the frictional law's τ = F/A_B on every bond). Used for
+  // the gradient of a pad's utilisation (sticky_pad.h). Pure: the stored field is untouched.
+  // Returns false (A unchanged) for a bond not bonded; on a hinge (line or point set) the
+  // moment about the hinge has no lever and its column is zero.
+  bool Influence(int index, bool uniform_shear, Eigen::Matrix<double, 3, 5>* a) const;
 
   // --- Queries ---
   const PadParams& params() const { return params_; }
@@ -262,6 +278,14 @@ class BondGrid {
   // The linear-plus-parabolic field of one round, separable into per-row and per-column
   // parts: σ_i = col_sigma_[ix] + row_sigma_[iy], 3τ² = col_tau3_[ix] + row_tau3_[iy].
   void ComputeField(const PadLoad& load);
+  // The bonded set's geometry for the bending solve: centroid, centred second moments, and
+  // whether it is a point or a line (decided exactly on the integer sums); n > 0.
+  struct Bending {
+    double x_c = 0.0, y_c = 0.0, i_x = 0.0, i_y = 0.0, i_xy = 0.0;
+    bool is_point = false, is_line = false;
+    double line_dx = 0.0, line_dy = 0.0;  // a line's unit direction
+  };
+  Bending BendingOfBondedSet() const;
   void ClearField();
   // Breaks (and logs, with round) every bonded bond over its threshold in the current
   // field; returns how many.

@@ -166,6 +166,50 @@ std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, doubl
           {ft_max + mu * c, -c}};
 }
 
+bool PadUtilisationGradient(const BondGrid& grid, const FrictionalLaw* frictional,
+                            const PadLoad& load, Eigen::Matrix<double, 5, 1>* grad) {
+  int bond = -1;
+  if (frictional != nullptr) {
+    bond = grid.PeakSigmaBond();
+  } else if (!std::isfinite(grid.PeakUtilisation(&bond))) {
+    return false;  // a load the bonds cannot carry at all
+  }
+  Eigen::Matrix<double, 3, 5> a;
+  if (bond < 0 || !grid.Influence(bond, frictional != nullptr, &a)) return false;
+  const Eigen::Vector3d s =
+      a * Eigen::Matrix<double, 5, 1>(load.fn_n, load.fx_n, load.fy_n, load.mx_nm, load.my_nm);
+  // The law's derivative with respect to the bond's (σ, τ_x, τ_y).
+  Eigen::Vector3d dlaw = Eigen::Vector3d::Zero();
+  if (frictional != nullptr) {
+    // A step of 10⁻⁶ of the stress scale resolves the slope on either side of a kink.
+    const double h = 1e-6 * (std::abs(s[0]) + std::abs(s[1]) + std::abs(s[2]) +
+                             1e-3 * frictional->params().shear_limit_pa);
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d up = s, down = s;
+      up[k] += h;
+      down[k] -= h;
+      dlaw[k] = (frictional->Utilisation(up[0], up[1], up[2]) -
+                 frictional->Utilisation(down[0], down[1], down[2])) /
+                (2.0 * h);
+    }
+  } else {
+    const double sigma_t = grid.params().sigma_t_pa;
+    const double mu = grid.params().mu;
+    const double tau3 = 3.0 * (s[1] * s[1] + s[2] * s[2]);
+    if (s[0] >= 0.0) {
+      const double vm = std::sqrt(s[0] * s[0] + tau3);
+      if (vm > 0.0) dlaw = Eigen::Vector3d(s[0], 3.0 * s[1], 3.0 * s[2]) / (sigma_t * vm);
+    } else if (tau3 > 0.0) {
+      const double threshold = sigma_t - mu * s[0];
+      const double root = std::sqrt(tau3);
+      dlaw = Eigen::Vector3d(mu * root / threshold, 3.0 * s[1] / root, 3.0 * s[2] / root) /
+             threshold;
+    }
+  }
+  *grad = (dlaw.transpose() * a).transpose();
+  return grad->allFinite();
+}
+
 double VonMisesPulloffClosedForm(double capacity_n, double angle_rad, double mu) {
   const double c = std::cos(angle_rad), s = std::sin(angle_rad);
   if (c >= 0.0) return capacity_n / std::sqrt(c * c + 6.75 * s * s);

@@ -149,6 +149,20 @@ std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, doubl
 // The von Mises law's closed-form pull-off of a central pull on a fine grid (pulloff.h):
 // σ_T·A/sqrt(cos²θ + 6.75 sin²θ) for θ ≤ 90°, σ_T·A/(2.598 sinθ − μ|cosθ|) beyond (+inf
 // when that is ≤ 0), for the comparison plots.
+// The GRADIENT of a pad's utilisation with respect to the load its grid carries,
+// ∂U/∂(F_n, F_x, F_y, M_x, M_y) (per N, per N·m; pad frame), for the grid's current bonded set
+// and field: U is the largest bond utilisation, so the gradient is that of the bond carrying
+// it (the von Mises law's PeakUtilisation bond; for the frictional law the bond of largest σ,
+// whose utilisation grows with σ at the uniform shear), through the bond's influence
+// (BondGrid::Influence, linear in the load) and the law's derivative at the bond's stress:
+// analytic for von Mises (σ_vM/σ_T in tension, √(3τ²)/(σ_T + μ|σ|) in compression), central
+// differences of FrictionalLaw::Utilisation for the frictional law (piecewise smooth).
+// `frictional` null: the von Mises law with the grid's σ_T and μ. `load` must be the load of
+// the grid's last Update or Evaluate. False (grad unchanged) when no bond is bonded or the
+// load is unsupported. Never allocates.
+bool PadUtilisationGradient(const BondGrid& grid, const FrictionalLaw* frictional,
+                            const PadLoad& load, Eigen::Matrix<double, 5, 1>* grad);
+
 double VonMisesPulloffClosedForm(double capacity_n, double angle_rad, double mu);
 
 }  // namespace climbsim::adhesion

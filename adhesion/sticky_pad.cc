@@ -302,6 +302,24 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
   lost_since_attach_ += r.broken;
 }
 
+bool StickyPad::UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad) const {
+  if (!attached_ || params_.model != AdhesionModel::kBonds || !load_known_) return false;
+  const bool frictional = params_.law == PadLaw::kFrictional;
+  // The load as the grid sees it (a weak patch scales it; the frictional law's moment share),
+  // and the chain factors back to the pad's own load.
+  Eigen::Matrix<double, 5, 1> chain;
+  const double share = frictional ? frictional_law_.params().moment_share : 1.0;
+  chain << 1.0, 1.0, 1.0, share, share;
+  chain /= strength_scale_;
+  const PadLoad seen{load_.fn_n * chain[0], load_.fx_n * chain[1], load_.fy_n * chain[2],
+                     load_.mx_nm * chain[3], load_.my_nm * chain[4]};
+  if (!PadUtilisationGradient(grid_, frictional ? &frictional_law_ : nullptr, seen, grad)) {
+    return false;
+  }
+  *grad = grad->cwiseProduct(chain);
+  return true;
+}
+
 bool StickyPad::Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {
   if (!attached_) return false;
   Detach(m, d, time_s, PadCause::kReleased, sink);

@@ -228,6 +228,15 @@ class StickyPad {
   // law kFrictional: the largest bond utilisation left after the last AfterStep while
   // attached (frictional_law.h); read it only while attached (0 after Reset).
   double frictional_utilisation() const { return frictional_utilisation_; }
+  // The GRADIENT of the pad's utilisation with respect to its load, ∂U/∂(F_n, F_x, F_y, M_x,
+  // M_y) in the pad frame (per N and per N·m): at the bond that carries the peak utilisation
+  // of the last AfterStep (the law's: von Mises or frictional), through the bond's influence
+  // (BondGrid::Influence; the load the grid sees, scaled by the strength scale and, for the
+  // frictional law, with its moment share) and the law's derivative there. It is the
+  // direction in which the rest of the robot should change the pad's load to relieve it:
+  // the reflexes' load sharing (reflex.h, GTO share) moves the load along −∇U. False (grad
+  // unchanged) unless attached (kBonds) with a supported load. Never allocates.
+  bool UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad) const;
 
  private:
   bool peeling_ = false;

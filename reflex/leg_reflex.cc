@@ -48,6 +48,7 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
   CheckPositive(FieldPath(preload, "force_limit_n"), params.preload.force_limit_n);
   DurationToSamples(FieldPath(preload, "max_duration_s"), params.preload.max_duration_s, dt_s,
                     true);
+  DurationToSamples(FieldPath(preload, "release_s"), params.preload.release_s, dt_s, false);
 
   // Search.
   const std::string search = FieldPath(name, "search");
@@ -118,6 +119,7 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
       dt_s_(dt_s),
       preload_ramp_samples_(DurationToSamples("", params.preload.ramp_s, dt_s, false)),
       preload_max_samples_(DurationToSamples("", params.preload.max_duration_s, dt_s, true)),
+      preload_release_samples_(DurationToSamples("", params.preload.release_s, dt_s, false)),
       search_attempt_samples_(DurationToSamples("", params.search.attempt_duration_s, dt_s, true)),
       search_release_samples_(DurationToSamples("", params.search.release_s, dt_s, false)),
       regrip_samples_(DurationToSamples("", params.regrip.hold_others_s, dt_s, false)),
@@ -208,6 +210,7 @@ void LegReflex::SwingOnset(const Sensed& in, LegReflexOutput* out) {
   if (!in.swing_onset) return;
   if (st.preloading) {
     st.preloading = false;
+    st.preload_release_left = preload_release_samples_;
     Emit(out, LegEventType::kPreloadEnd, LegEventReason::kSwingStarted);
   }
   if (st.searching) {
@@ -240,6 +243,7 @@ void LegReflex::PreloadLimits(const Sensed& in, LegReflexOutput* out) {
   }
   if (reason != LegEventReason::kNone) {
     st.preloading = false;
+    st.preload_release_left = preload_release_samples_;
     Emit(out, LegEventType::kPreloadEnd, reason);
   }
 }
@@ -327,12 +331,23 @@ Eigen::Vector3d LegReflex::Preload(const Sensed& in, LegReflexOutput* out) {
     st.preload_trigger = LegEventReason::kTouchdown;
     Emit(out, LegEventType::kPreloadStart, LegEventReason::kTouchdown);
   }
-  if (!st.preloading) return Eigen::Vector3d::Zero();
+  if (!st.preloading) {
+    // The press fades linearly after the preload ends (release_s).
+    if (st.preload_release_left <= 0) return Eigen::Vector3d::Zero();
+    const Eigen::Vector3d fade = st.preload_offset_rad * (static_cast<double>(
+                                                              st.preload_release_left) /
+                                                          (preload_release_samples_ + 1));
+    --st.preload_release_left;
+    Fire(out, Reflex::kPreload);
+    return fade;
+  }
+  st.preload_release_left = 0;
   const double ramp = preload_ramp_samples_ == 0
                           ? 1.0
                           : std::min(1.0, (st.preload_samples + 1.0) / preload_ramp_samples_);
   Fire(out, st.preload_trigger == LegEventReason::kRegrip ? Reflex::kRegrip : Reflex::kPreload);
-  return {0.0, 0.0 - p.hip_pitch_press_rad * ramp, 0.0 - p.knee_press_rad * ramp};
+  st.preload_offset_rad = {0.0, 0.0 - p.hip_pitch_press_rad * ramp, 0.0 - p.knee_press_rad * ramp};
+  return st.preload_offset_rad;
 }
 
 // Peel: pull back and lift with a smooth step while the pad holds, the phase held; then
@@ -587,6 +602,7 @@ std::string_view ReflexName(Reflex reflex) {
       return "gto_unload";
     case Reflex::kCompliance:
       return "compliance";
+
   }
   return "unknown";
 }

@@ -198,6 +198,11 @@ struct PreloadParams {
   double ramp_s = 0.05;               // time to full press, >= 0 (0: full at once)
   double force_limit_n = 1.0;         // stop once the compressive preload reaches this, > 0
   double max_duration_s = 0.2;        // stop after this long, >= one control period
+  // Fade of the press once the preload ends, >= 0 (0: at once). A press dropped at once on an
+  // attach pulls the fresh pad off its surface by kp·press: harmless for a von Mises pad,
+  // whose pull-off is σ_T·A, fatal for a directional one, which holds no pull before its
+  // shear has built.
+  double release_s = 0.0;
 };
 
 // Search when a swing ends without touchdown: reach further towards the surface, with a lift
@@ -251,6 +256,81 @@ struct RegripParams {
   double hold_others_s = 0.2;  // how long hold_others stays raised, >= 0
 };
 
+// ---------------------------------------------------------------------------------------------
+// Load sharing among attached pads (the GTO's robot-level channel)
+// ---------------------------------------------------------------------------------------------
+
+// Once two or more pads are welded, legs and body form closed chains: the pads' forces f_i
+// (what each leg puts on its pad, world frame) hold the body when G·f = w (the body's wrench;
+// G the grasp map, a block [I; [r_i]×] per pad), and any change λ with G·λ = 0 is an INTERNAL
+// force: it moves load from pad to pad without moving the body (docs/control.md, "Load sharing
+// among contacts"). Position servos realise it exactly: a target change Δq_i = Kp⁻¹·J_iᵀ·λ_i
+// on each leg (J_i its Jacobian at the pad) changes the leg's force by λ_i while the joints
+// and the body stay put, and since Σλ = 0 and Σ r×λ = 0 the body has nothing to move for.
+//
+// The law chooses λ to keep every pad away from its limit. With U_i each pad's utilisation
+// (peak bond demand over threshold, ≥ 1 breaks) and ∇U_i its gradient with respect to f_i
+// (adhesion: PadUtilisationGradient), it drives down the soft maximum
+//   S = U_max + ln Σ_i exp(β·(U_i − U_max)) / β            (≥ max U_i, → max as β → ∞)
+// while S is above the threshold U_S, along the internal part of its gradient
+// g_i = w_i·∇U_i (w the softmax weights): with P the projector onto ker G,
+//   dλ/dt = −K·[S − U_S]₊ · P·g / |P·g|²  −  λ/τ
+// so that, to first order, dS/dt = −K·[S − U_S]₊ from the sharing alone. The leak τ lets a
+// request that is no longer needed fade. λ is projected onto ker G of the pads attached now
+// at every update (a pad that lets go takes its share of λ with it), and scaled down as a
+// whole (which keeps it internal) so that no pad's request exceeds max_force_n. Fewer than
+// two attached pads: no internal force exists, λ = 0.
+//
+// Unlike a law at each leg alone (tried first: each pad descending its own U shifted load onto
+// whichever pad the chain's stiffness chose and raised the worst pad's utilisation, 0.50 →
+// 0.77 on the gecko hanging with a payload), this sees every pad the internal force touches.
+struct LoadSharingParams {
+  double gain_per_s = 0.0;     // K, > 0 switches the law on; 0 = off
+  double threshold = 0.5;      // U_S: the soft maximum above which load is shared
+  double leak_s = 0.5;         // τ > 0
+  double softmax_beta = 20.0;  // β > 0 (20: pads within ~0.05 of the worst share its weight)
+  double max_force_n = 1.0;    // > 0, the largest internal force asked of one pad
+  double max_rate_n_per_s = 20.0;  // > 0, the fastest a pad's request may change (where
+                                   // little of the gradient is internal, the step above grows)
+};
+
+// Throws std::invalid_argument naming the field unless every field is finite and in range.
+void Validate(const LoadSharingParams& params, double dt_s, std::string_view name = "share");
+
+// The most legs LoadSharing takes (the buffers are fixed: nothing allocates).
+inline constexpr int kMaxSharingLegs = 8;
+
+// One leg as LoadSharing sees it in a control period.
+struct SharingLeg {
+  bool active = false;  // its pad is attached and it is in stance (not peeling)
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // the point where the leg holds its
+                                                          // pad (the ankle), world frame
+  double utilisation = 0.0;                                // U_i
+  Eigen::Vector3d gradient_per_n = Eigen::Vector3d::Zero();  // ∂U_i/∂f_i, world frame
+};
+
+class LoadSharing {
+ public:
+  // Throws std::invalid_argument via Validate().
+  LoadSharing(const LoadSharingParams& params, double dt_s);
+
+  // One control period; legs.size() <= kMaxSharingLegs (more are ignored). Returns λ_i per leg
+  // (world frame, N; zero for inactive legs), valid until the next Update. Never allocates.
+  const std::array<Eigen::Vector3d, kMaxSharingLegs>& Update(const SharingLeg* legs, int count);
+  void Reset();
+
+  const LoadSharingParams& params() const { return params_; }
+  // The soft maximum S of the last Update (0 with fewer than two active legs).
+  double soft_max() const { return soft_max_; }
+  bool enabled() const { return params_.gain_per_s > 0.0; }
+
+ private:
+  LoadSharingParams params_;
+  double dt_s_;
+  std::array<Eigen::Vector3d, kMaxSharingLegs> lambda_;
+  double soft_max_ = 0.0;
+};
+
 // GTO load reflexes (Ekeberg and Pearson 2005's load rule; Geyer and Herr 2010's positive
 // force feedback), four channels on the pad:
 //  hold:    F̃ = the adhesive load normal_load_n (or, with count_compression, the larger of
@@ -270,6 +350,8 @@ struct RegripParams {
 //  support: F̃ = support_utilisation, the largest utilisation among the pads that carry this
 //           leg's swing. Above its threshold (delayed) a stance leg holds stance: lifting it
 //           would shift its load onto pads already near their limit.
+// Load sharing among the attached pads is the GTO's robot-level channel: LoadSharing above,
+// which the simulator runs across the legs.
 // With require_partner_attached, a leg whose partner is not attached also holds stance (lifting
 // it would leave the pair without a grip).
 struct GtoHoldParams {
@@ -448,6 +530,8 @@ struct LegReflexState {
   bool preloading = false;
   int preload_samples = 0;
   LegEventReason preload_trigger = LegEventReason::kNone;
+  Eigen::Vector3d preload_offset_rad = Eigen::Vector3d::Zero();  // the press when it ended
+  int preload_release_left = 0;
   // Search: running, periods since its start, the last offset (held once found, until the
   // swing starts), and the periods of release left.
   bool searching = false;
@@ -532,6 +616,7 @@ class LegReflex {
   // Durations in control periods, rounded once at construction like the delays.
   int preload_ramp_samples_;
   int preload_max_samples_;
+  int preload_release_samples_;
   int search_attempt_samples_;
   int search_release_samples_;
   int regrip_samples_;

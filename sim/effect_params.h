@@ -393,6 +393,11 @@ struct PreloadKeys : reflex::PreloadParams {
         {"force_limit_n", "N", "stop once the compressive preload reaches this", Range::Positive()},
         &force_limit_n);
     a->Visit({"max_duration_s", "s", "stop after this long", Range::Positive()}, &max_duration_s);
+    a->Visit({"release_s", "s",
+              "fade of the press once the preload ends (0: at once; a directional pad, which "
+              "holds no pull before its shear builds, needs a fade)",
+              Range::NonNegative()},
+             &release_s);
   }
 };
 struct SearchKeys : reflex::SearchParams {
@@ -450,7 +455,33 @@ struct RegripKeys : reflex::RegripParams {
              &hold_others_s);
   }
 };
+struct LoadSharingKeys : reflex::LoadSharingParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"gain_per_s", "1/s",
+              "K: while the soft maximum S of the attached pads' utilisations is above the "
+              "threshold, internal forces between the pads (the null space of the grasp map, "
+              "set through the legs' servo targets) drive it down at K [S - threshold]+ per "
+              "second; 0 = off",
+              Range::NonNegative()},
+             &gain_per_s);
+    a->Visit({"threshold", "", "U_S: the soft maximum of the utilisations above which load is shared"},
+             &threshold);
+    a->Visit({"leak_s", "s", "time constant with which an internal force no longer needed fades",
+              Range::Positive()},
+             &leak_s);
+    a->Visit({"softmax_beta", "", "sharpness of the soft maximum (large: the worst pad alone)",
+              Range::Positive()},
+             &softmax_beta);
+    a->Visit({"max_force_n", "N", "largest internal force asked of one pad", Range::Positive()},
+             &max_force_n);
+    a->Visit({"max_rate_n_per_s", "N/s", "fastest change of one pad's internal force",
+              Range::Positive()},
+             &max_rate_n_per_s);
+  }
+};
 struct GtoKeys : reflex::GtoHoldParams {
+  LoadSharingKeys share;
   template <class A>
   void Serialize(A* a) {
     a->Visit({"enabled", "",
@@ -515,6 +546,10 @@ struct GtoKeys : reflex::GtoHoldParams {
     a->Visit(
         {"support_delay_s", "s", "transmission delay of the support channel", Range::NonNegative()},
         &support.delay_s);
+    a->Visit({"share", "",
+              "load sharing among the attached pads: internal forces that drive down the worst "
+              "pad's utilisation (reflex/README.md)"},
+             &share);
   }
 };
 // One spindle law for the three joints of every leg.

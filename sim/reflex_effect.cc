@@ -1,5 +1,6 @@
 #include "sim/reflex_effect.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -66,6 +67,68 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     kp_.push_back(kp);
   }
   counts_.assign(legs_.size(), {});
+  if (leg.gto.enabled && params.gto.share.gain_per_s > 0.0 && adhesion_ != nullptr) {
+    try {
+      sharing_.emplace(params.gto.share, dt);
+    } catch (const std::invalid_argument& e) {
+      const std::string msg = e.what();
+      throw ScenarioError(scenario, "reflex.gto.share", msg.substr(msg.find(' ') + 1));
+    }
+    if (legs_.size() > static_cast<size_t>(reflex::kMaxSharingLegs)) {
+      throw ScenarioError(scenario, "reflex.gto.share",
+                          "load sharing takes at most " +
+                              std::to_string(reflex::kMaxSharingLegs) + " legs");
+    }
+    sharing_in_.resize(legs_.size());
+    jacp_.assign(3 * m->nv, 0.0);
+  }
+}
+
+bool ReflexEffect::UtilisationGradientWorld(const World& world, int leg,
+                                            Eigen::Vector3d* grad) const {
+  const int pad = adhesion_->pad_of_leg(leg);
+  Eigen::Matrix<double, 5, 1> g;
+  if (pad < 0 || !adhesion_->pad(pad).UtilisationGradient(&g)) return false;
+  const mjData* d = world.data();
+  const LegInfo& info = world.robot().legs[leg];
+  // The pad frame (x, y, n: columns of the face site's rotation) and the lever from the face
+  // centroid to the ankle: the pad's load is (F·n, F·x, F·y, (r×F)·x, (r×F)·y) for the force F
+  // the leg puts on it at the ankle, so ∂U/∂F = U_n n + U_x x + U_y y + U_mx x×r + U_my y×r.
+  const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
+      d->site_xmat + 9 * info.pad_face_site);
+  const Eigen::Vector3d x = rot.col(0), y = rot.col(1), n = rot.col(2);
+  const Eigen::Vector3d r = Eigen::Map<const Eigen::Vector3d>(d->site_xpos + 3 * info.ankle_site) -
+                            Eigen::Map<const Eigen::Vector3d>(d->site_xpos + 3 * info.pad_face_site);
+  *grad = g[0] * n + g[1] * x + g[2] * y + g[3] * x.cross(r) + g[4] * y.cross(r);
+  return grad->allFinite();
+}
+
+void ReflexEffect::ShareLoad(World& world, std::vector<LegSignals>& signals) {
+  const mjModel* m = world.model();
+  const mjData* d = world.data();
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    const LegSignals& s = signals[i];
+    reflex::SharingLeg& in = sharing_in_[i];
+    const int ankle = world.robot().legs[i].ankle_site;
+    // A leg shares while its pad is attached in stance and no peel holds its phase.
+    in.active = s.attached && s.stance && !s.hold_phase &&
+                UtilisationGradientWorld(world, static_cast<int>(i), &in.gradient_per_n);
+    in.position_m = Eigen::Map<const Eigen::Vector3d>(d->site_xpos + 3 * ankle);
+    in.utilisation = s.utilisation;
+  }
+  const auto& lambda = sharing_->Update(sharing_in_.data(), static_cast<int>(legs_.size()));
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    if (!sharing_in_[i].active || lambda[i].isZero()) continue;
+    // τ = Jᵀ·F for the force F the leg puts on its pad; a position servo's torque changes by
+    // kp·Δq while its joint is held.
+    const LegInfo& info = world.robot().legs[i];
+    mj_jacSite(m, d, jacp_.data(), nullptr, info.ankle_site);
+    for (int k = 0; k < 3; ++k) {
+      const int dof = info.dof_adr[k];
+      const Eigen::Vector3d column(jacp_[dof], jacp_[m->nv + dof], jacp_[2 * m->nv + dof]);
+      signals[i].offset_rad[k] += column.dot(lambda[i]) / kp_[i][k];
+    }
+  }
 }
 
 void ReflexEffect::Reset(World& world, RunContext& ctx) {
@@ -73,6 +136,7 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
     for (int k = 0; k < 3; ++k) SetKp(world.model(), actuator_[i][k], kp_[i][k]);
   }
   for (auto& l : legs_) l.Reset();
+  if (sharing_) sharing_->Reset();
   for (auto& c : counts_) c.fill(0);
   for (LegSignals& s : *ctx.legs) {
     s.offset_rad = {0, 0, 0};
@@ -144,6 +208,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
       }
     }
   }
+  if (sharing_) ShareLoad(world, signals);
   ctx.hold_all_stance = hold_all;
 }
 

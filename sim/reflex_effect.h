@@ -15,6 +15,7 @@
 #ifndef CLIMBSIM_SIM_REFLEX_EFFECT_H_
 #define CLIMBSIM_SIM_REFLEX_EFFECT_H_
 
+#include <optional>
 #include <vector>
 
 #include "reflex/reflex.h"
@@ -48,6 +49,17 @@ class ReflexEffect final : public Effect {
   std::vector<std::array<int, 3>> actuator_;   // per leg, hip_yaw, hip_pitch, knee servo
   std::vector<std::array<double, 3>> kp_;      // their kp as compiled
   int period_steps_ = 1;
+  // Load sharing (the GTO's robot-level channel, reflex.h): the law, each leg's input, and
+  // the ankle's Jacobian buffer (3 × nv, sized once).
+  std::optional<reflex::LoadSharing> sharing_;
+  std::vector<reflex::SharingLeg> sharing_in_;
+  std::vector<double> jacp_;
+
+  // The gradient of leg i's pad utilisation with respect to the force the leg puts on the pad
+  // at its ankle, world frame; false when the pad is not attached or it is not defined.
+  bool UtilisationGradientWorld(const World& world, int leg, Eigen::Vector3d* grad) const;
+  // Runs the load sharing and adds each leg's Δq = Kp⁻¹·Jᵀ·λ to its offsets.
+  void ShareLoad(World& world, std::vector<LegSignals>& signals);
 };
 
 }  // namespace climbsim::sim

@@ -65,6 +65,29 @@ TEST(ReflexPreload, TouchdownPressesUntilAttached) {
             (Events{At(1, E::kPreloadStart, R::kTouchdown), At(8, E::kPreloadEnd, R::kAttached)}));
 }
 
+// With release_s the press fades after the attach instead of dropping at once: linearly, by
+// 1/(n + 1) of the press it had a period, n = release_s/dt (a directional pad holds no pull
+// before its shear builds).
+TEST(ReflexPreload, PressFadesOverReleaseAfterTheAttach) {
+  LegReflexParams p = PreloadOnly();
+  p.preload.release_s = 0.03;  // 3 periods
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());                               // #0
+  rec.Repeat(Touching(Stance()), 5);               // #1..#5: full press at #5
+  rec.Repeat(Attached(Stance(), 0.9), 5);          // #6..#10
+  const Eigen::Vector3d full(0.0, -0.15, -0.10);
+  EXPECT_EQ(rec.output(5).target_offset_rad, full);
+  for (int k = 6; k <= 10; ++k) {
+    const double share = k <= 8 ? (9 - k) / 4.0 : 0.0;  // 3/4, 2/4, 1/4, then none
+    EXPECT_LT((rec.output(k).target_offset_rad - share * full).norm(), 1e-15) << k;
+    EXPECT_EQ(rec.output(k).Fired(Reflex::kPreload), share > 0.0) << k;
+    EXPECT_FALSE(rec.output(k).hold_stance) << k;
+  }
+  EXPECT_EQ(rec.events(),
+            (Events{At(1, E::kPreloadStart, R::kTouchdown), At(6, E::kPreloadEnd, R::kAttached)}));
+}
+
 TEST(ReflexPreload, ForceLimitEndsThePress) {
   LegReflex leg(PreloadOnly(), kDt);
   Recorder rec(&leg);

@@ -91,5 +91,30 @@ TEST(ReflexNoAlloc, LegReflexUpdateNeverAllocates) {
   EXPECT_GT(events, 10);
 }
 
+// Load sharing over six legs, legs letting go and landing, above and below its threshold.
+TEST(ReflexNoAlloc, LoadSharingUpdateNeverAllocates) {
+  LoadSharingParams p;
+  p.gain_per_s = 50.0;
+  LoadSharing sharing(p, 0.001);
+  std::array<SharingLeg, 6> legs;
+  long allocations = 0;
+  double total = 0.0;
+  {
+    AllocationCounter counter;
+    for (int k = 0; k < 1000; ++k) {
+      for (int i = 0; i < 6; ++i) {
+        legs[i].active = (k / 50 + i) % 6 != 0;
+        legs[i].position_m = Eigen::Vector3d(0.1 * (i % 3 - 1), i < 3 ? 0.1 : -0.1, 0.0);
+        legs[i].utilisation = 0.5 + 0.4 * std::sin(0.01 * k + i);
+        legs[i].gradient_per_n = Eigen::Vector3d(1.0, 0.3 * i, 0.5 * std::cos(0.02 * k));
+      }
+      total += sharing.Update(legs.data(), 6)[0].norm();
+    }
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0);
+  EXPECT_GT(total, 0.0);  // it acted
+}
+
 }  // namespace
 }  // namespace climbsim::reflex

@@ -36,16 +36,20 @@ TEST(SimulationAllocation, StepLoopAllocatesNothing) {
   EXPECT_EQ(counts.mallocs, 0);
 }
 
-// The climbing example with every reflex on (spindle, GTO with its utilisation channels,
-// stance compliance setting the servos' kp), the adhesion effect's utilisation and the
-// trajectory's utilisation columns: still nothing allocated per step.
+// The climbing example with every reflex on (spindle, GTO with its utilisation channels and
+// load sharing across the legs, stance compliance setting the servos' kp), the adhesion
+// effect's utilisation and the trajectory's utilisation columns: still nothing allocated per
+// step.
 TEST(SimulationAllocation, ClimbingReflexesAllocateNothing) {
   std::string text =
       climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
-  text.replace(text.find("reflex:\n"), 8, "reflex:\n  compliance: {enabled: true}\n");
+  text.replace(text.find("reflex:\n"), 8,
+               "reflex:\n  compliance: {enabled: true}\n"
+               "  gto: {share: {gain_per_s: 30, threshold: 0.2}}\n");
   const Scenario s = LoadScenario(climbsim::testing::WriteFile("alloc_climb.yaml", text));
   ASSERT_TRUE(s.reflex.has_value());
   ASSERT_TRUE(s.reflex->spindle.enabled && s.reflex->gto.enabled && s.reflex->compliance.enabled);
+  ASSERT_GT(s.reflex->gto.share.gain_per_s, 0.0);
   auto model = CompileScenario(s);
   Simulation sim(s, *model);
   ASSERT_TRUE(sim.Step());

@@ -63,6 +63,7 @@ std::map<std::string, std::string> LibraryDefaults() {
   const cpg::HopfNetworkParams hopf;
   const cpg::LegShape shape;
   const reflex::LegReflexParams leg;
+  const reflex::LoadSharingParams share;
   return {
       {"adhesion.grid_x", Text(pad.grid_x)},
       {"adhesion.grid_y", Text(pad.grid_y)},
@@ -98,6 +99,7 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.preload.ramp_s", Text(leg.preload.ramp_s)},
       {"reflex.preload.force_limit_n", Text(leg.preload.force_limit_n)},
       {"reflex.preload.max_duration_s", Text(leg.preload.max_duration_s)},
+      {"reflex.preload.release_s", Text(leg.preload.release_s)},
       {"reflex.search.enabled", Text(leg.search.enabled)},
       {"reflex.search.reach_yaw_rad", Text(leg.search.reach_yaw_rad)},
       {"reflex.search.reach_pitch_rad", Text(leg.search.reach_pitch_rad)},
@@ -134,6 +136,12 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.gto.unload_min_kp_fraction", Text(leg.gto.unload_min_kp_fraction)},
       {"reflex.gto.support_threshold", Text(leg.gto.support.threshold)},
       {"reflex.gto.support_delay_s", Text(leg.gto.support.delay_s)},
+      {"reflex.gto.share.gain_per_s", Text(share.gain_per_s)},
+      {"reflex.gto.share.threshold", Text(share.threshold)},
+      {"reflex.gto.share.leak_s", Text(share.leak_s)},
+      {"reflex.gto.share.softmax_beta", Text(share.softmax_beta)},
+      {"reflex.gto.share.max_force_n", Text(share.max_force_n)},
+      {"reflex.gto.share.max_rate_n_per_s", Text(share.max_rate_n_per_s)},
       {"reflex.spindle.enabled", Text(leg.spindle.enabled)},
       {"reflex.spindle.swing_threshold_rad", Text(leg.spindle.swing_threshold_rad)},
       {"reflex.spindle.resist", Text(leg.spindle.resist)},

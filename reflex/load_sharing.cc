@@ -1,0 +1,154 @@
+// Load sharing among attached pads in the null space of the grasp map (the law is in reflex.h).
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "reflex/check.h"
+#include "reflex/reflex.h"
+
+namespace climbsim::reflex {
+namespace {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& r) {
+  Eigen::Matrix3d m;
+  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  return m;
+}
+
+}  // namespace
+
+void Validate(const LoadSharingParams& p, double dt_s, std::string_view name) {
+  internal::CheckPeriod(dt_s);
+  internal::CheckNonNegative(internal::FieldPath(name, "gain_per_s"), p.gain_per_s);
+  internal::CheckFinite(internal::FieldPath(name, "threshold"), p.threshold);
+  internal::CheckPositive(internal::FieldPath(name, "leak_s"), p.leak_s);
+  internal::CheckPositive(internal::FieldPath(name, "softmax_beta"), p.softmax_beta);
+  internal::CheckPositive(internal::FieldPath(name, "max_force_n"), p.max_force_n);
+  internal::CheckPositive(internal::FieldPath(name, "max_rate_n_per_s"), p.max_rate_n_per_s);
+}
+
+LoadSharing::LoadSharing(const LoadSharingParams& params, double dt_s)
+    : params_(params), dt_s_(dt_s) {
+  Validate(params_, dt_s_);
+  Reset();
+}
+
+void LoadSharing::Reset() {
+  for (Eigen::Vector3d& l : lambda_) l.setZero();
+  soft_max_ = 0.0;
+}
+
+const std::array<Eigen::Vector3d, kMaxSharingLegs>& LoadSharing::Update(const SharingLeg* legs,
+                                                                       int count) {
+  count = std::clamp(count, 0, kMaxSharingLegs);
+  std::array<bool, kMaxSharingLegs> on{};
+  int n = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int i = 0; i < count; ++i) {
+    const SharingLeg& l = legs[i];
+    on[i] = l.active && l.position_m.allFinite() && l.gradient_per_n.allFinite() &&
+            std::isfinite(l.utilisation);
+    if (on[i]) {
+      ++n;
+      centre += l.position_m;
+    }
+  }
+  for (int i = 0; i < kMaxSharingLegs; ++i) {
+    if (i >= count || !on[i]) lambda_[i].setZero();
+  }
+  soft_max_ = 0.0;
+  if (n < 2 || !enabled()) {
+    for (Eigen::Vector3d& l : lambda_) l.setZero();
+    return lambda_;
+  }
+  centre /= n;
+
+  // G·Gᵀ of the attached pads, the levers scaled by their RMS length (ker G is unchanged, and
+  // the pseudo-inverse's rank decision sees forces and moments alike).
+  double spread2 = 0.0;
+  for (int i = 0; i < count; ++i) {
+    if (on[i]) spread2 += (legs[i].position_m - centre).squaredNorm();
+  }
+  const double scale = std::sqrt(std::max(spread2 / n, 1e-12));
+  std::array<Eigen::Vector3d, kMaxSharingLegs> lever;
+  Matrix6d ggt = Matrix6d::Zero();
+  for (int i = 0; i < count; ++i) {
+    if (!on[i]) continue;
+    lever[i] = (legs[i].position_m - centre) / scale;
+    const Eigen::Matrix3d r = Skew(lever[i]);
+    ggt.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity();
+    ggt.topRightCorner<3, 3>() += r.transpose();
+    ggt.bottomLeftCorner<3, 3>() += r;
+    ggt.bottomRightCorner<3, 3>() += r * r.transpose();
+  }
+  // Two pads leave the moment about the line through them unconstrained: rank 5.
+  Eigen::CompleteOrthogonalDecomposition<Matrix6d> cod;
+  cod.setThreshold(1e-9);
+  cod.compute(ggt);
+  // v ← P·v = v − Gᵀ·(G·Gᵀ)⁺·G·v, per pad: v_i − (y_f − r_i × y_m).
+  const auto project = [&](std::array<Eigen::Vector3d, kMaxSharingLegs>* v) {
+    Vector6d b = Vector6d::Zero();
+    for (int i = 0; i < count; ++i) {
+      if (!on[i]) continue;
+      b.head<3>() += (*v)[i];
+      b.tail<3>() += lever[i].cross((*v)[i]);
+    }
+    const Vector6d y = cod.solve(b);
+    for (int i = 0; i < count; ++i) {
+      if (on[i]) (*v)[i] -= y.head<3>() - lever[i].cross(y.tail<3>());
+    }
+  };
+
+  // Leak, and keep the request internal on the pads attached now.
+  const double keep = std::max(0.0, 1.0 - dt_s_ / params_.leak_s);
+  for (int i = 0; i < count; ++i) lambda_[i] *= keep;
+  project(&lambda_);
+
+  // The soft maximum of the utilisations and its gradient.
+  double u_max = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < count; ++i) {
+    if (on[i]) u_max = std::max(u_max, legs[i].utilisation);
+  }
+  const double beta = params_.softmax_beta;
+  double sum = 0.0;
+  std::array<double, kMaxSharingLegs> w{};
+  for (int i = 0; i < count; ++i) {
+    if (!on[i]) continue;
+    w[i] = std::exp(beta * (legs[i].utilisation - u_max));
+    sum += w[i];
+  }
+  soft_max_ = u_max + std::log(sum) / beta;
+  const double excess = soft_max_ - params_.threshold;
+  if (excess > 0.0) {
+    std::array<Eigen::Vector3d, kMaxSharingLegs> d;
+    for (int i = 0; i < count; ++i) {
+      d[i] = on[i] ? Eigen::Vector3d(w[i] / sum * legs[i].gradient_per_n)
+                   : Eigen::Vector3d::Zero();
+    }
+    project(&d);
+    double d2 = 0.0;
+    for (int i = 0; i < count; ++i) d2 += d[i].squaredNorm();
+    if (d2 > 0.0 && std::isfinite(d2)) {
+      // dS = gᵀ·Δλ = −dt·K·excess (gᵀ·P·g = |P·g|²), each pad's step within the rate limit.
+      const double step = dt_s_ * params_.gain_per_s * excess / d2;
+      double largest = 0.0;
+      for (int i = 0; i < count; ++i) largest = std::max(largest, step * d[i].norm());
+      const double limit = dt_s_ * params_.max_rate_n_per_s;
+      const double k = largest > limit ? step * limit / largest : step;
+      for (int i = 0; i < count; ++i) lambda_[i] -= k * d[i];
+    }
+  }
+  // The cap, as a whole: a uniform scale keeps λ internal.
+  double largest = 0.0;
+  for (int i = 0; i < count; ++i) largest = std::max(largest, lambda_[i].norm());
+  if (largest > params_.max_force_n) {
+    for (int i = 0; i < count; ++i) lambda_[i] *= params_.max_force_n / largest;
+  }
+  return lambda_;
+}
+
+}  // namespace climbsim::reflex

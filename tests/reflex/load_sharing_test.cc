@@ -1,0 +1,211 @@
+// LoadSharing (reflex.h): internal forces among attached pads that drive down the soft maximum
+// of their utilisations. Checked against what defines it: every request is internal (Σλ = 0,
+// Σr×λ = 0 over the attached pads), the first-order change of the soft maximum is exactly
+// −dt·K·[S − U_S]₊, the leak, the cap and the rate limit, and the closed form of two pads.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "reflex/reflex.h"
+
+namespace climbsim::reflex {
+namespace {
+
+constexpr double kDt = 0.001;
+
+LoadSharingParams Params() {
+  LoadSharingParams p;
+  p.gain_per_s = 20.0;
+  p.threshold = 0.5;
+  p.leak_s = 0.5;
+  p.softmax_beta = 20.0;
+  p.max_force_n = 1.0;
+  p.max_rate_n_per_s = 1e6;  // out of the way unless a test sets it
+  return p;
+}
+
+double SoftMax(const std::vector<SharingLeg>& legs, double beta) {
+  double m = -1e300, sum = 0.0;
+  for (const auto& l : legs) {
+    if (l.active) m = std::max(m, l.utilisation);
+  }
+  for (const auto& l : legs) {
+    if (l.active) sum += std::exp(beta * (l.utilisation - m));
+  }
+  return m + std::log(sum) / beta;
+}
+
+// Σλ and Σ r×λ over the active legs (about the origin: internal forces have zero net wrench
+// about every point).
+void ExpectInternal(const std::vector<SharingLeg>& legs,
+                    const std::array<Eigen::Vector3d, kMaxSharingLegs>& lambda, double tol) {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < legs.size(); ++i) {
+    if (!legs[i].active) {
+      EXPECT_EQ(lambda[i], Eigen::Vector3d::Zero()) << i;
+      continue;
+    }
+    f += lambda[i];
+    m += legs[i].position_m.cross(lambda[i]);
+  }
+  EXPECT_LT(f.norm(), tol);
+  EXPECT_LT(m.norm(), tol);
+}
+
+std::vector<SharingLeg> RandomLegs(std::mt19937* rng, int n) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<SharingLeg> legs(n);
+  for (auto& l : legs) {
+    l.active = true;
+    l.position_m = Eigen::Vector3d(0.1 * unit(*rng), 0.1 * unit(*rng), 0.0);  // a wall: z = 0
+    l.utilisation = 0.6 + 0.3 * unit(*rng);
+    l.gradient_per_n = Eigen::Vector3d(unit(*rng), unit(*rng), unit(*rng));
+  }
+  return legs;
+}
+
+// Two pads: the only internal force is a pull or push along the line between them. Pad A is
+// near its limit with ∇U along +x (the line), B has margin: A's force along +x drops by what
+// B's rises, and S falls at exactly K·[S − U_S] to first order.
+TEST(ReflexLoadSharing, TwoPadsTradeLoadAlongTheLineBetweenThem) {
+  LoadSharing sharing(Params(), kDt);
+  std::vector<SharingLeg> legs(2);
+  legs[0] = {true, {0.05, 0.02, 0.0}, 0.9, {1.0, 0.5, 0.2}};
+  legs[1] = {true, {-0.05, 0.02, 0.0}, 0.2, {1.0, -0.3, 0.4}};
+  const auto& lambda = sharing.Update(legs.data(), 2);
+  EXPECT_LT(lambda[0].x(), 0.0);
+  EXPECT_NEAR(lambda[0].y(), 0.0, 1e-15);
+  EXPECT_NEAR(lambda[0].z(), 0.0, 1e-15);
+  EXPECT_LT((lambda[1] + lambda[0]).norm(), 1e-15);
+  // First order: Σ w_i ∇U_i · λ_i = −dt·K·(S − U_S).
+  const double s = SoftMax(legs, 20.0);
+  EXPECT_DOUBLE_EQ(sharing.soft_max(), s);
+  const double w0 = 1.0 / (1.0 + std::exp(20.0 * (0.2 - 0.9)));
+  const double dS = w0 * legs[0].gradient_per_n.dot(lambda[0]) +
+                    (1 - w0) * legs[1].gradient_per_n.dot(lambda[1]);
+  EXPECT_NEAR(dS, -kDt * 20.0 * (s - 0.5), 1e-15);
+}
+
+TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) {
+  std::mt19937 rng(2026);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = 2 + trial % 5;
+    std::vector<SharingLeg> legs = RandomLegs(&rng, n);
+    if (trial % 4 == 3) legs[0].active = false;
+    LoadSharingParams p = Params();
+    p.max_force_n = 1e9;  // the cap (tested below) would scale the step
+    LoadSharing sharing(p, kDt);
+    std::array<Eigen::Vector3d, kMaxSharingLegs> before;
+    for (Eigen::Vector3d& b : before) b.setZero();
+    for (int k = 0; k < 5; ++k) {
+      const auto& lambda = sharing.Update(legs.data(), n);
+      ExpectInternal(legs, lambda, 1e-12);
+      // The change over this period: the leak of what was there, plus the step.
+      double dS = 0.0;
+      const double s = sharing.soft_max();
+      double sum = 0.0, m = -1e300;
+      for (const auto& l : legs) {
+        if (l.active) m = std::max(m, l.utilisation);
+      }
+      for (const auto& l : legs) {
+        if (l.active) sum += std::exp(20.0 * (l.utilisation - m));
+      }
+      for (int i = 0; i < n; ++i) {
+        if (!legs[i].active) continue;
+        const double w = std::exp(20.0 * (legs[i].utilisation - m)) / sum;
+        dS += w * legs[i].gradient_per_n.dot(lambda[i] - (1 - kDt / 0.5) * before[i]);
+      }
+      const int active = n - (trial % 4 == 3 ? 1 : 0);
+      if (active >= 2) {
+        EXPECT_NEAR(dS, -kDt * 20.0 * std::max(0.0, s - 0.5), 1e-12) << trial << " " << k;
+      }
+      before = lambda;
+    }
+  }
+}
+
+// Below the threshold only the leak acts: λ shrinks by 1 − dt/τ a period.
+TEST(ReflexLoadSharing, BelowTheThresholdTheRequestLeaks) {
+  LoadSharing sharing(Params(), kDt);
+  std::vector<SharingLeg> legs(3);
+  legs[0] = {true, {0.05, 0.05, 0.0}, 0.95, {1.0, 0.0, 0.3}};
+  legs[1] = {true, {0.05, -0.05, 0.0}, 0.3, {1.0, 0.0, 0.3}};
+  legs[2] = {true, {-0.05, 0.0, 0.0}, 0.3, {1.0, 0.0, -0.3}};
+  for (int k = 0; k < 10; ++k) sharing.Update(legs.data(), 3);
+  const auto before = sharing.Update(legs.data(), 3);
+  ASSERT_GT(before[0].norm(), 0.0);
+  for (auto& l : legs) l.utilisation = 0.1;
+  const auto& after = sharing.Update(legs.data(), 3);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_LT((after[i] - (1 - kDt / 0.5) * before[i]).norm(), 1e-15) << i;
+  }
+}
+
+// The cap scales every request alike (so they stay internal); the rate limit bounds a step.
+TEST(ReflexLoadSharing, CapAndRateLimit) {
+  std::mt19937 rng(5);
+  std::vector<SharingLeg> legs = RandomLegs(&rng, 4);
+  for (auto& l : legs) l.utilisation = 3.0;  // far above: large steps
+  LoadSharingParams p = Params();
+  p.gain_per_s = 1e4;
+  p.max_force_n = 0.2;
+  LoadSharing capped(p, kDt);
+  for (int k = 0; k < 50; ++k) {
+    const auto& lambda = capped.Update(legs.data(), 4);
+    double largest = 0.0;
+    for (int i = 0; i < 4; ++i) largest = std::max(largest, lambda[i].norm());
+    EXPECT_LE(largest, 0.2 + 1e-15);
+    ExpectInternal(legs, lambda, 1e-12);
+  }
+  p.max_force_n = 100.0;
+  p.max_rate_n_per_s = 2.0;  // 2 mN a period at 1 ms
+  LoadSharing limited(p, kDt);
+  const auto first = limited.Update(legs.data(), 4);
+  double largest = 0.0;
+  for (int i = 0; i < 4; ++i) largest = std::max(largest, first[i].norm());
+  EXPECT_NEAR(largest, 0.002, 1e-15);
+}
+
+// Fewer than two attached pads: no internal force exists. A pad that lets go takes its share
+// of λ with it: what remains is internal on the pads still attached.
+TEST(ReflexLoadSharing, NoInternalForceWithOnePadAndReprojectionWhenAPadLetsGo) {
+  std::mt19937 rng(9);
+  std::vector<SharingLeg> legs = RandomLegs(&rng, 4);
+  LoadSharing sharing(Params(), kDt);
+  for (int k = 0; k < 20; ++k) sharing.Update(legs.data(), 4);
+  legs[1].active = false;
+  ExpectInternal(legs, sharing.Update(legs.data(), 4), 1e-12);
+  legs[0].active = legs[2].active = false;
+  const auto& one = sharing.Update(legs.data(), 4);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(one[i], Eigen::Vector3d::Zero()) << i;
+  EXPECT_EQ(sharing.soft_max(), 0.0);
+}
+
+TEST(ReflexLoadSharing, OffAtZeroGainAndRejectsBadParams) {
+  LoadSharingParams p = Params();
+  p.gain_per_s = 0.0;
+  LoadSharing off(p, kDt);
+  std::mt19937 rng(1);
+  std::vector<SharingLeg> legs = RandomLegs(&rng, 4);
+  for (int k = 0; k < 5; ++k) {
+    const auto& lambda = off.Update(legs.data(), 4);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(lambda[i], Eigen::Vector3d::Zero());
+  }
+  p = Params();
+  p.leak_s = 0.0;
+  EXPECT_THROW(LoadSharing(p, kDt), std::invalid_argument);
+  p = Params();
+  p.softmax_beta = -1.0;
+  try {
+    Validate(p, kDt, "reflex.gto.share");
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "reflex.gto.share.softmax_beta must be finite and > 0, got -1");
+  }
+}
+
+}  // namespace
+}  // namespace climbsim::reflex
