@@ -78,6 +78,9 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
   // Re-grip.
   DurationToSamples(FieldPath(FieldPath(name, "regrip"), "hold_others_s"),
                     params.regrip.hold_others_s, dt_s, false);
+  CheckNonNegative(FieldPath(FieldPath(name, "regrip"), "lift_rad"), params.regrip.lift_rad);
+  DurationToSamples(FieldPath(FieldPath(name, "regrip"), "replace_s"), params.regrip.replace_s,
+                    dt_s, true);
 
   // GTO stance holding: both channels are positive force feedback.
   const std::string gto = FieldPath(name, "gto");
@@ -123,6 +126,7 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
       search_attempt_samples_(DurationToSamples("", params.search.attempt_duration_s, dt_s, true)),
       search_release_samples_(DurationToSamples("", params.search.release_s, dt_s, false)),
       regrip_samples_(DurationToSamples("", params.regrip.hold_others_s, dt_s, false)),
+      replace_samples_(DurationToSamples("", params.regrip.replace_s, dt_s, true)),
       peel_max_samples_(DurationToSamples("", params.peel.max_duration_s, dt_s, true)),
       peel_release_samples_(DurationToSamples("", params.peel.release_s, dt_s, false)),
       pushed_hold_samples_(DurationToSamples("", params.spindle.hold_s, dt_s, false)),
@@ -151,7 +155,7 @@ LegReflexOutput LegReflex::Update(const LegSensing& sensing) {
   SwingOnset(in, &out);
   PreloadLimits(in, &out);
   Eigen::Vector3d offset = Search(in, &out);
-  Regrip(in, &out);
+  offset += Regrip(in, &out);
   offset += Preload(in, &out);
   offset += Peel(in, &out);
   offset += Gto(in, laws, &out);
@@ -306,26 +310,56 @@ void LegReflex::StartSearchRelease() {
 }
 
 // Re-grip: bonds lost in stance by a pad that was holding. A new episode (no re-grip hold or
-// re-grip preload running) emits regrip and starts a preload; a running one is extended.
-void LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
+// re-grip preload running) emits regrip; a running one is extended. A pad still attached is
+// pressed (a preload); one that let go entirely is re-placed (lift and put down), since it
+// can attach again only at a new touchdown.
+Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
   LegReflexState& st = state_;
-  if (!(params_.regrip.enabled && in.stance && in.raw->bonds_lost && st.prev_attached)) return;
-  const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
-  if (st.regrip_left == 0 && !regrip_preload) Emit(out, LegEventType::kRegrip);
-  st.regrip_left = regrip_samples_;
-  if (!st.preloading) {
-    st.preloading = true;
-    st.preload_samples = 0;
-    st.preload_trigger = LegEventReason::kRegrip;
-    Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
+  const RegripParams& p = params_.regrip;
+  if (p.enabled && in.stance && in.raw->bonds_lost && st.prev_attached) {
+    const bool replace = !in.raw->attached && p.lift_rad > 0.0;
+    if (replace && st.preloading) {
+      st.preloading = false;  // the touchdown after the lift starts a fresh preload
+      Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
+    }
+    const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
+    if (st.regrip_left == 0 && !regrip_preload && st.replace_left == 0) {
+      Emit(out, LegEventType::kRegrip);
+    }
+    st.regrip_left = regrip_samples_;
+    if (replace) {
+      if (st.replace_left == 0) {
+        st.replace_left = replace_samples_;
+        st.replace_lifted = false;
+      }
+    } else if (!st.preloading) {
+      st.preloading = true;
+      st.preload_samples = 0;
+      st.preload_trigger = LegEventReason::kRegrip;
+      Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
+    }
   }
+  if (st.replace_left == 0) return Eigen::Vector3d::Zero();
+  if (!in.stance || in.raw->attached) {
+    st.replace_left = 0;  // the gait took the leg, or the pad holds again
+    return Eigen::Vector3d::Zero();
+  }
+  const double s = 1.0 - static_cast<double>(st.replace_left) / replace_samples_;
+  // Off the surface on the way up (not the one blind step right after a weld lets go).
+  st.replace_lifted |= !in.raw->touching && s >= 0.25;
+  const double bump = std::sin(std::numbers::pi * s);
+  --st.replace_left;
+  Fire(out, Reflex::kRegrip);
+  return {0.0, p.lift_rad * bump * bump, p.lift_rad * bump * bump};
 }
 
 // Touchdown preload; the press is a linear ramp, (m + 1)/n_ramp of full at the m-th period.
 Eigen::Vector3d LegReflex::Preload(const Sensed& in, LegReflexOutput* out) {
   LegReflexState& st = state_;
   const PreloadParams& p = params_.preload;
-  if (p.enabled && in.touchdown && !in.raw->attached && !st.preloading) {
+  // A re-placed foot is pressed when it comes down, not while it still leaves the surface.
+  const bool replacing = st.replace_left > 0 && !st.replace_lifted;
+  if (p.enabled && in.touchdown && !in.raw->attached && !st.preloading && !replacing) {
     st.preloading = true;
     st.preload_samples = 0;
     st.preload_trigger = LegEventReason::kTouchdown;
@@ -500,7 +534,8 @@ void LegReflex::Finish(const Sensed& in, const Eigen::Vector3d& summed, LegRefle
     if (std::isnan(offset[j])) offset[j] = 0.0;
   }
   out->target_offset_rad = offset.cwiseMax(-p.max_offset_rad).cwiseMin(p.max_offset_rad);
-  out->hold_stance = in.stance && (st.preloading || st.searching || st.gto_holding);
+  out->hold_stance =
+      in.stance && (st.preloading || st.searching || st.gto_holding || st.replace_left > 0);
   out->hold_others = st.regrip_left > 0 || st.pushed_left > 0;
   if (st.regrip_left > 0) {
     --st.regrip_left;

@@ -251,9 +251,16 @@ struct PeelParams {
 // Re-grip: a pad that loses bonds during stance while it was attached (it should be holding)
 // is pressed again with the preload profile (PreloadParams, even if preload.enabled is false),
 // and the other legs are asked to stay in stance for hold_others_s.
+// A pad that lets go ENTIRELY in stance (bonds all lost: overload, a failure) cannot attach
+// again by being pressed: adhesion asks for a new touchdown (adhesion/README.md, "Attachment").
+// So the re-grip then re-places the foot: a lift of lift_rad on hip pitch and knee,
+// lift·sin²(π·s) over replace_s (s from 0 to 1), holding the leg in stance; the foot that
+// comes down touches down again and the touchdown preload attaches it.
 struct RegripParams {
   bool enabled = true;
   double hold_others_s = 0.2;  // how long hold_others stays raised, >= 0
+  double lift_rad = 0.1;       // re-place lift on hip pitch and knee, >= 0 (0: press only)
+  double replace_s = 0.1;      // duration of the re-place, >= one control period
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -544,6 +551,8 @@ struct LegReflexState {
   Eigen::Vector3d peel_offset_rad = Eigen::Vector3d::Zero();  // when the peel ended
   int peel_release_left = 0;
   int regrip_left = 0;  // periods of hold_others left
+  int replace_left = 0;  // periods of a re-place (lift and put down) left
+  bool replace_lifted = false;  // the re-placed foot has left the surface
   bool gto_holding = false;
   bool gto_unloading = false;
   bool spindle_active = false;
@@ -620,6 +629,7 @@ class LegReflex {
   int search_attempt_samples_;
   int search_release_samples_;
   int regrip_samples_;
+  int replace_samples_;
   int peel_max_samples_;
   int peel_release_samples_;
   int pushed_hold_samples_;
@@ -647,7 +657,7 @@ class LegReflex {
   void SwingOnset(const Sensed& in, LegReflexOutput* out);
   void PreloadLimits(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Search(const Sensed& in, LegReflexOutput* out);
-  void Regrip(const Sensed& in, LegReflexOutput* out);
+  Eigen::Vector3d Regrip(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Preload(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Peel(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Gto(const Sensed& in, const Laws& laws, LegReflexOutput* out);

@@ -453,6 +453,13 @@ struct RegripKeys : reflex::RegripParams {
         &enabled);
     a->Visit({"hold_others_s", "s", "how long the other legs hold stance", Range::NonNegative()},
              &hold_others_s);
+    a->Visit({"lift_rad", "rad",
+              "a pad that let go entirely is re-placed: lift on hip pitch and knee (it can attach "
+              "again only at a new touchdown); 0 = press only",
+              Range::NonNegative()},
+             &lift_rad);
+    a->Visit({"replace_s", "s", "duration of the re-place (lift and put down)", Range::Positive()},
+             &replace_s);
   }
 };
 struct LoadSharingKeys : reflex::LoadSharingParams {

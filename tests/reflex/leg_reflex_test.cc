@@ -398,7 +398,9 @@ TEST(ReflexRegrip, BondsLostInStancePressesAgainAndHoldsOthers) {
 // The pad comes off and attaches again: preload_end(attached). Bonds lost again during the
 // episode extend hold_others without a second regrip event.
 TEST(ReflexRegrip, ReattachEndsThePressAndRepeatedLossExtendsTheHold) {
-  LegReflex leg(RegripOnly(), kDt);
+  LegReflexParams p = RegripOnly();
+  p.regrip.lift_rad = 0.0;  // press only, even when the pad lets go
+  LegReflex leg(p, kDt);
   Recorder rec(&leg);
   rec.Repeat(Attached(Stance()), 2);  // #0..#1
   LegSensing lost = Attached(Stance(), 0.5);
@@ -415,6 +417,39 @@ TEST(ReflexRegrip, ReattachEndsThePressAndRepeatedLossExtendsTheHold) {
   for (int k = 2; k < 15; ++k) EXPECT_EQ(rec.output(k).hold_others, k <= 9) << k;
   EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(2, E::kPreloadStart, R::kRegrip),
                                   At(6, E::kPreloadEnd, R::kAttached)}));
+}
+
+// A pad that lets go entirely in stance is re-placed: the foot lifts by lift·sin²(π·s) over
+// replace_s with the leg held in stance; it is pressed only once it has been off the surface
+// and comes down (a new touchdown: the preload), and the re-place ends when it attaches.
+TEST(ReflexRegrip, PadThatLetGoIsRePlacedThenPressedAtTheNewTouchdown) {
+  LegReflexParams p = RegripOnly();
+  p.preload.enabled = true;
+  p.regrip.lift_rad = 0.2;
+  p.regrip.replace_s = 0.08;  // 8 periods
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 2);  // #0, #1
+  LegSensing off = Touching(Stance());
+  off.bonds_lost = true;
+  rec.Step(off);                       // #2: let go: s = 0
+  rec.Step(Touching(Stance()));        // #3: s = 1/8, still touching: no press
+  rec.Repeat(Stance(), 4);             // #4..#7: s = 2/8 .. 5/8, in the air
+  rec.Step(Touching(Stance()));        // #8: s = 6/8, touches down: the press starts
+  rec.Step(Attached(Stance(), 0.9));   // #9: attached: the re-place ends
+  for (int k = 2; k <= 8; ++k) {
+    const double s = (k - 2) / 8.0;
+    const double lift = 0.2 * std::pow(std::sin(M_PI * s), 2);
+    const double press = k == 8 ? 0.15 / 5.0 : 0.0;
+    EXPECT_NEAR(rec.output(k).target_offset_rad[kHipPitch], lift - press, 1e-15) << k;
+    EXPECT_NEAR(rec.output(k).target_offset_rad[kHipYaw], 0.0, 1e-15) << k;
+    EXPECT_TRUE(rec.output(k).hold_stance) << k;
+    EXPECT_TRUE(rec.output(k).Fired(Reflex::kRegrip)) << k;
+  }
+  EXPECT_FALSE(rec.output(9).hold_stance);
+  EXPECT_EQ(rec.output(9).target_offset_rad, Eigen::Vector3d::Zero());
+  EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(8, E::kPreloadStart, R::kTouchdown),
+                                  At(9, E::kPreloadEnd, R::kAttached)}));
 }
 
 TEST(ReflexRegrip, SilentInSwingWhenNotHoldingOrSwitchedOff) {

@@ -117,6 +117,8 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.peel.release_s", Text(leg.peel.release_s)},
       {"reflex.regrip.enabled", Text(leg.regrip.enabled)},
       {"reflex.regrip.hold_others_s", Text(leg.regrip.hold_others_s)},
+      {"reflex.regrip.lift_rad", Text(leg.regrip.lift_rad)},
+      {"reflex.regrip.replace_s", Text(leg.regrip.replace_s)},
       {"reflex.gto.enabled", Text(leg.gto.enabled)},
       {"reflex.gto.hold_gain_rad_per_n", Text(leg.gto.hold.gain)},
       {"reflex.gto.hold_threshold_n", Text(leg.gto.hold.threshold)},
