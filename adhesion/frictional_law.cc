@@ -167,11 +167,12 @@ std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, doubl
 }
 
 bool PadUtilisationGradient(const BondGrid& grid, const FrictionalLaw* frictional,
-                            const PadLoad& load, Eigen::Matrix<double, 5, 1>* grad) {
-  int bond = -1;
+                            const PadLoad& load, Eigen::Matrix<double, 5, 1>* grad,
+                            int peak_bond) {
+  int bond = peak_bond;
   if (frictional != nullptr) {
     bond = grid.PeakSigmaBond();
-  } else if (!std::isfinite(grid.PeakUtilisation(&bond))) {
+  } else if (bond < 0 && !std::isfinite(grid.PeakUtilisation(&bond))) {
     return false;  // a load the bonds cannot carry at all
   }
   Eigen::Matrix<double, 3, 5> a;

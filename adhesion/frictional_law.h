@@ -160,8 +160,11 @@ std::vector<LimitVertex> FrictionalLimitBoundary(const FrictionalLaw& law, doubl
 // `frictional` null: the von Mises law with the grid's σ_T and μ. `load` must be the load of
 // the grid's last Update or Evaluate. False (grad unchanged) when no bond is bonded or the
 // load is unsupported. Never allocates.
+// `peak_bond` ≥ 0: the von Mises peak's bond, already found (BondGrid::PeakUtilisation of the
+// same field), so that it is not searched again.
 bool PadUtilisationGradient(const BondGrid& grid, const FrictionalLaw* frictional,
-                            const PadLoad& load, Eigen::Matrix<double, 5, 1>* grad);
+                            const PadLoad& load, Eigen::Matrix<double, 5, 1>* grad,
+                            int peak_bond = -1);
 
 double VonMisesPulloffClosedForm(double capacity_n, double angle_rad, double mu);
 

@@ -142,6 +142,8 @@ void StickyPad::Reset(mjModel* m, mjData* d) {
   strength_scale_ = 1.0;
   counts_ = PadCounts{};
   frictional_utilisation_ = 0.0;
+  peeling_ = false;
+  disengaged_ = false;
 }
 
 double StickyPad::bonded_fraction() const {
@@ -185,6 +187,10 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
     // The contacts just sensed come from a step in which the pad did not collide (it was
     // welded): they cannot tell whether it has left the surface.
     blind_ = false;
+    return;
+  }
+  if (disengaged_) {
+    episode_ = Episode::kNone;  // ordinary contact; a touch when engaged again is a new one
     return;
   }
   if (sense_.contacts == 0) {
@@ -302,7 +308,7 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
   lost_since_attach_ += r.broken;
 }
 
-bool StickyPad::UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad) const {
+bool StickyPad::UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad, int peak_bond) const {
   if (!attached_ || params_.model != AdhesionModel::kBonds || !load_known_) return false;
   const bool frictional = params_.law == PadLaw::kFrictional;
   // The load as the grid sees it (a weak patch scales it; the frictional law's moment share),
@@ -313,7 +319,8 @@ bool StickyPad::UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad) const {
   chain /= strength_scale_;
   const PadLoad seen{load_.fn_n * chain[0], load_.fx_n * chain[1], load_.fy_n * chain[2],
                      load_.mx_nm * chain[3], load_.my_nm * chain[4]};
-  if (!PadUtilisationGradient(grid_, frictional ? &frictional_law_ : nullptr, seen, grad)) {
+  if (!PadUtilisationGradient(grid_, frictional ? &frictional_law_ : nullptr, seen, grad,
+                              peak_bond)) {
     return false;
   }
   *grad = grad->cwiseProduct(chain);

@@ -193,6 +193,12 @@ class StickyPad {
                    PadCause cause, bool* kinematics_current, PadEventSink* sink);
   // The controller is peeling this pad (a detach while it is counts as "peel").
   void SetPeeling(bool peeling) { peeling_ = peeling; }
+  // The pad's adhesive is disengaged (an active-release foot keeps its toe peeled through the
+  // swing that follows a release): while it is, an unattached pad's touches are ordinary
+  // contacts, no touchdown and no attach; a touch still under way when it is engaged again
+  // starts a new episode then, judged on that step's approach.
+  void SetDisengaged(bool disengaged) { disengaged_ = disengaged; }
+  bool disengaged() const { return disengaged_; }
   // Detaches with cause "released". False (and nothing happens) when not attached.
   bool Release(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
   // A pad that fails (a defect, dirt; a disturbance of `climbsim bench robustness`): every
@@ -236,10 +242,12 @@ class StickyPad {
   // direction in which the rest of the robot should change the pad's load to relieve it:
   // the reflexes' load sharing (reflex.h, GTO share) moves the load along −∇U. False (grad
   // unchanged) unless attached (kBonds) with a supported load. Never allocates.
-  bool UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad) const;
+  // `peak_bond`: the bond of the peak when already known (PadUtilisationGradient).
+  bool UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad, int peak_bond = -1) const;
 
  private:
   bool peeling_ = false;
+  bool disengaged_ = false;
   double strength_scale_ = 1.0;
   enum class Episode : uint8_t { kNone, kPending, kClosed };
 

@@ -74,6 +74,7 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
   CheckPositive(FieldPath(peel, "ramp_s"), params.peel.ramp_s);
   DurationToSamples(FieldPath(peel, "max_duration_s"), params.peel.max_duration_s, dt_s, true);
   DurationToSamples(FieldPath(peel, "release_s"), params.peel.release_s, dt_s, false);
+  CheckNonNegative(FieldPath(peel, "release_load_n"), params.peel.release_load_n);
 
   // Re-grip.
   DurationToSamples(FieldPath(FieldPath(name, "regrip"), "hold_others_s"),
@@ -81,6 +82,8 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
   CheckNonNegative(FieldPath(FieldPath(name, "regrip"), "lift_rad"), params.regrip.lift_rad);
   DurationToSamples(FieldPath(FieldPath(name, "regrip"), "replace_s"), params.regrip.replace_s,
                     dt_s, true);
+  DurationToSamples(FieldPath(FieldPath(name, "regrip"), "replace_after_s"),
+                    params.regrip.replace_after_s, dt_s, false);
 
   // GTO stance holding: both channels are positive force feedback.
   const std::string gto = FieldPath(name, "gto");
@@ -127,6 +130,7 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
       search_release_samples_(DurationToSamples("", params.search.release_s, dt_s, false)),
       regrip_samples_(DurationToSamples("", params.regrip.hold_others_s, dt_s, false)),
       replace_samples_(DurationToSamples("", params.regrip.replace_s, dt_s, true)),
+      replace_after_samples_(DurationToSamples("", params.regrip.replace_after_s, dt_s, false)),
       peel_max_samples_(DurationToSamples("", params.peel.max_duration_s, dt_s, true)),
       peel_release_samples_(DurationToSamples("", params.peel.release_s, dt_s, false)),
       pushed_hold_samples_(DurationToSamples("", params.spindle.hold_s, dt_s, false)),
@@ -339,6 +343,24 @@ Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
       Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
     }
   }
+  // A foot that touched down in stance and has not bonded replace_after_s later (its contact
+  // may chatter on an edge meanwhile): re-place it too.
+  if (!in.stance || in.raw->attached || st.replace_left > 0) {
+    st.unattached_touch = 0;
+  } else if (st.unattached_touch > 0 || in.raw->touching) {
+    ++st.unattached_touch;
+  }
+  if (p.enabled && p.lift_rad > 0.0 && replace_after_samples_ > 0 &&
+      st.unattached_touch >= replace_after_samples_) {
+    st.unattached_touch = 0;
+    st.replace_left = replace_samples_;
+    st.replace_lifted = false;
+    if (st.preloading) {
+      st.preloading = false;
+      Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
+    }
+    Emit(out, LegEventType::kRegrip, LegEventReason::kTouchdown);
+  }
   if (st.replace_left == 0) return Eigen::Vector3d::Zero();
   if (!in.stance || in.raw->attached) {
     st.replace_left = 0;  // the gait took the leg, or the pad holds again
@@ -403,6 +425,12 @@ Eigen::Vector3d LegReflex::Peel(const Sensed& in, LegReflexOutput* out) {
     if (reason == LegEventReason::kNone) {
       offset = peel;
       out->hold_phase = true;
+      if (p.active_release) {
+        out->unload_pad = true;
+        out->release_pad = (st.peel_samples > 0 && in.raw->load_n <= p.release_load_n) ||
+                           st.peel_samples + 1 >= peel_max_samples_;
+        st.released |= out->release_pad;
+      }
       ++st.peel_samples;
     } else {
       st.peeling = false;
@@ -412,6 +440,8 @@ Eigen::Vector3d LegReflex::Peel(const Sensed& in, LegReflexOutput* out) {
     }
     Fire(out, Reflex::kPeel);
   }
+  if (in.stance) st.released = false;
+  out->disengage_pad = st.released;
   if (!st.peeling && st.peel_release_left > 0) {
     offset = st.peel_offset_rad *
              (static_cast<double>(st.peel_release_left) / (peel_release_samples_ + 1));

@@ -29,6 +29,7 @@ void Validate(const LoadSharingParams& p, double dt_s, std::string_view name) {
   internal::CheckPositive(internal::FieldPath(name, "softmax_beta"), p.softmax_beta);
   internal::CheckPositive(internal::FieldPath(name, "max_force_n"), p.max_force_n);
   internal::CheckPositive(internal::FieldPath(name, "max_rate_n_per_s"), p.max_rate_n_per_s);
+  internal::CheckPositive(internal::FieldPath(name, "period_s"), p.period_s);
 }
 
 LoadSharing::LoadSharing(const LoadSharingParams& params, double dt_s)
@@ -51,7 +52,7 @@ const std::array<Eigen::Vector3d, kMaxSharingLegs>& LoadSharing::Update(const Sh
   for (int i = 0; i < count; ++i) {
     const SharingLeg& l = legs[i];
     on[i] = l.active && l.position_m.allFinite() && l.gradient_per_n.allFinite() &&
-            std::isfinite(l.utilisation);
+            std::isfinite(l.utilisation) && std::isfinite(l.bias);
     if (on[i]) {
       ++n;
       centre += l.position_m;
@@ -85,10 +86,12 @@ const std::array<Eigen::Vector3d, kMaxSharingLegs>& LoadSharing::Update(const Sh
     ggt.bottomLeftCorner<3, 3>() += r;
     ggt.bottomRightCorner<3, 3>() += r * r.transpose();
   }
-  // Two pads leave the moment about the line through them unconstrained: rank 5.
-  Eigen::CompleteOrthogonalDecomposition<Matrix6d> cod;
-  cod.setThreshold(1e-9);
-  cod.compute(ggt);
+  // Two pads leave the moment about the line through them unconstrained (rank 5). G·v lies in
+  // the range of G·Gᵀ, so a ridge of 10⁻¹² of the trace leaves the solution's null part at zero
+  // and changes the rest by that relative amount: the pseudo-inverse, at a Cholesky's cost.
+  const double ridge = 1e-12 * ggt.trace();
+  ggt.diagonal().array() += ridge;
+  const Eigen::LLT<Matrix6d> chol(ggt);
   // v ← P·v = v − Gᵀ·(G·Gᵀ)⁺·G·v, per pad: v_i − (y_f − r_i × y_m).
   const auto project = [&](std::array<Eigen::Vector3d, kMaxSharingLegs>* v) {
     Vector6d b = Vector6d::Zero();
@@ -97,7 +100,7 @@ const std::array<Eigen::Vector3d, kMaxSharingLegs>& LoadSharing::Update(const Sh
       b.head<3>() += (*v)[i];
       b.tail<3>() += lever[i].cross((*v)[i]);
     }
-    const Vector6d y = cod.solve(b);
+    const Vector6d y = chol.solve(b);
     for (int i = 0; i < count; ++i) {
       if (on[i]) (*v)[i] -= y.head<3>() - lever[i].cross(y.tail<3>());
     }
@@ -111,14 +114,14 @@ const std::array<Eigen::Vector3d, kMaxSharingLegs>& LoadSharing::Update(const Sh
   // The soft maximum of the utilisations and its gradient.
   double u_max = -std::numeric_limits<double>::infinity();
   for (int i = 0; i < count; ++i) {
-    if (on[i]) u_max = std::max(u_max, legs[i].utilisation);
+    if (on[i]) u_max = std::max(u_max, legs[i].utilisation + legs[i].bias);
   }
   const double beta = params_.softmax_beta;
   double sum = 0.0;
   std::array<double, kMaxSharingLegs> w{};
   for (int i = 0; i < count; ++i) {
     if (!on[i]) continue;
-    w[i] = std::exp(beta * (legs[i].utilisation - u_max));
+    w[i] = std::exp(beta * (legs[i].utilisation + legs[i].bias - u_max));
     sum += w[i];
   }
   soft_max_ = u_max + std::log(sum) / beta;

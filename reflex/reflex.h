@@ -246,6 +246,15 @@ struct PeelParams {
   double ramp_s = 0.2;               // time to full peel (smooth step), > 0
   double max_duration_s = 0.6;       // give up (peel_end, time_limit), >= one control period
   double release_s = 0.1;            // fade of the offsets once the peel ends, >= 0
+  // A foot with an ACTIVE RELEASE (a toe-peeling tendon as on Stickybot, a membrane that
+  // buckles the adhesive): the pad is let go by its own mechanism, not torn by the leg. While
+  // the peel holds the phase, the leg asks the other pads to take its pad's load
+  // (LegReflexOutput::unload_pad, for the load sharing), and lets the pad go
+  // (release_pad) once the force on it is at most release_load_n, or when max_duration_s is
+  // up. Released unloaded, the pad drops little load on the others at once; a torn pad drops
+  // the pull that peels it, its whole capacity.
+  bool active_release = false;
+  double release_load_n = 0.1;  // >= 0
 };
 
 // Re-grip: a pad that loses bonds during stance while it was attached (it should be holding)
@@ -256,11 +265,16 @@ struct PeelParams {
 // So the re-grip then re-places the foot: a lift of lift_rad on hip pitch and knee,
 // lift·sin²(π·s) over replace_s (s from 0 to 1), holding the leg in stance; the foot that
 // comes down touches down again and the touchdown preload attaches it.
+// The same re-place serves a foot that touched down in stance and has not attached
+// replace_after_s later (its landing was rejected: on an edge, too fast): adhesion would not
+// try again before the pad leaves the surface.
 struct RegripParams {
   bool enabled = true;
   double hold_others_s = 0.2;  // how long hold_others stays raised, >= 0
-  double lift_rad = 0.1;       // re-place lift on hip pitch and knee, >= 0 (0: press only)
-  double replace_s = 0.1;      // duration of the re-place, >= one control period
+  double lift_rad = 0.08;      // re-place lift on hip pitch and knee, >= 0 (0: press only)
+  double replace_s = 0.25;     // duration of the re-place, >= one control period
+  double replace_after_s = 0.3;  // a touch without attach this long is re-placed, >= 0
+                                 // (0: never)
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -292,13 +306,15 @@ struct RegripParams {
 // whichever pad the chain's stiffness chose and raised the worst pad's utilisation, 0.50 →
 // 0.77 on the gecko hanging with a payload), this sees every pad the internal force touches.
 struct LoadSharingParams {
-  double gain_per_s = 0.0;     // K, > 0 switches the law on; 0 = off
-  double threshold = 0.5;      // U_S: the soft maximum above which load is shared
+  double gain_per_s = 100.0;   // K, > 0 switches the law on; 0 = off
+  double threshold = 0.3;      // U_S: the soft maximum above which load is shared
   double leak_s = 0.5;         // τ > 0
   double softmax_beta = 20.0;  // β > 0 (20: pads within ~0.05 of the worst share its weight)
   double max_force_n = 1.0;    // > 0, the largest internal force asked of one pad
   double max_rate_n_per_s = 20.0;  // > 0, the fastest a pad's request may change (where
                                    // little of the gradient is internal, the step above grows)
+  double period_s = 0.005;  // > 0, how often the law runs (the simulator rounds it to whole
+                            // control periods and holds the legs' offsets in between)
 };
 
 // Throws std::invalid_argument naming the field unless every field is finite and in range.
@@ -314,6 +330,9 @@ struct SharingLeg {
                                                           // pad (the ankle), world frame
   double utilisation = 0.0;                                // U_i
   Eigen::Vector3d gradient_per_n = Eigen::Vector3d::Zero();  // ∂U_i/∂f_i, world frame
+  // Added to U_i in the soft maximum. A pad about to be let go (an active-release peel) gets
+  // a bias of 1: it dominates S, and the descent moves its load to the others first.
+  double bias = 0.0;
 };
 
 class LoadSharing {
@@ -439,6 +458,7 @@ struct LegSensing {
   double bonded_fraction = 0.0;  // bonded share of the pad, 0..1
   double normal_load_n = 0.0;    // pad normal force, N; + pulls the pad off (adhesive load)
   double preload_n = 0.0;        // compressive contact force pressing the pad on, N, >= 0
+  double load_n = 0.0;           // size of the force on the attached pad, |F|, N
   bool bonds_lost = false;       // the pad lost bonds this period
   // q − q_cpg per Joint; the spindles see it less the other reflexes' offsets of the last
   // period (the stretch from the target the leg was given).
@@ -523,6 +543,10 @@ struct LegReflexOutput {
   bool hold_stance = false;  // only ever true in stance: do not let this leg leave stance yet
   bool hold_phase = false;   // hold this leg's phase where it is (a peel that has not let go)
   bool hold_others = false;  // re-grip, or a pushed stance leg: every leg should stay in stance
+  bool unload_pad = false;   // an active-release peel: move this pad's load to the others
+  bool release_pad = false;  // an active-release peel: let this pad go now
+  bool disengage_pad = false;  // an active release keeps the pad disengaged from its release
+                               // to the next stance (the toe stays peeled through the swing)
   // Servo stiffness per joint as a fraction of the servo's own kp, in (0, 1] (compliance and
   // GTO unloading; 1 when both are off).
   Eigen::Vector3d kp_fraction = Eigen::Vector3d::Ones();
@@ -547,12 +571,14 @@ struct LegReflexState {
   bool search_holding = false;
   int search_release_left = 0;
   bool peeling = false;
+  bool released = false;  // an active release let the pad go in this swing
   int peel_samples = 0;                              // periods since the swing onset
   Eigen::Vector3d peel_offset_rad = Eigen::Vector3d::Zero();  // when the peel ended
   int peel_release_left = 0;
   int regrip_left = 0;  // periods of hold_others left
   int replace_left = 0;  // periods of a re-place (lift and put down) left
   bool replace_lifted = false;  // the re-placed foot has left the surface
+  int unattached_touch = 0;     // periods in stance without a bond since the foot touched
   bool gto_holding = false;
   bool gto_unloading = false;
   bool spindle_active = false;
@@ -630,6 +656,7 @@ class LegReflex {
   int search_release_samples_;
   int regrip_samples_;
   int replace_samples_;
+  int replace_after_samples_;
   int peel_max_samples_;
   int peel_release_samples_;
   int pushed_hold_samples_;

@@ -124,6 +124,7 @@ AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& p
   fail_at_s_.assign(system_->size(), std::numeric_limits<double>::infinity());
   attach_count_.assign(system_->size(), 0);
   utilisation_.assign(system_->size(), 0.0);
+  peak_bond_.assign(system_->size(), -1);
   peak_utilisation_.assign(system_->size(), 0.0);
 }
 
@@ -178,10 +179,11 @@ void AdhesionEffect::UpdateUtilisation() {
   for (int i = 0; i < system_->size(); ++i) {
     const adhesion::StickyPad& p = system_->pad(i);
     double u = 0.0;
+    peak_bond_[i] = -1;
     if (p.attached() && p.params().model == adhesion::AdhesionModel::kBonds) {
       u = std::min(p.params().law == adhesion::PadLaw::kFrictional
                        ? p.frictional_utilisation()
-                       : p.grid().PeakUtilisation(),
+                       : p.grid().PeakUtilisation(&peak_bond_[i]),
                    kUtilisationCap);
       if (!(u >= 0.0)) u = kUtilisationCap;  // NaN: no field the bonds could carry
     }
@@ -218,6 +220,9 @@ void AdhesionEffect::FillSignals() {
     // A welded pad does not collide: its compression is in the weld.
     const bool welded = p.attached() && p.params().model == adhesion::AdhesionModel::kBonds;
     s.preload_n = welded ? std::max(0.0, -p.load().fn_n) : p.sense().preload_n;
+    s.load_n = welded ? std::sqrt(p.load().fn_n * p.load().fn_n + p.load().fx_n * p.load().fx_n +
+                                  p.load().fy_n * p.load().fy_n)
+                      : 0.0;
     // Latched until a controller reads it (the reflex effect clears it): a loss in this
     // step's AfterStep must survive the next BeforeStep's refresh.
     s.bonds_lost = s.bonds_lost || p.bonds_lost_this_step();

@@ -89,8 +89,17 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
     const int pad = pad_of_leg(leg);
     if (pad >= 0) system_->pad(pad).SetPeeling(peeling);
   }
+  // The pad of leg `leg` is disengaged (adhesion/sticky_pad.h: SetDisengaged): its touches
+  // are ordinary contacts until engaged again. No-op for a leg without a sticky pad.
+  void SetDisengagedLeg(int leg, bool disengaged) {
+    const int pad = pad_of_leg(leg);
+    if (pad >= 0) system_->pad(pad).SetDisengaged(disengaged);
+  }
   // Pad `pad`'s utilisation after the last step (see above).
   double utilisation(int pad) const { return utilisation_[pad]; }
+  // The bond carrying it (von Mises law; −1 otherwise or when not attached), for the
+  // utilisation's gradient (StickyPad::UtilisationGradient).
+  int peak_bond(int pad) const { return peak_bond_[pad]; }
   // Its largest value over the run so far.
   double peak_utilisation(int pad) const { return peak_utilisation_[pad]; }
   // The pad of a leg, or −1; the leg of a pad, or −1.
@@ -116,6 +125,7 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
   World* world_;
   std::unique_ptr<adhesion::AdhesionSystem> system_;
   std::vector<int> pad_of_leg_;
+  std::vector<int> peak_bond_;
   std::vector<int> leg_of_pad_;
   std::vector<double> utilisation_;       // per pad, sized once
   std::vector<double> peak_utilisation_;  // per pad, over the run

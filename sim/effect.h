@@ -31,6 +31,8 @@ struct LegSignals {
   double bonded_fraction = 0.0;
   double normal_load_n = 0.0;              // pad load along its normal, + pulls it off
   double preload_n = 0.0;                  // compressive contact force on the pad
+  double load_n = 0.0;                     // size of the force the weld carries, |F|, N (0
+                                           // when not welded)
   bool bonds_lost = false;                 // lost bonds since the reflexes last looked
   double utilisation = 0.0;                // the pad's peak bond demand / threshold (σ_vM/σ_T
                                            // in tension, √3τ/(σ_T + μ|σ|) in compression) in

@@ -442,6 +442,16 @@ struct PeelKeys : reflex::PeelParams {
              &max_duration_s);
     a->Visit({"release_s", "s", "fade of the peel offsets after it ends", Range::NonNegative()},
              &release_s);
+    a->Visit({"active_release", "",
+              "the foot has an active release (a toe-peeling tendon, a buckling membrane): the "
+              "other legs first take the pad's load (load sharing), then the pad is let go "
+              "(detach cause released) instead of being torn by the leg's pull"},
+             &active_release);
+    a->Visit({"release_load_n", "N",
+              "active release: let the pad go once the force on it is at most this (or at "
+              "max_duration_s)",
+              Range::NonNegative()},
+             &release_load_n);
   }
 };
 struct RegripKeys : reflex::RegripParams {
@@ -460,6 +470,11 @@ struct RegripKeys : reflex::RegripParams {
              &lift_rad);
     a->Visit({"replace_s", "s", "duration of the re-place (lift and put down)", Range::Positive()},
              &replace_s);
+    a->Visit({"replace_after_s", "s",
+              "a foot that touched down in stance and has not attached this long (a rejected "
+              "landing) is re-placed too; 0 = never",
+              Range::NonNegative()},
+             &replace_after_s);
   }
 };
 struct LoadSharingKeys : reflex::LoadSharingParams {
@@ -485,6 +500,11 @@ struct LoadSharingKeys : reflex::LoadSharingParams {
     a->Visit({"max_rate_n_per_s", "N/s", "fastest change of one pad's internal force",
               Range::Positive()},
              &max_rate_n_per_s);
+    a->Visit({"period_s", "s",
+              "how often the law runs, rounded to whole control periods (the legs' offsets are "
+              "held in between)",
+              Range::Positive()},
+             &period_s);
   }
 };
 struct GtoKeys : reflex::GtoHoldParams {

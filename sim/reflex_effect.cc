@@ -69,7 +69,8 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
   counts_.assign(legs_.size(), {});
   if (leg.gto.enabled && params.gto.share.gain_per_s > 0.0 && adhesion_ != nullptr) {
     try {
-      sharing_.emplace(params.gto.share, dt);
+      share_every_ = std::max(1, static_cast<int>(std::lround(params.gto.share.period_s / dt)));
+      sharing_.emplace(params.gto.share, dt * share_every_);
     } catch (const std::invalid_argument& e) {
       const std::string msg = e.what();
       throw ScenarioError(scenario, "reflex.gto.share", msg.substr(msg.find(' ') + 1));
@@ -80,6 +81,8 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
                               std::to_string(reflex::kMaxSharingLegs) + " legs");
     }
     sharing_in_.resize(legs_.size());
+    share_offset_.assign(legs_.size(), {0.0, 0.0, 0.0});
+    unload_.assign(legs_.size(), false);
     jacp_.assign(3 * m->nv, 0.0);
   }
 }
@@ -88,7 +91,9 @@ bool ReflexEffect::UtilisationGradientWorld(const World& world, int leg,
                                             Eigen::Vector3d* grad) const {
   const int pad = adhesion_->pad_of_leg(leg);
   Eigen::Matrix<double, 5, 1> g;
-  if (pad < 0 || !adhesion_->pad(pad).UtilisationGradient(&g)) return false;
+  if (pad < 0 || !adhesion_->pad(pad).UtilisationGradient(&g, adhesion_->peak_bond(pad))) {
+    return false;
+  }
   const mjData* d = world.data();
   const LegInfo& info = world.robot().legs[leg];
   // The pad frame (x, y, n: columns of the face site's rotation) and the lever from the face
@@ -110,14 +115,30 @@ void ReflexEffect::ShareLoad(World& world, std::vector<LegSignals>& signals) {
     const LegSignals& s = signals[i];
     reflex::SharingLeg& in = sharing_in_[i];
     const int ankle = world.robot().legs[i].ankle_site;
-    // A leg shares while its pad is attached in stance and no peel holds its phase.
-    in.active = s.attached && s.stance && !s.hold_phase &&
+    // A leg shares while its pad is attached in stance and no peel holds its phase, or while
+    // an active-release peel asks the others to take its pad's load (bias 1).
+    const bool unloading = s.attached && unload_[i];
+    in.active = s.attached && ((s.stance && !s.hold_phase) || unloading) &&
                 UtilisationGradientWorld(world, static_cast<int>(i), &in.gradient_per_n);
+    in.bias = 0.0;
+    if (in.active && unloading) {
+      // The pad to be let go: drive the force on it to zero (|F| in N stands for its
+      // utilisation, its direction for the gradient), ahead of every other pad (bias 1).
+      const adhesion::StickyPad& pad = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)));
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
+          d->site_xmat + 9 * world.robot().legs[i].pad_face_site);
+      const Eigen::Vector3d f =
+          rot * Eigen::Vector3d(pad.load().fx_n, pad.load().fy_n, pad.load().fn_n);
+      in.utilisation = f.norm();
+      in.gradient_per_n = f.norm() > 0.0 ? Eigen::Vector3d(f / f.norm()) : Eigen::Vector3d::Zero();
+      in.bias = 1.0;
+    }
     in.position_m = Eigen::Map<const Eigen::Vector3d>(d->site_xpos + 3 * ankle);
-    in.utilisation = s.utilisation;
+    if (in.bias == 0.0) in.utilisation = s.utilisation;
   }
   const auto& lambda = sharing_->Update(sharing_in_.data(), static_cast<int>(legs_.size()));
   for (size_t i = 0; i < legs_.size(); ++i) {
+    share_offset_[i] = {0.0, 0.0, 0.0};
     if (!sharing_in_[i].active || lambda[i].isZero()) continue;
     // τ = Jᵀ·F for the force F the leg puts on its pad; a position servo's torque changes by
     // kp·Δq while its joint is held.
@@ -126,7 +147,7 @@ void ReflexEffect::ShareLoad(World& world, std::vector<LegSignals>& signals) {
     for (int k = 0; k < 3; ++k) {
       const int dof = info.dof_adr[k];
       const Eigen::Vector3d column(jacp_[dof], jacp_[m->nv + dof], jacp_[2 * m->nv + dof]);
-      signals[i].offset_rad[k] += column.dot(lambda[i]) / kp_[i][k];
+      share_offset_[i][k] = column.dot(lambda[i]) / kp_[i][k];
     }
   }
 }
@@ -136,7 +157,11 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
     for (int k = 0; k < 3; ++k) SetKp(world.model(), actuator_[i][k], kp_[i][k]);
   }
   for (auto& l : legs_) l.Reset();
-  if (sharing_) sharing_->Reset();
+  if (sharing_) {
+    sharing_->Reset();
+    for (auto& o : share_offset_) o = {0.0, 0.0, 0.0};
+    std::fill(unload_.begin(), unload_.end(), false);
+  }
   for (auto& c : counts_) c.fill(0);
   for (LegSignals& s : *ctx.legs) {
     s.offset_rad = {0, 0, 0};
@@ -162,6 +187,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     in.bonded_fraction = s.bonded_fraction;
     in.normal_load_n = s.normal_load_n;
     in.preload_n = s.preload_n;
+    in.load_n = s.load_n;
     in.bonds_lost = s.bonds_lost;
     s.bonds_lost = false;  // consumed
     for (int k = 0; k < 3; ++k) {
@@ -186,6 +212,11 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     }
     s.hold_stance = out.hold_stance;
     s.hold_phase = out.hold_phase;
+    if (sharing_) unload_[i] = out.unload_pad;
+    if (adhesion_ != nullptr) {
+      if (out.release_pad) adhesion_->RequestReleaseLeg(static_cast<int>(i));
+      adhesion_->SetDisengagedLeg(static_cast<int>(i), out.disengage_pad);
+    }
     // While the peel pulls (phase held), a let-go is the peel it meant.
     if (adhesion_ != nullptr) adhesion_->SetPeelingLeg(static_cast<int>(i), out.hold_phase);
     hold_all |= out.hold_others;
@@ -208,7 +239,15 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
       }
     }
   }
-  if (sharing_) ShareLoad(world, signals);
+  if (sharing_) {
+    // The law runs every share_every_ control periods; its offsets hold in between (a leg
+    // whose pad let go drops its own at once).
+    if ((ctx.step / period_steps_) % share_every_ == 0) ShareLoad(world, signals);
+    for (size_t i = 0; i < legs_.size(); ++i) {
+      if (!signals[i].attached) share_offset_[i] = {0.0, 0.0, 0.0};
+      for (int k = 0; k < 3; ++k) signals[i].offset_rad[k] += share_offset_[i][k];
+    }
+  }
   ctx.hold_all_stance = hold_all;
 }
 

@@ -53,12 +53,15 @@ class ReflexEffect final : public Effect {
   // the ankle's Jacobian buffer (3 × nv, sized once).
   std::optional<reflex::LoadSharing> sharing_;
   std::vector<reflex::SharingLeg> sharing_in_;
+  std::vector<std::array<double, 3>> share_offset_;  // per leg, Δq of the last sharing run
+  int share_every_ = 1;       // control periods between sharing runs
+  std::vector<bool> unload_;  // per leg: its active-release peel asks the others to take its load
   std::vector<double> jacp_;
 
   // The gradient of leg i's pad utilisation with respect to the force the leg puts on the pad
   // at its ankle, world frame; false when the pad is not attached or it is not defined.
   bool UtilisationGradientWorld(const World& world, int leg, Eigen::Vector3d* grad) const;
-  // Runs the load sharing and adds each leg's Δq = Kp⁻¹·Jᵀ·λ to its offsets.
+  // Runs the load sharing: each leg's Δq = Kp⁻¹·Jᵀ·λ into share_offset_.
   void ShareLoad(World& world, std::vector<LegSignals>& signals);
 };
 

@@ -277,6 +277,24 @@ TEST(PadDetach, ReleaseLetsGoAndWaitsForLiftOff) {
   EXPECT_NE(rig.m()->geom_contype[rig.pad().geometry().geom], 0) << "collides again";
 }
 
+// A disengaged pad (an active-release foot with its toe held peeled) touches without a
+// touchdown or an attach; engaged again while it rests on the floor, that touch is a new
+// episode, judged then: the block, at rest, attaches.
+TEST(PadDetach, DisengagedPadTouchesWithoutAttachingUntilEngaged) {
+  BlockRig rig(Dropped(0.0002));
+  rig.pad().SetDisengaged(true);
+  rig.Run(0.3);
+  EXPECT_FALSE(rig.pad().attached());
+  EXPECT_GT(rig.pad().sense().contacts, 0) << "it rests on the floor";
+  EXPECT_EQ(rig.pad().counts().touchdown, 0);
+  EXPECT_TRUE(rig.events().events.empty());
+  rig.pad().SetDisengaged(false);
+  rig.Run(0.05);
+  EXPECT_TRUE(rig.pad().attached());
+  EXPECT_EQ(rig.pad().counts().touchdown, 1);
+  EXPECT_EQ(rig.pad().counts().attach, 1);
+}
+
 // A block of mass m hanging from one fully bonded pad under a ceiling (gravity pulls it off,
 // a uniform normal load m·g): it holds for 10 s when m·g is 5 % below σ_T·A and lets go
 // within 1 s (in fact in the first step, all at once: overload) when it is 5 % above.

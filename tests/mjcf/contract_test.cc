@@ -31,6 +31,13 @@ const RobotSpec kSpider{"spider", {"L1", "L2", "L3", "R1", "R2", "R3"},
                         0.035,    0.003,
                         0.003,    0.015,
                         0.176,    (M_PI / 3) / 0.14};
+// The same robots with active-release feet: the same contract.
+RobotSpec Variant(RobotSpec spec, const std::string& name) {
+  spec.robot = name;
+  return spec;
+}
+const RobotSpec kGeckoActive = Variant(kGecko, "gecko_active");
+const RobotSpec kSpiderActive = Variant(kSpider, "spider_active");
 
 class MjcfContract : public testing::TestWithParam<RobotSpec> {
  protected:
@@ -325,7 +332,8 @@ TEST_P(MjcfContract, NeighbouringPadsStayApartAtGaitYawAngles) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, MjcfContract, testing::Values(kGecko, kSpider),
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfContract,
+                         testing::Values(kGecko, kSpider, kGeckoActive, kSpiderActive),
                          [](const testing::TestParamInfo<RobotSpec>& info) {
                            return info.param.robot;
                          });

@@ -89,7 +89,7 @@ TEST_P(MjcfStanding, StaysStillForFiveSecondsWithCtrlZero) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RobotsAndIntegrators, MjcfStanding,
-                         testing::Combine(testing::ValuesIn(RobotNames()),
+                         testing::Combine(testing::ValuesIn(AllRobotNames()),
                                           testing::Values(int{mjINT_EULER}, int{mjINT_IMPLICIT})),
                          [](const testing::TestParamInfo<RobotIntegrator>& info) {
                            return std::get<0>(info.param) + "_" +
@@ -123,7 +123,7 @@ TEST_P(MjcfStatics, FloorNormalForcesCarryTheWeight) {
   EXPECT_NEAR(normal_sum, weight, 0.01 * weight);
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, MjcfStatics, testing::ValuesIn(RobotNames()),
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfStatics, testing::ValuesIn(AllRobotNames()),
                          [](const testing::TestParamInfo<std::string>& info) {
                            return info.param;
                          });
@@ -148,7 +148,7 @@ TEST_P(MjcfFriction, StandsOnThirtyDegreeInclineByPadFriction) {
   EXPECT_EQ(WarningCount(d.get()), 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, MjcfFriction, testing::ValuesIn(RobotNames()),
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfFriction, testing::ValuesIn(AllRobotNames()),
                          [](const testing::TestParamInfo<std::string>& info) {
                            return info.param;
                          });

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -33,8 +34,48 @@ TEST(MjcfFiles, TheDocumentedFilesExist) {
       EXPECT_TRUE(files.count("view/" + robot + "_" + scene + ".xml")) << robot << " " << scene;
     }
   }
+  for (const auto& variant : VariantNames()) EXPECT_TRUE(files.count(variant + ".xml")) << variant;
   for (const auto& scene : SceneNames()) EXPECT_TRUE(files.count("scenes/" + scene + ".xml"));
-  EXPECT_EQ(files.size(), 2u + 8u + 16u) << "a file was added or removed: update the README";
+  EXPECT_EQ(files.size(), 2u + 2u + 8u + 16u) << "a file was added or removed: update the README";
+}
+
+std::vector<std::string> Lines(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// The active-release variants are their robot line for line, but for the header comment and
+// these lines: the model name, the foot post and the pad (its height below the ankle, its
+// mass), the face site, and the base's default height with its comment. So a change to a
+// robot that is not carried into its variant fails here.
+TEST(MjcfVariants, ActiveFeetDifferOnlyInTheFeet) {
+  for (const auto& [robot, variant] : std::vector<std::pair<std::string, std::string>>{
+           {"gecko", "gecko_active"}, {"spider", "spider_active"}}) {
+    const std::vector<std::string> base = Lines(RobotFile(robot));
+    std::vector<std::string> var = Lines(RobotFile(variant));
+    // Drop the variant's own header paragraph (up to the robot's first comment line).
+    const auto first = std::find(var.begin() + 1, var.end(), base[1]);
+    ASSERT_NE(first, var.end()) << variant;
+    var.erase(var.begin() + 1, first);
+    ASSERT_EQ(var.size(), base.size()) << variant;
+    const std::vector<std::string> allowed = {"<mujoco model=", "_post", "_pad\"", "mass=\"",
+                                              "_pad_face", "name=\"base\"", "foot post",
+                                              "below the ankle", "peel lever", "(mjcf/README.md,",
+                                              "force taken at its top", "the pad face 0.0", "Visual only",
+                                              "+ 0.0005 = "};
+    int differing = 0;
+    for (size_t i = 0; i < base.size(); ++i) {
+      if (base[i] == var[i]) continue;
+      ++differing;
+      const bool ok = std::any_of(allowed.begin(), allowed.end(), [&](const std::string& a) {
+        return var[i].find(a) != std::string::npos;
+      });
+      EXPECT_TRUE(ok) << variant << ":" << i + 1 << " differs from " << robot << ": " << var[i];
+    }
+    EXPECT_GT(differing, 10) << variant;  // the feet did change
+  }
 }
 
 class MjcfFileLoads : public testing::TestWithParam<std::string> {};

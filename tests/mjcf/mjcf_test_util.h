@@ -23,6 +23,17 @@ inline const std::vector<std::string>& RobotNames() {
   static const std::vector<std::string> kRobots = {"gecko", "spider"};
   return kRobots;
 }
+// The robots with active-release feet (the same robots with a short foot post: mjcf/README.md,
+// "Active-release feet"). No viewer files of their own.
+inline const std::vector<std::string>& VariantNames() {
+  static const std::vector<std::string> kVariants = {"gecko_active", "spider_active"};
+  return kVariants;
+}
+// Every robot file: the robots and their variants.
+inline const std::vector<std::string>& AllRobotNames() {
+  static const std::vector<std::string> kAll = {"gecko", "spider", "gecko_active", "spider_active"};
+  return kAll;
+}
 inline const std::vector<std::string>& SceneNames() {
   static const std::vector<std::string> kScenes = {
       "floor",         "wall",          "ceiling",         "incline",

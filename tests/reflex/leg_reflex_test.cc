@@ -339,6 +339,51 @@ TEST(ReflexPeel, GivesUpAfterItsMaximumDuration) {
   EXPECT_EQ(rec.events(), (Events{At(3, E::kPeel), At(23, E::kPeelEnd, R::kTimeLimit)}));
 }
 
+// An active release: the peel asks the others to take the pad's load (unload_pad) from the
+// swing onset; the pad is let go (release_pad) at the first period after the onset in which it
+// carries at most release_load_n, and kept disengaged (disengage_pad) until the next stance.
+TEST(ReflexPeel, ActiveReleaseUnloadsThenLetsGoAndKeepsThePadDisengagedThroughTheSwing) {
+  LegReflexParams p = PeelOnly();
+  p.peel.active_release = true;
+  p.peel.release_load_n = 0.2;
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 2);  // #0, #1
+  LegSensing loaded = Attached(Swing(0.0));
+  for (const double load : {0.1, 0.8, 0.5, 0.25}) {  // #2..#5: onset (too early), loaded
+    loaded.load_n = load;
+    rec.Step(loaded);
+  }
+  loaded.load_n = 0.15;
+  rec.Step(loaded);          // #6: light enough: let go
+  rec.Step(Swing(0.1));      // #7: detached
+  rec.Repeat(Swing(0.5), 2);  // #8, #9
+  rec.Step(Touching(Stance()));  // #10: the next stance
+  for (int k = 2; k <= 6; ++k) {
+    EXPECT_TRUE(rec.output(k).unload_pad) << k;
+    EXPECT_TRUE(rec.output(k).hold_phase) << k;
+    EXPECT_EQ(rec.output(k).release_pad, k == 6) << k;
+  }
+  for (int k = 6; k <= 9; ++k) EXPECT_TRUE(rec.output(k).disengage_pad) << k;
+  EXPECT_FALSE(rec.output(10).disengage_pad);
+  EXPECT_FALSE(rec.output(7).unload_pad);
+  EXPECT_EQ(rec.events(), (Events{At(2, E::kPeel), At(7, E::kPeelEnd, R::kDetached)}));
+}
+
+// A pad that stays loaded is let go at the peel's time limit (the period before it).
+TEST(ReflexPeel, ActiveReleaseLetsGoAtTheTimeLimitWhateverTheLoad) {
+  LegReflexParams p = PeelOnly();
+  p.peel.active_release = true;
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 2);  // #0, #1
+  LegSensing loaded = Attached(Swing(0.0));
+  loaded.load_n = 2.0;
+  rec.Repeat(loaded, 20);  // #2..#21: peel periods 0..19 (max 20)
+  for (int k = 2; k <= 21; ++k) EXPECT_EQ(rec.output(k).release_pad, k == 21) << k;
+  EXPECT_FALSE(PeelOnly().peel.active_release);  // off by default: the leg peels its pad
+}
+
 TEST(ReflexPeel, SilentWhenDetachedAtSwingOnsetOrSwitchedOff) {
   {
     LegReflex leg(PeelOnly(), kDt);
@@ -450,6 +495,37 @@ TEST(ReflexRegrip, PadThatLetGoIsRePlacedThenPressedAtTheNewTouchdown) {
   EXPECT_EQ(rec.output(9).target_offset_rad, Eigen::Vector3d::Zero());
   EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(8, E::kPreloadStart, R::kTouchdown),
                                   At(9, E::kPreloadEnd, R::kAttached)}));
+}
+
+// A foot that touched down in stance and has not attached replace_after_s later (a rejected
+// landing; its contact may chatter meanwhile) is re-placed: regrip(touchdown), the preload
+// ends, the lift runs.
+TEST(ReflexRegrip, ATouchThatDoesNotAttachIsRePlaced) {
+  LegReflexParams p = RegripOnly();
+  p.preload.enabled = true;
+  p.regrip.lift_rad = 0.2;
+  p.regrip.replace_s = 0.08;        // 8 periods
+  p.regrip.replace_after_s = 0.05;  // 5 periods
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());                  // #0
+  rec.Repeat(Touching(Stance()), 2);  // #1, #2: touchdown, preload
+  rec.Step(Stance());                 // #3: the edge lets go for a period
+  rec.Step(Touching(Stance()));       // #4
+  rec.Step(Touching(Stance()));       // #5: the fifth period since the touch: re-place
+  rec.Step(Touching(Stance()));       // #6: lifting
+  EXPECT_EQ(rec.events(), (Events{At(1, E::kPreloadStart, R::kTouchdown),
+                                  At(5, E::kPreloadEnd, R::kRegrip),
+                                  At(5, E::kRegrip, R::kTouchdown)}));
+  EXPECT_GT(rec.output(6).target_offset_rad[kHipPitch], 0.0);
+  EXPECT_TRUE(rec.output(6).hold_stance);
+  // Off with replace_after_s = 0.
+  p.regrip.replace_after_s = 0.0;
+  LegReflex never(p, kDt);
+  Recorder quiet(&never);
+  quiet.Step(Swing());
+  quiet.Repeat(Touching(Stance()), 40);
+  for (const auto& e : quiet.events()) EXPECT_NE(e.event.type, E::kRegrip);
 }
 
 TEST(ReflexRegrip, SilentInSwingWhenNotHoldingOrSwitchedOff) {

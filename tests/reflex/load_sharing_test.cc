@@ -2,6 +2,9 @@
 // of their utilisations. Checked against what defines it: every request is internal (Σλ = 0,
 // Σr×λ = 0 over the attached pads), the first-order change of the soft maximum is exactly
 // −dt·K·[S − U_S]₊, the leak, the cap and the rate limit, and the closed form of two pads.
+// Tolerances: the projection solves G·Gᵀ with a ridge of 10⁻¹² of its trace, so identities hold
+// to 10⁻⁸ of the quantities' size or better (forces of 0.01–1 N here; the condition of G·Gᵀ
+// amplifies the ridge).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -43,6 +46,9 @@ double SoftMax(const std::vector<SharingLeg>& legs, double beta) {
 void ExpectInternal(const std::vector<SharingLeg>& legs,
                     const std::array<Eigen::Vector3d, kMaxSharingLegs>& lambda, double tol) {
   Eigen::Vector3d f = Eigen::Vector3d::Zero(), m = Eigen::Vector3d::Zero();
+  double size = 1.0;  // relative to the largest request (tol is a relative tolerance)
+  for (size_t i = 0; i < legs.size(); ++i) size = std::max(size, lambda[i].norm());
+  tol *= size;
   for (size_t i = 0; i < legs.size(); ++i) {
     if (!legs[i].active) {
       EXPECT_EQ(lambda[i], Eigen::Vector3d::Zero()) << i;
@@ -77,16 +83,16 @@ TEST(ReflexLoadSharing, TwoPadsTradeLoadAlongTheLineBetweenThem) {
   legs[1] = {true, {-0.05, 0.02, 0.0}, 0.2, {1.0, -0.3, 0.4}};
   const auto& lambda = sharing.Update(legs.data(), 2);
   EXPECT_LT(lambda[0].x(), 0.0);
-  EXPECT_NEAR(lambda[0].y(), 0.0, 1e-15);
-  EXPECT_NEAR(lambda[0].z(), 0.0, 1e-15);
-  EXPECT_LT((lambda[1] + lambda[0]).norm(), 1e-15);
+  EXPECT_NEAR(lambda[0].y(), 0.0, 1e-10 * lambda[0].norm());
+  EXPECT_NEAR(lambda[0].z(), 0.0, 1e-10 * lambda[0].norm());
+  EXPECT_LT((lambda[1] + lambda[0]).norm(), 1e-10 * lambda[0].norm());
   // First order: Σ w_i ∇U_i · λ_i = −dt·K·(S − U_S).
   const double s = SoftMax(legs, 20.0);
   EXPECT_DOUBLE_EQ(sharing.soft_max(), s);
   const double w0 = 1.0 / (1.0 + std::exp(20.0 * (0.2 - 0.9)));
   const double dS = w0 * legs[0].gradient_per_n.dot(lambda[0]) +
                     (1 - w0) * legs[1].gradient_per_n.dot(lambda[1]);
-  EXPECT_NEAR(dS, -kDt * 20.0 * (s - 0.5), 1e-15);
+  EXPECT_NEAR(dS, -kDt * 20.0 * (s - 0.5), 1e-10 * std::abs(dS));
 }
 
 TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) {
@@ -102,7 +108,7 @@ TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) 
     for (Eigen::Vector3d& b : before) b.setZero();
     for (int k = 0; k < 5; ++k) {
       const auto& lambda = sharing.Update(legs.data(), n);
-      ExpectInternal(legs, lambda, 1e-12);
+      ExpectInternal(legs, lambda, 1e-8);
       // The change over this period: the leak of what was there, plus the step.
       double dS = 0.0;
       const double s = sharing.soft_max();
@@ -120,7 +126,8 @@ TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) 
       }
       const int active = n - (trial % 4 == 3 ? 1 : 0);
       if (active >= 2) {
-        EXPECT_NEAR(dS, -kDt * 20.0 * std::max(0.0, s - 0.5), 1e-12) << trial << " " << k;
+        EXPECT_NEAR(dS, -kDt * 20.0 * std::max(0.0, s - 0.5), 1e-8 * std::max(1.0, std::abs(dS)))
+            << trial << " " << k;
       }
       before = lambda;
     }
@@ -140,7 +147,7 @@ TEST(ReflexLoadSharing, BelowTheThresholdTheRequestLeaks) {
   for (auto& l : legs) l.utilisation = 0.1;
   const auto& after = sharing.Update(legs.data(), 3);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_LT((after[i] - (1 - kDt / 0.5) * before[i]).norm(), 1e-15) << i;
+    EXPECT_LT((after[i] - (1 - kDt / 0.5) * before[i]).norm(), 1e-10 * before[i].norm()) << i;
   }
 }
 
@@ -158,7 +165,7 @@ TEST(ReflexLoadSharing, CapAndRateLimit) {
     double largest = 0.0;
     for (int i = 0; i < 4; ++i) largest = std::max(largest, lambda[i].norm());
     EXPECT_LE(largest, 0.2 + 1e-15);
-    ExpectInternal(legs, lambda, 1e-12);
+    ExpectInternal(legs, lambda, 1e-8);
   }
   p.max_force_n = 100.0;
   p.max_rate_n_per_s = 2.0;  // 2 mN a period at 1 ms
@@ -177,7 +184,7 @@ TEST(ReflexLoadSharing, NoInternalForceWithOnePadAndReprojectionWhenAPadLetsGo) 
   LoadSharing sharing(Params(), kDt);
   for (int k = 0; k < 20; ++k) sharing.Update(legs.data(), 4);
   legs[1].active = false;
-  ExpectInternal(legs, sharing.Update(legs.data(), 4), 1e-12);
+  ExpectInternal(legs, sharing.Update(legs.data(), 4), 1e-8);
   legs[0].active = legs[2].active = false;
   const auto& one = sharing.Update(legs.data(), 4);
   for (int i = 0; i < 4; ++i) EXPECT_EQ(one[i], Eigen::Vector3d::Zero()) << i;

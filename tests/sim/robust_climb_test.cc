@@ -1,0 +1,157 @@
+// Issue 12's loads: the climbers with active-release feet (mjcf/gecko_active.xml,
+// spider_active.xml; reflex.peel.active_release) carry a payload of their own mass up the
+// wall, which the same gaits on leg-peeled pads cannot; load sharing (reflex.gto.share) is
+// what makes a pad's release gentle and lets the leg-peel spider carry 0.1 kg. Each claim is a
+// comparison on the same scenario with one thing changed, or a bound on a 20 s climb.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sim/sim.h"
+#include "tests/common/test_util.h"
+
+namespace climbsim::sim {
+namespace {
+
+using climbsim::testing::Source;
+
+struct Outcome {
+  RunResult result;
+  double robot_mass_kg = 0.0;
+  std::string events;
+};
+
+// The example, with `edit` applied to the parsed scenario.
+template <class Edit>
+Outcome RunExample(const std::string& example, Edit edit) {
+  Scenario s = LoadScenario(Source(example));
+  edit(&s);
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  Outcome o;
+  o.result = sim.Run();
+  o.robot_mass_kg = model->robot().mass_kg;
+  o.events = sim.EventsCsv();
+  return o;
+}
+
+Outcome RunExample(const std::string& example) {
+  return RunExample(example, [](Scenario*) {});
+}
+
+// The robot's own mass, as compiled (the payload of the issue's test).
+double OwnMass(const std::string& example) {
+  const Scenario s = LoadScenario(Source(example));
+  return CompileScenario(s)->robot().mass_kg;
+}
+
+TEST(RobustClimb, ActiveReleaseExamplesClimbWithSpindleAndGtoOn) {
+  for (const auto& [example, at_least_m] :
+       std::vector<std::pair<std::string, double>>{{"examples/gecko_wall_active.yaml", 0.40},
+                                                   {"examples/spider_wall_active.yaml", 0.50}}) {
+    const Scenario s = LoadScenario(Source(example));
+    ASSERT_TRUE(s.reflex.has_value());
+    EXPECT_TRUE(s.reflex->spindle.enabled && s.reflex->gto.enabled);
+    EXPECT_TRUE(s.reflex->peel.active_release);
+    const Outcome o = RunExample(example);
+    ASSERT_TRUE(o.result.stable) << example << ": " << o.result.failure;
+    EXPECT_FALSE(o.result.fell) << example;
+    EXPECT_GE(o.result.distance_m, at_least_m) << example;
+  }
+}
+
+// The gecko carries its own mass (0.1045 kg) 0.2 m up the wall in 20 s. The same gait and
+// payload on the leg-peeled gecko (gecko_wall.yaml) falls: the peel's pull, the pad's whole
+// capacity, snaps onto three pads that already carry twice the weight.
+TEST(RobustClimb, GeckoCarriesItsOwnMassUpTheWall) {
+  const double mass = OwnMass("examples/gecko_wall_active.yaml");
+  EXPECT_NEAR(mass, 0.1045, 1e-4);
+  const Outcome o = RunExample("examples/gecko_wall_active.yaml", [&](Scenario* s) {
+    s->payload_kg = mass;
+  });
+  ASSERT_TRUE(o.result.stable) << o.result.failure;
+  EXPECT_FALSE(o.result.fell) << o.result.fall_time_s;
+  EXPECT_GE(o.result.distance_m, 0.2);
+  const Outcome peeled = RunExample("examples/gecko_wall.yaml", [&](Scenario* s) {
+    s->payload_kg = OwnMass("examples/gecko_wall.yaml");
+  });
+  EXPECT_TRUE(peeled.result.fell);
+}
+
+// The spider carries its own mass (0.3602 kg) 0.2 m up the wall in 20 s; the leg-peeled
+// spider falls with 0.2 kg.
+TEST(RobustClimb, SpiderCarriesItsOwnMassUpTheWall) {
+  const double mass = OwnMass("examples/spider_wall_active.yaml");
+  EXPECT_NEAR(mass, 0.3602, 1e-4);
+  const Outcome o = RunExample("examples/spider_wall_active.yaml", [&](Scenario* s) {
+    s->payload_kg = mass;
+  });
+  ASSERT_TRUE(o.result.stable) << o.result.failure;
+  EXPECT_FALSE(o.result.fell) << o.result.fall_time_s;
+  EXPECT_GE(o.result.distance_m, 0.2);
+  const Outcome peeled = RunExample("examples/spider_wall.yaml", [](Scenario* s) {
+    s->payload_kg = 0.2;
+  });
+  EXPECT_TRUE(peeled.result.fell);
+}
+
+// The released pads' loads, from events.csv (detach rows with cause released): |F| in N.
+std::vector<double> ReleasedLoads(const std::string& events_csv) {
+  std::vector<double> loads;
+  std::istringstream in(events_csv);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find(",detach,released,") == std::string::npos) continue;
+    std::vector<double> cols;
+    std::stringstream row(line);
+    std::string cell;
+    while (std::getline(row, cell, ',')) cols.push_back(cell.empty() ? 0.0 : std::atof(cell.c_str()));
+    // time,pad,event,cause,surface,bonded_fraction,fn,fx,fy,mx,my
+    loads.push_back(std::sqrt(cols[6] * cols[6] + cols[7] * cols[7] + cols[8] * cols[8]));
+  }
+  return loads;
+}
+
+// An active release lets a pad go after the other legs have taken its load: with load sharing
+// most releases carry at most release_load_n (0.2 N); without it the tendon lets go at the
+// time limit, the pad still loaded.
+TEST(RobustClimb, ActiveReleaseLetsGoOfAnUnloadedPad) {
+  const auto count = [](const std::vector<double>& loads, double at_most) {
+    int n = 0;
+    for (double l : loads) n += l <= at_most ? 1 : 0;
+    return n;
+  };
+  const Outcome shared = RunExample("examples/gecko_wall_active.yaml");
+  const std::vector<double> with = ReleasedLoads(shared.events);
+  ASSERT_GE(with.size(), 20u);
+  EXPECT_GE(count(with, 0.2), 0.8 * with.size());
+  const Outcome alone = RunExample("examples/gecko_wall_active.yaml", [](Scenario* s) {
+    s->reflex->gto.share.gain_per_s = 0.0;
+  });
+  const std::vector<double> without = ReleasedLoads(alone.events);
+  ASSERT_GE(without.size(), 10u);
+  EXPECT_LE(count(without, 0.2), 0.2 * without.size());
+}
+
+// GTO load sharing on the leg-peel spider: with a 0.1 kg payload it climbs; the same run
+// without it (share gain 0) falls.
+TEST(RobustClimb, LoadSharingCarriesAPayloadTheSpiderDropsWithoutIt) {
+  const auto with_payload = [](double gain) {
+    return [gain](Scenario* s) {
+      s->duration_s = 10;
+      s->payload_kg = 0.1;
+      s->reflex->gto.share.gain_per_s = gain;
+    };
+  };
+  const Outcome on = RunExample("examples/spider_wall.yaml", with_payload(100.0));
+  EXPECT_FALSE(on.result.fell);
+  EXPECT_GE(on.result.distance_m, 0.15);
+  const Outcome off = RunExample("examples/spider_wall.yaml", with_payload(0.0));
+  EXPECT_TRUE(off.result.fell || off.result.distance_m < 0.05) << off.result.distance_m;
+}
+
+}  // namespace
+}  // namespace climbsim::sim
