@@ -84,6 +84,7 @@ void Validate(const LegReflexParams& params, double dt_s, std::string_view name)
                     dt_s, true);
   DurationToSamples(FieldPath(FieldPath(name, "regrip"), "replace_after_s"),
                     params.regrip.replace_after_s, dt_s, false);
+  CheckNonNegative(FieldPath(FieldPath(name, "regrip"), "shift_rad"), params.regrip.shift_rad);
 
   // GTO stance holding: both channels are positive force feedback.
   const std::string gto = FieldPath(name, "gto");
@@ -360,19 +361,35 @@ Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
       Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
     }
     Emit(out, LegEventType::kRegrip, LegEventReason::kTouchdown);
+    // Where it was rejected it would be again (an edge stays an edge): each re-place of the
+    // same stance lands the foot shift_rad further along hip yaw, ahead and behind in turn
+    // (+1, −1, +2, −2 … shifts).
+    ++st.replace_count;
+    const int k = (st.replace_count + 1) / 2;
+    st.replace_shift_from = st.replace_shift;
+    st.replace_shift = p.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
   }
-  if (st.replace_left == 0) return Eigen::Vector3d::Zero();
-  if (!in.stance || in.raw->attached) {
+  if (!in.stance) {
+    st.replace_count = 0;  // a new stance: the foot lands where its swing puts it
+    st.replace_shift = st.replace_shift_from = 0.0;
+  }
+  if (st.replace_left == 0 || !in.stance || in.raw->attached) {
     st.replace_left = 0;  // the gait took the leg, or the pad holds again
-    return Eigen::Vector3d::Zero();
+    st.replace_shift_from = st.replace_shift;
+    if (st.replace_shift == 0.0) return Eigen::Vector3d::Zero();
+    Fire(out, Reflex::kRegrip);
+    return {st.replace_shift, 0.0, 0.0};  // held where the foot landed, until the swing
   }
   const double s = 1.0 - static_cast<double>(st.replace_left) / replace_samples_;
   // Off the surface on the way up (not the one blind step right after a weld lets go).
   st.replace_lifted |= !in.raw->touching && s >= 0.25;
   const double bump = std::sin(std::numbers::pi * s);
+  const double lift = p.lift_rad * bump * bump;
+  // The shift moves with the lift: r(s) = 3s² − 2s³ from the last shift to the new one.
+  const double r = s * s * (3.0 - 2.0 * s);
   --st.replace_left;
   Fire(out, Reflex::kRegrip);
-  return {0.0, p.lift_rad * bump * bump, p.lift_rad * bump * bump};
+  return {st.replace_shift_from + r * (st.replace_shift - st.replace_shift_from), lift, lift};
 }
 
 // Touchdown preload; the press is a linear ramp, (m + 1)/n_ramp of full at the m-th period.

@@ -275,6 +275,8 @@ struct RegripParams {
   double replace_s = 0.25;     // duration of the re-place, >= one control period
   double replace_after_s = 0.3;  // a touch without attach this long is re-placed, >= 0
                                  // (0: never)
+  double shift_rad = 0.05;  // a re-placed rejected landing moves this much along hip yaw,
+                            // ahead and behind in turn, >= 0 (see LegReflex::Regrip)
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -579,6 +581,9 @@ struct LegReflexState {
   int replace_left = 0;  // periods of a re-place (lift and put down) left
   bool replace_lifted = false;  // the re-placed foot has left the surface
   int unattached_touch = 0;     // periods in stance without a bond since the foot touched
+  int replace_count = 0;        // re-places of rejected landings in this stance
+  double replace_shift = 0.0;   // their hip-yaw shift (rad), held until the swing
+  double replace_shift_from = 0.0;
   bool gto_holding = false;
   bool gto_unloading = false;
   bool spindle_active = false;

@@ -475,6 +475,11 @@ struct RegripKeys : reflex::RegripParams {
               "landing) is re-placed too; 0 = never",
               Range::NonNegative()},
              &replace_after_s);
+    a->Visit({"shift_rad", "rad",
+              "each re-place of a rejected landing in one stance lands the foot this much "
+              "further along hip yaw, ahead and behind in turn",
+              Range::NonNegative()},
+             &shift_rad);
   }
 };
 struct LoadSharingKeys : reflex::LoadSharingParams {

@@ -181,7 +181,10 @@ const Row* Next(const std::vector<Row>& rows, size_t i, const std::string& pad,
 // a re-grip fires in the control period in which that pad lost bonds.
 TEST(Climb, EveryClimbingReflexIsLoggedOnTheLegThatFiredIt) {
   std::string wall_events, ceiling_events;
-  RunScenario(ExampleWith("examples/gecko_wall.yaml", "push_log.yaml", "", "", kPush),
+  // The push and a few failing pads (10 % of the attachments) make sure re-grips happen: with
+  // load sharing the push alone no longer costs a bond.
+  RunScenario(ExampleWith("examples/gecko_wall.yaml", "push_log.yaml", "adhesion:\n",
+                          "adhesion:\n  pad_failure_probability: 0.1\n", kPush),
               &wall_events);
   RunScenario(LoadScenario(Source("examples/gecko_ceiling.yaml")), &ceiling_events);
   int seen[4] = {0, 0, 0, 0};  // peel, preload, search, regrip
@@ -215,6 +218,15 @@ TEST(Climb, EveryClimbingReflexIsLoggedOnTheLegThatFiredIt) {
                      std::abs(r.t - rows[j].t) < 0.02;
         }
         EXPECT_TRUE(touched) << r.pad << " " << r.t;
+      } else if (r.event == "regrip" && r.cause == "touchdown") {
+        // A landing that did not attach: a touchdown of this pad earlier, no attach since.
+        bool touched = false, attached = false;
+        for (size_t j = 0; j < i; ++j) {
+          if (rows[j].pad != r.pad) continue;
+          if (rows[j].event == "touchdown") touched = true, attached = false;
+          if (rows[j].event == "attach") attached = true;
+        }
+        EXPECT_TRUE(touched && !attached) << r.pad << " " << r.t;
       } else if (r.event == "regrip") {
         ++seen[3];
         bool lost = false;

@@ -122,6 +122,7 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.regrip.lift_rad", Text(leg.regrip.lift_rad)},
       {"reflex.regrip.replace_s", Text(leg.regrip.replace_s)},
       {"reflex.regrip.replace_after_s", Text(leg.regrip.replace_after_s)},
+      {"reflex.regrip.shift_rad", Text(leg.regrip.shift_rad)},
       {"reflex.gto.enabled", Text(leg.gto.enabled)},
       {"reflex.gto.hold_gain_rad_per_n", Text(leg.gto.hold.gain)},
       {"reflex.gto.hold_threshold_n", Text(leg.gto.hold.threshold)},
