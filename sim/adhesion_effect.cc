@@ -1,6 +1,7 @@
 #include "sim/adhesion_effect.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "sim/surface.h"
@@ -59,6 +60,14 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
       if (o.sigma_t_pa) sigma = spec.params.bonds.sigma_t_pa = *o.sigma_t_pa;
       if (o.mu) spec.params.bonds.mu = *o.mu;
       if (o.gain_n) gain = o.gain_n;
+      if (o.grip_x) spec.params.frictional.grip_x = *o.grip_x;
+      if (o.grip_y) spec.params.frictional.grip_y = *o.grip_y;
+      if (!(std::hypot(spec.params.frictional.grip_x, spec.params.frictional.grip_y) > 1e-9)) {
+        throw ScenarioError(scenario, "adhesion.pad_overrides",
+                            "'" + name +
+                                "': the gripping direction (grip_x, grip_y) must not be "
+                                "zero");
+      }
     }
     spec.params.actuator_gain_n = gain.value_or(sigma * geometry.width_m * geometry.length_m);
     try {

@@ -111,6 +111,21 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
   }
   feedback_.assign(n, 0.0);
   held_.assign(n, 0);
+  // squeeze_m: each leg's side of the middle of the body along its axis (hips at the mean x:
+  // none).
+  const mjModel* m = world.model();
+  double mean_x = 0.0;
+  std::vector<double> hip_x(n);
+  for (int i = 0; i < n; ++i) {
+    const int body = m->jnt_bodyid[world.robot().legs[i].joint[0]];
+    hip_x[i] = m->body_pos[3 * body];
+    mean_x += hip_x[i] / n;
+  }
+  squeeze_sign_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double dx = hip_x[i] - mean_x;
+    squeeze_sign_[i] = std::abs(dx) < 1e-6 ? 0.0 : (dx > 0 ? 1.0 : -1.0);
+  }
 }
 
 std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
@@ -165,10 +180,13 @@ void CpgEffect::InitialPose(World& world, RunContext& ctx) {
     mju_quat2Mat(mat, root + 3);
     for (int k = 0; k < 3; ++k) root[k] -= params_.crouch_m * mat[3 * k + 2];
   }
+  // The feet are placed without the squeeze: once welded, the squeeze is the grasp's force.
+  placing_ = true;
   for (size_t i = 0; i < legs.size(); ++i) {
     const std::array<double, 3> q = Targets(i, &(*ctx.legs)[i]);
     for (int k = 0; k < 3; ++k) world.data()->qpos[legs[i].qpos_adr[k]] = q[k];
   }
+  placing_ = false;
 }
 
 void CpgEffect::Reset(World& world, RunContext& ctx) {
@@ -251,7 +269,12 @@ std::array<double, 3> CpgEffect::Targets(size_t i, LegSignals* s) const {
   std::array<double, 3> q = c.joint_rad;
   if (ik_) {
     // Foot space: the stride moves the foot along the body axis, the lift along its normal.
-    const double dx = amp * c.stride * 0.5 * *params_.stride_m;
+    double dx = amp * c.stride * 0.5 * *params_.stride_m;
+    if (c.stance && params_.squeeze_m != 0.0 && !placing_) {
+      // Aimed towards the middle of the body, reached over the first tenth of the stance.
+      const double u = std::min(1.0, c.progress / 0.1);
+      dx -= squeeze_sign_[i] * params_.squeeze_m * u * u * (3.0 - 2.0 * u);
+    }
     const double dz = params_.crouch_m + c.lift * params_.lift_m - params_.press_m;
     q = ik_->Solve(static_cast<int>(i), dx, dz);
   }

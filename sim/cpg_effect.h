@@ -71,6 +71,9 @@ class CpgEffect final : public Effect {
   double period_s_ = 0.0;
   std::vector<double> feedback_;  // rad/s per oscillator, sized once
   std::vector<uint8_t> held_;     // oscillators held this tick
+  std::vector<double> squeeze_sign_;
+  bool placing_ = false;  // InitialPose: targets without the squeeze  // +1 legs ahead of the
+                          // middle, −1 behind, 0 at it
 
   // What holds the gait (a stall when it lasts to the end of the run: Summarise).
   enum class HoldCause : uint8_t { kNone, kReflexAll, kHoldPhase, kHoldStance, kWaitForSupport };

@@ -64,6 +64,7 @@ struct CpgParams {
   double lift_m = 0.015;
   double press_m = 0.0;
   double crouch_m = 0.0;
+  double squeeze_m = 0.0;
   double lift_share = cpg::LegShape{}.lift_share;
   HopfParams hopf;
   double tegotae_sigma_rad_per_n_s = 0.0;
@@ -142,6 +143,13 @@ struct CpgParams {
          "rides lower (a climber's centre of mass near the wall pulls its front pads off less)",
          Range::Closed(0, 0.03)},
         &crouch_m);
+    a->Visit({"squeeze_m", "m",
+              "foot space: stance feet aimed this much towards the middle of the body along its "
+              "axis (front feet back, hind feet forward; legs at the middle not at all), reached "
+              "over the first tenth of the stance: a welded stance becomes a grasp whose internal "
+              "force drags opposed directional pads along their gripping directions",
+              Range::Closed(-0.01, 0.01)},
+             &squeeze_m);
     a->Visit({"lift_share", "",
               "0: smooth swing (stride and lift together); a > 0: lift-move-place swing, rising "
               "over the first share a of the swing and landing over the last (climbers: a peeled "
@@ -188,6 +196,8 @@ struct AdhesionPadOverride {
   std::optional<double> sigma_t_pa;
   std::optional<double> mu;
   std::optional<double> gain_n;
+  std::optional<double> grip_x;
+  std::optional<double> grip_y;
 
   template <class A>
   void Serialize(A* a) {
@@ -196,6 +206,15 @@ struct AdhesionPadOverride {
     a->Visit({"mu", "", "this pad's compression gain", Range::NonNegative()}, &mu);
     a->Visit({"gain_n", "N", "this pad's adhesion-actuator gain (model mujoco)", Range::Positive()},
              &gain_n);
+    a->Visit({"grip_x", "",
+              "this pad's gripping direction, x component (law frictional; pad frame, as "
+              "adhesion.frictional.grip_x): e.g. hind feet gripping up the wall, opposed to the "
+              "front feet",
+              Range::Any()},
+             &grip_x);
+    a->Visit(
+        {"grip_y", "", "this pad's gripping direction, y component (law frictional)", Range::Any()},
+        &grip_y);
   }
 };
 
@@ -345,7 +364,8 @@ struct AdhesionParams : adhesion::PadParams, adhesion::AttachParams {
          Range::Closed(0, 0.1)},
         &reach_m);
     a->Visit({"pad_overrides", "",
-              "per-pad changes: a list of maps with pad and any of sigma_t_pa, mu, gain_n"},
+              "per-pad changes: a list of maps with pad and any of sigma_t_pa, mu, gain_n, grip_x, "
+              "grip_y"},
              &pad_overrides);
     a->Visit({"pad_failure_probability", "",
               "each attachment fails with this probability (drawn from seed): all its bonds break "
@@ -452,7 +472,13 @@ struct PeelKeys : reflex::PeelParams {
               "max_duration_s)",
               Range::NonNegative()},
              &release_load_n);
+    a->Visit({"against_grip", "",
+              "directional pads (adhesion.law frictional): the hip yaw moves each foot against "
+              "its pad's gripping direction, |hip_yaw_rad| forward for a pad gripping back (-x) "
+              "and back for one gripping forward, so the release unloads the gripping shear"},
+             &against_grip);
   }
+  bool against_grip = false;
 };
 struct RegripKeys : reflex::RegripParams {
   template <class A>

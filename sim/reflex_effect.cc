@@ -45,7 +45,18 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
   }
   const mjModel* m = world.model();
   for (size_t i = 0; i < world.robot().legs.size(); ++i) {
-    legs_.emplace_back(leg, dt);
+    reflex::LegReflexParams own = leg;
+    if (params.peel.against_grip && adhesion_ != nullptr) {
+      // The release of a directional pad unloads its gripping shear: the foot moves against
+      // the pad's gripping direction (pad x runs along the heading on the bundled robots).
+      const int pad = adhesion_->pad_of_leg(static_cast<int>(i));
+      if (pad >= 0 && adhesion_->pad(pad).params().law == adhesion::PadLaw::kFrictional) {
+        const double grip_x = adhesion_->pad(pad).params().frictional.grip_x;
+        own.peel.hip_yaw_rad =
+            grip_x > 0 ? -std::abs(leg.peel.hip_yaw_rad) : std::abs(leg.peel.hip_yaw_rad);
+      }
+    }
+    legs_.emplace_back(own, dt);
     const LegInfo& info = world.robot().legs[i];
     std::array<int, 3> a{};
     std::array<double, 3> kp{};

@@ -38,6 +38,9 @@ class ReflexEffect final : public Effect {
   void Reset(World& world, RunContext& ctx) override;
   void BeforeStep(World& world, RunContext& ctx) override;
   void Summarise(const World& world, nlohmann::json* summary) const override;
+  // Leg i's reflexes (their parameters: peel.against_grip sets each leg's own peel sign).
+  const reflex::LegReflex& leg(int i) const { return legs_[i]; }
+  int leg_count() const { return static_cast<int>(legs_.size()); }
 
  private:
   ReflexParams params_;
