@@ -45,14 +45,13 @@ void ExpectClimbsAtLeast(const std::string& example, double nominal_min_mps,
 }
 
 TEST(FastExamples, GeckoWallFastClimbsInEveryRunOfItsObjective) {
-  // Measured: 0.0330 m/s as written, 0.0319 in the worst run.
-  ExpectClimbsAtLeast("examples/gecko_wall_fast.yaml", 0.032, 0.031);
+  // Measured: 0.0928 m/s as written and in the worst run (issue 15: at least 0.05).
+  ExpectClimbsAtLeast("examples/gecko_wall_fast.yaml", 0.09, 0.09);
 }
 
 TEST(FastExamples, SpiderWallFastClimbsInEveryRunOfItsObjective) {
-  // Measured: 0.0251 m/s as written, 0.0013 in the worst run (that run barely climbs, but
-  // unlike spider_wall.yaml's gait, which falls in one of these runs, it holds on).
-  ExpectClimbsAtLeast("examples/spider_wall_fast.yaml", 0.024, 0.001);
+  // Measured: 0.173 m/s as written, 0.171 in the worst run (issue 15: at least 0.08).
+  ExpectClimbsAtLeast("examples/spider_wall_fast.yaml", 0.17, 0.17);
 }
 
 }  // namespace
