@@ -37,6 +37,9 @@ class ReflexEffect final : public Effect {
   void Reset(World& world, RunContext& ctx) override;
   void BeforeStep(World& world, RunContext& ctx) override;
   void Summarise(const World& world, nlohmann::json* summary) const override;
+  // Another controller takes the legs (a surface transition): every servo back to its own kp,
+  // no offsets, holds or peels left behind.
+  void Suspend(World& world, RunContext& ctx);
 
  private:
   ReflexParams params_;
