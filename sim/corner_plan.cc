@@ -230,9 +230,23 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
             Margin(i, now, StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k], n_[k], &q,
                    &tilt, max_turn, &left);
         if (m < params_.margin_rad + kLandingMargin) continue;
+        // And lowered onto it from off it (the approach: lift_m, or less where the leg cannot
+        // reach that far out), in the same branch of the leg's kinematics.
+        double approach = -1.0;
+        for (double share : {1.0, 0.6, 0.35}) {
+          LegChain::Q qa = q;
+          double ta = 0.0;
+          const double a = share * params_.lift_m;
+          if (Margin(i, now, StanceAnkle(i, f, n_[k]) + (a + params_.press_m) * n_[k], n_[k], &qa,
+                     &ta, kLandingTurn) >= 0.0) {
+            approach = a;
+            break;
+          }
+        }
+        if (approach < 0.0) continue;
         if (left + 0.3 * std::abs(side) < h_left) {
           h_left = left + 0.3 * std::abs(side);
-          h = {f, n_[k], k, m, 0.0};
+          h = {f, n_[k], k, m, 0.0, q, approach};
           h_q = q;
         }
       }
@@ -260,36 +274,6 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
     if (here) break;
   }
   return best;
-}
-
-std::string CornerPlan::Explain(int i, double sigma, const BodyPose& now,
-                                const LegChain::Q& warm) const {
-  std::string out;
-  char line[300];
-  const LegChain& c = chains_[i];
-  for (double la : {0.0, 0.04, 0.1, 0.2, 0.3, 0.4}) {
-    const BodyPose ahead = Pose(sigma + la);
-    const Eigen::Vector3d a = ahead.p + ahead.r * c.neutral_ankle();
-    for (int k = 0; k < 2; ++k) {
-      Eigen::Vector3d below = a - (a - origin_).dot(n_[k]) * n_[k];
-      const double clear = pad_half_m_ + kCornerClearance;
-      const double along = (below - origin_).dot(away_[k]);
-      if (along < clear) below += (clear - along) * away_[k];
-      for (double side : {0.0, 0.01, -0.01, 0.02, -0.02}) {
-        LegChain::Q q = warm;
-        double tilt, left;
-        const Eigen::Vector3d f = below + side * y0_;
-        const double m = Margin(i, now, StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k],
-                                n_[k], &q, &tilt, 9, &left);
-        std::snprintf(line, sizeof(line),
-                      "   la %.2f surf %d side %+.2f face (%.3f %.3f %.3f): margin %.3f left %.3f "
-                      "q %.2f %.2f %.2f tilt %.2f\n",
-                      la, k, side, f.x(), f.y(), f.z(), m, left, q[0], q[1], q[2], tilt);
-        out += line;
-      }
-    }
-  }
-  return out;
 }
 
 double CornerPlan::DryRun(const BodyPose& start, double beyond_m, std::string* log,

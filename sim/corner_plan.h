@@ -58,6 +58,8 @@ struct Foothold {
   int surface = 0;      // 0 old, 1 new
   double margin = -1;   // joint-range margin on landing (rad); < 0: none found
   double reach = 0;     // how far along the path (σ) the foot stays of use
+  LegChain::Q q{};      // the leg's joints on landing (the branch of its kinematics to land in)
+  double approach_m = 0.0;  // lowered onto it from this far off it
 };
 
 // A leg steps, or waits in the air when it has no foothold (the spider's middle legs mid-turn,
@@ -98,8 +100,6 @@ class CornerPlan {
   Foothold Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm,
                 bool old_only) const;
 
-  // Debugging: leg i's candidate footholds at σ, one line each.
-  std::string Explain(int i, double sigma, const BodyPose& now, const LegChain::Q& warm) const;
 
   // A dry run: the body and feet move as planned, every foot lands where planned. From the
   // body at `start` with every foot on the old surface below its neutral ankle; steps until

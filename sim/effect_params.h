@@ -635,20 +635,17 @@ struct ReflexParams {
 struct TransitionParams {
   double trigger_angle_deg = 45.0;
   double lost_s = 1.5;
-  double body_speed_mps = 0.01;
+  double body_speed_mps = 0.02;
   double pitch_rate_rad_per_s = 0.2;
   double swing_s = 0.5;
   double lift_m = 0.015;
   double place_speed_mps = 0.06;
   double press_m = 0.001;
-  double bear_m = 0.0;
   double place_depth_m = 0.004;
   double place_force_n = 0.4;
-  double unload_s = 0.0;
-  double balance_s = 0.0;
+  double track_s = 0.0;
   double peel_back_m = 0.02;
   std::string peel_toward = "load";
-  double peel_in_m = 0.0;
   double peel_lift_m = 0.005;
   double peel_tilt_rad = 0.6;
   double peel_ramp_s = 0.3;
@@ -658,9 +655,9 @@ struct TransitionParams {
   double crouch_m = 0.02;
   double support_bond_fraction = 0.85;
   int max_place_attempts = 4;
-  double unload_gain = 0.0;
+  double unload_gain = 2.0;
   double unload_threshold = 0.8;
-  std::string then = "gait";
+  std::string then = "crawl";
 
   template <class A>
   void Serialize(A* a) {
@@ -695,11 +692,6 @@ struct TransitionParams {
     a->Visit({"press_m", "m", "how far a stance foot is aimed into its surface",
               Range::Closed(0, 0.02)},
              &press_m);
-    a->Visit({"bear_m", "m",
-              "stance feet on a surface facing up are aimed this much further in, so that they "
-              "carry the weight and the pads on walls keep their strength for the steps",
-              Range::Closed(0, 0.02)},
-             &bear_m);
     a->Visit({"place_depth_m", "m",
               "how far a foot being placed is pressed into its surface until its pad attaches",
               Range::Closed(0, 0.03)},
@@ -709,17 +701,11 @@ struct TransitionParams {
               "(a harder press pushes the body off the other pads)",
               Range::Positive()},
              &place_force_n);
-    a->Visit({"balance_s", "s",
-              "time constant with which each stance foot's target follows the difference between "
-              "its pad's load and the stance pads' mean (drains the forces the legs exert on one "
-              "another through the body); 0: off",
+    a->Visit({"track_s", "s",
+              "time constant of the integral correction that moves the stance legs' targets until "
+              "the body, sagging on its compliant servos, is where the plan commands it; 0: off",
               Range::NonNegative()},
-             &balance_s);
-    a->Visit({"unload_s", "s",
-              "before it peels, a foot's target follows its pad's load for up to this long, so the "
-              "other pads take the load gradually; 0: no unloading",
-              Range::NonNegative()},
-             &unload_s);
+             &track_s);
     a->Visit({"peel_back_m", "m",
               "a foot about to move is drawn this far back along its surface to peel its pad",
               Range::Closed(0, 0.1)},
@@ -730,9 +716,6 @@ struct TransitionParams {
                "else as normals; normals: along the sum of their normals, so that it presses them "
                "into their surfaces, else as back; back: against the body's heading"},
               &peel_toward, {"load", "normals", "back"});
-    a->Visit({"peel_in_m", "m", "and this far in towards the body (a sideways peel)",
-              Range::Closed(-0.1, 0.1)},
-             &peel_in_m);
     a->Visit({"peel_lift_m", "m", "and this far away from it", Range::Closed(0, 0.1)},
              &peel_lift_m);
     a->Visit({"peel_tilt_rad", "rad",

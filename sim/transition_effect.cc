@@ -4,8 +4,6 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace climbsim::sim {
@@ -18,17 +16,13 @@ constexpr double kStanceTurn = 0.45;
 constexpr double kAttachWait = 0.35;
 // How often (σ) a leg waiting in the air looks for a foothold again.
 constexpr double kIdleCheck = 0.02;
+// A peel that has not let go after peel_max_s pulls the other way, then sideways: this many
+// tries in all.
+constexpr int kPeelAttempts = 3;
 // A peel pulls along the other pads' load when it has at least kPeelLoad (N) along the peeling
 // pad's surface, else along their normals when their sum has at least kPeelAlong there.
 constexpr double kPeelLoad = 0.2;
 constexpr double kPeelAlong = 0.5;
-// Unloading a foot before it peels: the admittance (m/N: about the leg's compliance at the
-// foot) and its time constant; it ends when the pad's load is below kUnloaded or another
-// stance pad reaches kUnloadLimit.
-constexpr double kUnloadCompliance = 1.0 / 500.0;
-constexpr double kUnloadTau = 0.1;
-constexpr double kUnloaded = 0.1;
-constexpr double kUnloadLimit = 0.7;
 // The probe for an edge (a front foot that found no surface): the body crouches over
 // kProbeCrouchS, the foot goes kProbeBelow past the old surface's plane (beyond the pad's half
 // width) and then back towards the body at kProbeSpeed for at most kProbeBack.
@@ -36,8 +30,13 @@ constexpr double kProbeCrouchS = 1.0;
 constexpr double kProbeBelow = 0.006;
 constexpr double kProbeSpeed = 0.02;
 constexpr double kProbeBack = 0.06;
-// A pad closer than this to its surface's plane counts as lying flat on it (rad).
-constexpr double kFlat = 0.05;
+// The body's sag correction: its largest shift and turn.
+constexpr double kTrackMaxM = 0.015;
+constexpr double kTrackMaxRad = 0.15;
+// The share of a swing spent lifting the foot straight off the surface it leaves.
+constexpr double kLiftShare = 0.3;
+// A pad with this many contact points with a surface lies flat on it.
+constexpr int kFlatContacts = 3;
 // A foot closer than this to where the gait wants it is not stepped there (m).
 constexpr double kHandBackTolerance = 0.004;
 
@@ -51,6 +50,17 @@ Eigen::Vector3d Slerp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
   const double th = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
   if (th < 1e-6) return b;
   return (std::sin((1 - u) * th) * a + std::sin(u * th) * b) / std::sin(th);
+}
+
+Eigen::Matrix3d Exp(const Eigen::Vector3d& w) {
+  const double a = w.norm();
+  if (a < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+}
+
+Eigen::Vector3d RotationLog(const Eigen::Matrix3d& r) {
+  const Eigen::AngleAxisd aa(r);
+  return aa.angle() * aa.axis();
 }
 
 CornerPlan MakePlan(const Scenario& scenario, const TransitionParams& params, const World& world) {
@@ -230,7 +240,7 @@ void TransitionEffect::ProbeTick(World& world, RunContext& ctx) {
     pose.p -= u * params_.crouch_m * probe_n0_;
     for (size_t j = 0; j < feet_.size(); ++j) {
       if (!feet_[j].stance) continue;
-      if (plan_.Margin(static_cast<int>(j), pose, StanceTarget(static_cast<int>(j)),
+      if (plan_.Margin(static_cast<int>(j), Corrected(pose), StanceTarget(static_cast<int>(j)),
                        feet_[j].normal_w, &feet_[j].q, &feet_[j].tilt, kStanceTurn) < 0) {
         Fail(ctx, static_cast<int>(j), "no_crouch");
         return;
@@ -282,6 +292,8 @@ void TransitionEffect::ProbeTick(World& world, RunContext& ctx) {
 }
 
 void TransitionEffect::HoldFeet(World& world, RunContext& ctx) {
+  corr_p_.setZero();
+  corr_w_.setZero();
   const mjData* d = world.data();
   const std::vector<LegSignals>& legs = *ctx.legs;
   for (size_t i = 0; i < feet_.size(); ++i) {
@@ -317,13 +329,7 @@ void TransitionEffect::Trigger(World& world, RunContext& ctx, int leg) {
   Update(world, ctx);
 }
 
-Eigen::Vector3d TransitionEffect::StanceTarget(int i) const {
-  // Feet on a surface that faces up carry the weight: aimed further in, they lift the body off
-  // the feet on walls, whose pads then keep their strength for the steps.
-  const Foot& f = feet_[i];
-  const double up = std::clamp((f.normal_w.dot(up_) - 0.5) / 0.5, 0.0, 1.0);
-  return f.ankle_w - up * params_.bear_m * f.normal_w;
-}
+Eigen::Vector3d TransitionEffect::StanceTarget(int i) const { return feet_[i].ankle_w; }
 
 int TransitionEffect::StanceCount() const {
   int n = 0;
@@ -354,8 +360,8 @@ void TransitionEffect::StartStep(World& world, RunContext& ctx, int leg, const F
   // pull points along the load they carry (the weight, mostly), projected on this pad's
   // surface. Without such a load there: along the sum of their normals, so that the reaction
   // presses them into their surfaces; when they all stand on this pad's surface, back along
-  // it, against the body's heading (and in, with peel_in_m).
-  const Eigen::Vector3d x = cmd_.r.col(0), y = cmd_.r.col(1);
+  // it, against the body's heading.
+  const Eigen::Vector3d x = cmd_.r.col(0);
   Eigen::Vector3d back = -(x - x.dot(f.normal_w) * f.normal_w).normalized();
   Eigen::Vector3d load = Eigen::Vector3d::Zero(), normals = Eigen::Vector3d::Zero();
   for (size_t j = 0; j < feet_.size(); ++j) {
@@ -375,14 +381,13 @@ void TransitionEffect::StartStep(World& world, RunContext& ctx, int leg, const F
   } else if (params_.peel_toward != "back" && normals.norm() > kPeelAlong) {
     back = normals.normalized();
   }
-  const double side = plan_.chains()[leg].hip().y() > 0 ? -1.0 : 1.0;
-  const Eigen::Vector3d in = side * (y - y.dot(f.normal_w) * f.normal_w).normalized();
-  peel_dir_ = params_.peel_back_m * back + params_.peel_in_m * in;
+  peel_dir_ = params_.peel_back_m * back;
   Log(ctx, leg, "transition_step", to.surface < 0 ? "idle" : peel ? "peel" : "place");
   if (peel) {
-    step_ = params_.unload_s > 0 ? StepPhase::kUnload : StepPhase::kPeel;
-    unload_.setZero();
-    if (step_ == StepPhase::kPeel) adhesion_->SetPeelingLeg(leg, true);
+    step_ = StepPhase::kPeel;
+    peel_from_.setZero();
+    peel_attempts_ = 0;
+    adhesion_->SetPeelingLeg(leg, true);
   } else {
     BeginSwing(world, ctx.time_s);
   }
@@ -413,6 +418,7 @@ void TransitionEffect::BeginSwing(World& world, double t) {
   }
   step_ = StepPhase::kSwing;
   step_t0_ = t;
+  swing_q_ = f.q;
 }
 
 void TransitionEffect::AdvanceStep(World& world, RunContext& ctx) {
@@ -422,42 +428,35 @@ void TransitionEffect::AdvanceStep(World& world, RunContext& ctx) {
   const double t = ctx.time_s;
   const bool attached = (*ctx.legs)[i].attached;
   const bool touching = (*ctx.legs)[i].touching;
-  if (step_ == StepPhase::kUnload) {
-    // Weight off the foot first: its target follows the load its pad carries (an admittance),
-    // so the other pads take it gradually, not in one step when the peel lets go.
-    const adhesion::StickyPad& pad = adhesion_->pad(adhesion_->pad_of_leg(i));
-    const adhesion::PadFrame pf = adhesion::FaceFrame(world.data(), pad.geometry());
-    const adhesion::PadLoad& l = pad.load();
-    const Eigen::Vector3d force = pf.rot * Eigen::Vector3d(l.fx_n, l.fy_n, l.fn_n);
-    unload_ -= force * (kUnloadCompliance * dt_ / kUnloadTau);
-    plan_.Margin(i, cmd_, f.ankle_w + unload_, f.normal_w, &f.q, &f.tilt, kStanceTurn);
-    bool others_ok = true;
-    for (size_t j = 0; j < feet_.size(); ++j) {
-      if (static_cast<int>(j) == i || !feet_[j].stance) continue;
-      others_ok &= adhesion_->utilisation(adhesion_->pad_of_leg(static_cast<int>(j))) <
-                   kUnloadLimit;
-    }
-    if (force.norm() < kUnloaded || !others_ok || t - step_t0_ > params_.unload_s) {
-      f.ankle_w += unload_;
-      step_ = StepPhase::kPeel;
-      step_t0_ = t;
-      adhesion_->SetPeelingLeg(i, true);
-    }
-    return;
-  }
   if (step_ == StepPhase::kPeel) {
     const double u = SmoothStep((t - step_t0_) / params_.peel_ramp_s);
-    const Eigen::Vector3d target = f.ankle_w + u * (peel_dir_ + params_.peel_lift_m * f.normal_w);
-    plan_.Margin(i, cmd_, target, f.normal_w, &f.q, &f.tilt, kStanceTurn);
-    // The tilt servo turns the pad the way the pull does (its heel onto the surface), as far
-    // as its torque goes: the bonds see that much more peel moment, the leg pulls less.
-    f.tilt = std::max(c.tilt_lo(), f.tilt - u * params_.peel_tilt_rad);
+    const Eigen::Vector3d pull = peel_from_ + u * (peel_dir_ - peel_from_);
+    plan_.Margin(i, Corrected(cmd_), f.ankle_w + pull + u * params_.peel_lift_m * f.normal_w,
+                 f.normal_w, &f.q, &f.tilt, kStanceTurn);
+    // The tilt servo turns the pad the way the pull does, as far as its torque goes: the bonds
+    // see that much more peel moment and the leg pulls less. The pull along d at the top of
+    // the post turns the pad about n × d.
+    const adhesion::PadFrame pf =
+        adhesion::FaceFrame(world.data(), adhesion_->pad(adhesion_->pad_of_leg(i)).geometry());
+    const double turn = f.normal_w.cross(peel_dir_).dot(pf.rot.col(1)) >= 0 ? 1.0 : -1.0;
+    f.tilt = std::clamp(f.tilt + turn * u * params_.peel_tilt_rad, c.tilt_lo(), c.tilt_hi());
     if (!attached) {
       adhesion_->SetPeelingLeg(i, false);
       BeginSwing(world, t);
     } else if (t - step_t0_ > params_.peel_max_s) {
-      adhesion_->SetPeelingLeg(i, false);
-      Fail(ctx, i, "peel_time_limit");
+      // Not let go: pull the other way, then sideways (from where the pull is now).
+      if (++peel_attempts_ >= kPeelAttempts) {
+        adhesion_->SetPeelingLeg(i, false);
+        Fail(ctx, i, "peel_time_limit");
+        return;
+      }
+      peel_from_ = pull;
+      const double side = c.hip().y() > 0 ? -1.0 : 1.0;
+      const Eigen::Vector3d y = cmd_.r.col(1);
+      const Eigen::Vector3d in = side * (y - y.dot(f.normal_w) * f.normal_w).normalized();
+      peel_dir_ = peel_attempts_ == 1 ? Eigen::Vector3d(-peel_dir_)
+                                      : Eigen::Vector3d(peel_dir_.norm() * in);
+      step_t0_ = t;
     }
     return;
   }
@@ -467,35 +466,48 @@ void TransitionEffect::AdvanceStep(World& world, RunContext& ctx) {
       Fail(ctx, i, "stuck_again");
       return;
     }
-    f.ankle_w = cmd_.p + cmd_.r * c.Ankle(f.q, 0.0);
+    const BodyPose stance = Corrected(cmd_);
+    f.ankle_w = stance.p + stance.r * c.Ankle(f.q, 0.0);
     step_ = StepPhase::kPeel;
     step_t0_ = t;
+    peel_from_.setZero();
     adhesion_->SetPeelingLeg(i, true);
     return;
   }
-  const Eigen::Vector3d w2 = to_.face + params_.lift_m * to_.normal;
+  const Eigen::Vector3d w2 = to_.face + to_.approach_m * to_.normal;
   Eigen::Vector3d face = w2, normal = to_.normal;
   if (step_ == StepPhase::kSwing) {
     const double u = std::clamp((t - step_t0_) / params_.swing_s, 0.0, 1.0);
-    // The polyline from the face through the lifted point (and round the edge) to above the
-    // target; an idle leg only lifts.
+    // Lift, then move: first straight off the surface it leaves (a peeled pad that falls back
+    // onto it sticks again), then along the polyline through the lifted point (and round the
+    // edge) to above the target; an idle leg only lifts.
     const Eigen::Vector3d w0 = from_face_ + params_.lift_m * from_normal_;
-    const int n = to_.surface < 0 ? 2 : use_via_ ? 4 : 3;
-    const std::array<Eigen::Vector3d, 4> pts{from_face_, to_.surface < 0 ? to_.face : w0,
-                                             use_via_ ? via_ : w2, w2};
-    double len[3] = {0, 0, 0}, total = 0;
-    for (int k = 0; k + 1 < n; ++k) total += len[k] = (pts[k + 1] - pts[k]).norm();
-    double along = SmoothStep(u) * total;
-    face = pts[n - 1];
-    for (int k = 0; k + 1 < n; ++k) {
-      if (along <= len[k] || k + 2 == n) {
-        const double a = len[k] > 0 ? std::min(1.0, along / len[k]) : 1.0;
-        face = pts[k] + a * (pts[k + 1] - pts[k]);
-        break;
+    if (u < kLiftShare || to_.surface < 0) {
+      face = from_face_ + SmoothStep(u / (to_.surface < 0 ? 1.0 : kLiftShare)) *
+                              ((to_.surface < 0 ? to_.face : w0) - from_face_);
+    } else {
+      const int n = use_via_ ? 3 : 2;
+      const std::array<Eigen::Vector3d, 3> pts{w0, use_via_ ? via_ : w2, w2};
+      double len[2] = {0, 0}, total = 0;
+      for (int k = 0; k + 1 < n; ++k) total += len[k] = (pts[k + 1] - pts[k]).norm();
+      double along = SmoothStep((u - kLiftShare) / (1 - kLiftShare)) * total;
+      face = pts[n - 1];
+      for (int k = 0; k + 1 < n; ++k) {
+        if (along <= len[k] || k + 2 == n) {
+          const double a = len[k] > 0 ? std::min(1.0, along / len[k]) : 1.0;
+          face = pts[k] + a * (pts[k + 1] - pts[k]);
+          break;
+        }
+        along -= len[k];
       }
-      along -= len[k];
     }
     normal = Slerp(from_normal_, to_.normal, std::min(1.0, 1.4 * SmoothStep(u)));
+    // The leg's joints head for the ones the plan landed it with (its kinematics has more than
+    // one branch; the warm start picks the planned one).
+    if (to_.margin >= 0 && to_.surface >= 0) {
+      const double w = SmoothStep(u);
+      for (int k = 0; k < 3; ++k) f.q[k] = (1 - w) * swing_q_[k] + w * to_.q[k];
+    }
     if (u >= 1.0) {
       if (to_.surface < 0) {  // up in the air: wait there
         step_leg_ = -1;
@@ -510,13 +522,12 @@ void TransitionEffect::AdvanceStep(World& world, RunContext& ctx) {
   } else if (step_ == StepPhase::kPlace) {
     // Lowered along the normal until it sticks, at most place_depth_m into the surface (deeper
     // at each new attempt, in case the surface lies further than planned).
-    const double depth = params_.lift_m + params_.place_depth_m * (1 + 0.5 * attempts_);
+    const double depth = to_.approach_m + params_.place_depth_m * (1 + 0.5 * attempts_);
     // Lowered until it touches, then pressed until its pad lies flat on the surface (a pad
     // that lands on an edge is pressed over onto its face: the passive ankle gives) and no
     // harder than place_force_n (the press pushes the body off the other pads).
-    const adhesion::PadFrame pf =
-        adhesion::FaceFrame(world.data(), adhesion_->pad(adhesion_->pad_of_leg(i)).geometry());
-    const bool flat = pf.rot.col(2).dot(to_.normal) > std::cos(kFlat);
+    // Flat: the pad touches with its face (the contacts of a box on a plane: 4; an edge: 2).
+    const bool flat = adhesion_->pad(adhesion_->pad_of_leg(i)).sense().contacts >= kFlatContacts;
     if (!(touching && flat && (*ctx.legs)[i].preload_n >= params_.place_force_n)) {
       place_d_ = std::min(depth, place_d_ + params_.place_speed_mps * dt_);
     }
@@ -533,23 +544,16 @@ void TransitionEffect::AdvanceStep(World& world, RunContext& ctx) {
       f.normal_w = to_.normal;
       // Along the surface where the joints put it for the commanded body; across it, the
       // planned press (the sag of the body would otherwise add up in the stance targets).
-      f.ankle_w = cmd_.p + cmd_.r * c.Ankle(q, 0.0);
+      const BodyPose stance = Corrected(cmd_);
+      f.ankle_w = stance.p + stance.r * c.Ankle(q, 0.0);
       const Eigen::Vector3d on = plan_.origin() + (c.post_m() - params_.press_m) * to_.normal;
       f.ankle_w -= (f.ankle_w - on).dot(to_.normal) * to_.normal;
-      plan_.Margin(i, cmd_, f.ankle_w, f.normal_w, &f.q, &f.tilt, kStanceTurn);
+      plan_.Margin(i, Corrected(cmd_), f.ankle_w, f.normal_w, &f.q, &f.tilt, kStanceTurn);
       step_leg_ = -1;
       step_ = StepPhase::kNone;
       return;
     }
     if (touching && touch_since_ < 0) touch_since_ = t;
-    if (std::getenv("CLIMBSIM_TDEBUG") && touching) {
-      const adhesion::PadFrame pf =
-          adhesion::FaceFrame(world.data(), adhesion_->pad(adhesion_->pad_of_leg(i)).geometry());
-      const auto& sn = adhesion_->pad(adhesion_->pad_of_leg(i)).sense();
-      std::fprintf(stderr, "  t=%.3f place leg %d contacts %d geom %d angle %.1f face (%.3f %.3f %.3f) n (%.2f %.2f %.2f) target (%.3f %.3f %.3f)\n", t, i,
-                   sn.contacts, sn.surface_geom, std::acos(std::clamp(pf.rot.col(2).dot(to_.normal), -1.0, 1.0)) * 57.3,
-                   pf.pos.x(), pf.pos.y(), pf.pos.z(), pf.rot(0,2), pf.rot(1,2), pf.rot(2,2), to_.face.x(), to_.face.y(), to_.face.z());
-    }
     const bool rejected = touch_since_ >= 0 && t - touch_since_ > kAttachWait;
     const bool nothing = touch_since_ < 0 && d >= depth && t - step_t0_ > depth / params_.place_speed_mps + kAttachWait;
     if (rejected || nothing) {
@@ -609,7 +613,7 @@ void TransitionEffect::HandBackTick(World& world, RunContext& ctx) {
     std::array<double, 8> tilt{};
     for (size_t i = 0; i < feet_.size() && i < q.size(); ++i) {
       q[i] = feet_[i].q;
-      if (plan_.Margin(static_cast<int>(i), pose, StanceTarget(static_cast<int>(i)),
+      if (plan_.Margin(static_cast<int>(i), Corrected(pose), StanceTarget(static_cast<int>(i)),
                        feet_[i].normal_w, &q[i], &tilt[i], kStanceTurn) < 0) {
         Fail(ctx, static_cast<int>(i), "no_standing_height");
         return;
@@ -642,14 +646,16 @@ void TransitionEffect::HandBackTick(World& world, RunContext& ctx) {
     h.face = face;
     h.normal = n;
     h.surface = 1;
-    h.margin = 0.0;
+    h.q = feet_[i].q;
+    h.approach_m = params_.lift_m;
+    double tilt = 0.0;
+    h.margin = std::max(0.0, plan_.Margin(static_cast<int>(i), cmd_,
+                                          plan_.StanceAnkle(static_cast<int>(i), face, n), n,
+                                          &h.q, &tilt, kStanceTurn));
     StartStep(world, ctx, static_cast<int>(i), h, true);
     return;
   }
   // Every foot where the gait wants it: the gait goes on.
-  if (std::getenv("CLIMBSIM_TDEBUG")) {
-    for (size_t i = 0; i < feet_.size(); ++i) std::fprintf(stderr, "handback leg %zu q %.3f %.3f %.3f tilt %.3f\n", i, feet_[i].q[0], feet_[i].q[1], feet_[i].q[2], feet_[i].tilt);
-  }
   resume_pending_ = true;
   mode_ = Mode::kWatching;
   RestoreKp(world);
@@ -660,7 +666,6 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
   const std::vector<LegSignals>& legs = *ctx.legs;
   const size_t n = feet_.size();
   if (ReplaceLost(world, ctx)) return;
-  if (std::getenv("CLIMBSIM_TDEBUG") && end_time_s_ >= 0 && (ctx.step % 500) == 0) std::fprintf(stderr, "t=%.2f sigma %.3f settled %.3f\n", ctx.time_s, sigma_, plan_.Settled());
   if (params_.then == "gait" && end_time_s_ >= 0 && sigma_ >= plan_.Settled()) {
     cpg_->ResumePhases(resume_theta_);
     mode_ = Mode::kHandBack;
@@ -695,7 +700,7 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
     if (!feet_[i].stance) continue;
     q[i] = feet_[i].q;
     const double m =
-        plan_.Margin(static_cast<int>(i), pose, StanceTarget(static_cast<int>(i)),
+        plan_.Margin(static_cast<int>(i), Corrected(pose), StanceTarget(static_cast<int>(i)),
                      feet_[i].normal_w, &q[i], &tilt[i], kStanceTurn);
     if (m < worst) worst = m, worst_leg = static_cast<int>(i);
   }
@@ -710,11 +715,6 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
   // The leg that stops the body steps, once every other pad holds (and enough stand).
   if (!SupportsHold(worst_leg, legs) || StanceCount() - 1 < kMinStance) return;
   const Foothold h = plan_.Next(worst_leg, sigma_, cmd_, feet_[worst_leg].q, false);
-  if (std::getenv("CLIMBSIM_TDEBUG")) {
-    LegChain::Q qq = feet_[worst_leg].q; double tt, lf;
-    const double mnow = plan_.Margin(worst_leg, cmd_, StanceTarget(worst_leg), feet_[worst_leg].normal_w, &qq, &tt, 9, &lf);
-    std::fprintf(stderr, "t=%.3f sigma %.3f leg %d blocked: margin now %.3f next %.3f q %.3f %.3f %.3f tilt %.2f left %.2f | to (%.3f %.3f %.3f) m %.3f reach %.2f\n", ctx.time_s, sigma_, worst_leg, mnow, worst, qq[0], qq[1], qq[2], tt, lf, h.face.x(), h.face.y(), h.face.z(), h.margin, h.reach);
-  }
   if (h.margin >= 0) {
     StartStep(world, ctx, worst_leg, h, true);
   } else if (StanceCount() - 1 >= kMinStance) {
@@ -746,7 +746,7 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
       }
     }
   }
-  if (mode_ != Mode::kFailed && params_.balance_s > 0) Balance(world);
+  if (mode_ != Mode::kFailed && params_.track_s > 0) TrackBody(world);
   if (mode_ != Mode::kFailed) {
     if (step_leg_ >= 0) {
       AdvanceStep(world, ctx);
@@ -776,6 +776,16 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
       RunTick(world, ctx);
     }
   }
+  // The stance legs carry the body to the commanded pose (with the sag correction).
+  if (mode_ != Mode::kWatching && mode_ != Mode::kFailed) {
+    const BodyPose stance = Corrected(cmd_);
+    for (size_t i = 0; i < feet_.size(); ++i) {
+      Foot& f = feet_[i];
+      if (!f.stance || static_cast<int>(i) == step_leg_) continue;
+      plan_.Margin(static_cast<int>(i), stance, StanceTarget(static_cast<int>(i)), f.normal_w,
+                   &f.q, &f.tilt, kStanceTurn);
+    }
+  }
   // Idle legs hold their place in the body's frame.
   for (size_t i = 0; i < feet_.size(); ++i) {
     Foot& f = feet_[i];
@@ -794,34 +804,23 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
   WriteTargets(world);
 }
 
-void TransitionEffect::Balance(World& world) {
-  // Stance feet welded to two surfaces at an angle push against each other through the body:
-  // what one presses along its surface pulls another off its own. Each stance foot's target
-  // follows the difference between its pad's load and the stance pads' mean (an admittance),
-  // which drains these internal forces and leaves the weight shared.
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  int n = 0;
-  std::array<Eigen::Vector3d, 8> force;
-  for (size_t i = 0; i < feet_.size() && i < force.size(); ++i) {
-    if (!feet_[i].stance || static_cast<int>(i) == step_leg_) continue;
-    const adhesion::StickyPad& pad = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)));
-    if (!pad.attached()) continue;
-    const adhesion::PadFrame pf = adhesion::FaceFrame(world.data(), pad.geometry());
-    const adhesion::PadLoad& l = pad.load();
-    force[i] = pf.rot * Eigen::Vector3d(l.fx_n, l.fy_n, l.fn_n);
-    mean += force[i];
-    ++n;
-  }
-  if (n < 2) return;
-  mean /= n;
-  for (size_t i = 0; i < feet_.size() && i < force.size(); ++i) {
-    Foot& f = feet_[i];
-    if (!f.stance || static_cast<int>(i) == step_leg_) continue;
-    if (!adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i))).attached()) continue;
-    f.ankle_w -= (force[i] - mean) * (kUnloadCompliance * dt_ / params_.balance_s);
-    plan_.Margin(static_cast<int>(i), cmd_, StanceTarget(static_cast<int>(i)), f.normal_w, &f.q,
-                 &f.tilt, kStanceTurn);
-  }
+BodyPose TransitionEffect::Corrected(const BodyPose& pose) const {
+  BodyPose p = pose;
+  p.p += corr_p_;
+  p.r = p.r * Exp(corr_w_);
+  return p;
+}
+
+void TransitionEffect::TrackBody(const World& world) {
+  // The body sags on its compliant servos under its weight: an integral correction moves the
+  // stance legs' targets until the body is where the plan commands it (so that a foot lands,
+  // in its joints, where the plan expects).
+  const BodyPose actual = ActualPose(world);
+  const double k = dt_ / params_.track_s;
+  corr_p_ += k * (cmd_.p - actual.p);
+  corr_w_ += k * RotationLog(actual.r.transpose() * cmd_.r);
+  if (corr_p_.norm() > kTrackMaxM) corr_p_ *= kTrackMaxM / corr_p_.norm();
+  if (corr_w_.norm() > kTrackMaxRad) corr_w_ *= kTrackMaxRad / corr_w_.norm();
 }
 
 void TransitionEffect::RestoreKp(World& world) const {
@@ -837,15 +836,6 @@ void TransitionEffect::RestoreKp(World& world) const {
 }
 
 void TransitionEffect::Fail(RunContext& ctx, int leg, const char* why) {
-  if (std::getenv("CLIMBSIM_TDEBUG")) {
-    std::fprintf(stderr, "FAIL t=%.3f leg %d %s sigma %.3f\n%s", ctx.time_s, leg, why, sigma_,
-                 plan_.Explain(leg, sigma_, cmd_, feet_[leg].q).c_str());
-    for (size_t i = 0; i < feet_.size(); ++i) {
-      LegChain::Q q = feet_[i].q; double tilt, left;
-      const double m = plan_.Margin(static_cast<int>(i), cmd_, StanceTarget(static_cast<int>(i)), feet_[i].normal_w, &q, &tilt, 9, &left);
-      std::fprintf(stderr, "  leg %zu stance %d idle %d surf %d margin now %.3f left %.3f q %.2f %.2f %.2f tilt %.2f\n", i, feet_[i].stance, feet_[i].idle, feet_[i].surface, m, left, q[0], q[1], q[2], tilt);
-    }
-  }
   mode_ = Mode::kFailed;
   fail_time_s_ = ctx.time_s;
   fail_leg_ = leg;

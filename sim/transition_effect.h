@@ -77,7 +77,7 @@ class TransitionEffect final : public Effect {
 
  private:
   enum class Mode : uint8_t { kWatching, kProbe, kSettle, kRun, kHandBack, kFailed };
-  enum class StepPhase : uint8_t { kNone, kUnload, kPeel, kSwing, kPlace, kRetry };
+  enum class StepPhase : uint8_t { kNone, kPeel, kSwing, kPlace, kRetry };
   struct Foot {
     bool stance = true;
     bool idle = false;
@@ -110,7 +110,9 @@ class TransitionEffect final : public Effect {
   // A stance pad that let go is placed again; true when that started.
   bool ReplaceLost(World& world, RunContext& ctx);
   void RestoreKp(World& world) const;
-  void Balance(World& world);
+  // The commanded pose with the sag correction (what the stance legs' targets come from).
+  BodyPose Corrected(const BodyPose& pose) const;
+  void TrackBody(const World& world);
   void Fail(RunContext& ctx, int leg, const char* why);
   void Log(RunContext& ctx, int leg, const char* kind, const char* cause) const;
   void WriteTargets(World& world) const;
@@ -145,6 +147,7 @@ class TransitionEffect final : public Effect {
   std::vector<uint8_t> attached_;  // last tick's attachment, for the bookkeeping
   double sigma_ = 0.0, idle_check_ = 0.0;
   BodyPose cmd_;
+  Eigen::Vector3d corr_p_ = Eigen::Vector3d::Zero(), corr_w_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d up_ = Eigen::Vector3d::UnitZ();  // against gravity
   // The stepping leg.
   int step_leg_ = -1;
@@ -152,11 +155,13 @@ class TransitionEffect final : public Effect {
   double step_t0_ = 0.0, touch_since_ = -1.0, place_d_ = 0.0;
   int attempts_ = 0;
   Foothold to_;
+  LegChain::Q swing_q_{};  // the joints the swing started from
   Eigen::Vector3d from_face_ = Eigen::Vector3d::Zero(), from_normal_ = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d via_ = Eigen::Vector3d::Zero();
   bool use_via_ = false;
   Eigen::Vector3d peel_dir_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d unload_ = Eigen::Vector3d::Zero();  // the unload's shift of the stance target
+  Eigen::Vector3d peel_from_ = Eigen::Vector3d::Zero();  // the pull a new try starts from
+  int peel_attempts_ = 0;
 
   // What the summary reports.
   double trigger_time_s_ = -1.0, end_time_s_ = -1.0, fail_time_s_ = -1.0;
