@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "adhesion/adhesion.h"
-#include "cpg/cpg.h"
 #include "adhesion/frictional_law.h"
+#include "cpg/cpg.h"
 #include "reflex/reflex.h"
 #include "sim/archive.h"
 
@@ -250,8 +250,8 @@ struct AdhesionParams : adhesion::PadParams, adhesion::AttachParams {
   std::vector<std::string> surfaces;
   bool start_attached = adhesion::AdhesionSystemParams{}.start_attached;
   double start_gap_m = adhesion::AdhesionSystemParams{}.start_gap_m;
-  std::vector<double> weld_solref = std::vector<double>(adhesion::kDefaultWeldSolref.begin(),
-                                                        adhesion::kDefaultWeldSolref.end());
+  std::vector<double> weld_solref =
+      std::vector<double>(adhesion::kDefaultWeldSolref.begin(), adhesion::kDefaultWeldSolref.end());
   std::optional<double> gain_n;
   double ctrl = adhesion::StickyPadParams{}.actuator_ctrl;
   double reach_m = adhesion::AdhesionSystemParams{}.reach_m;
@@ -661,11 +661,12 @@ struct TransitionParams {
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"trigger_angle_deg", "deg",
-              "a front pad that touches a surface whose normal is more than this from the normal of "
-              "the surface the robot stands on starts the manoeuvre",
-              Range::OpenClosed(0, 90)},
-             &trigger_angle_deg);
+    a->Visit(
+        {"trigger_angle_deg", "deg",
+         "a front pad that touches a surface whose normal is more than this from the normal of "
+         "the surface the robot stands on starts the manoeuvre",
+         Range::OpenClosed(0, 90)},
+        &trigger_angle_deg);
     a->Visit({"lost_s", "s",
               "a front foot that has touched nothing for this long has found the surface ended: "
               "the body crouches and the foot probes down past the edge and back until it touches "
@@ -689,9 +690,9 @@ struct TransitionParams {
               "adhesion.max_approach_speed_mps)",
               Range::Positive()},
              &place_speed_mps);
-    a->Visit({"press_m", "m", "how far a stance foot is aimed into its surface",
-              Range::Closed(0, 0.02)},
-             &press_m);
+    a->Visit(
+        {"press_m", "m", "how far a stance foot is aimed into its surface", Range::Closed(0, 0.02)},
+        &press_m);
     a->Visit({"place_depth_m", "m",
               "how far a foot being placed is pressed into its surface until its pad attaches",
               Range::Closed(0, 0.03)},
@@ -716,13 +717,16 @@ struct TransitionParams {
                "else as normals; normals: along the sum of their normals, so that it presses them "
                "into their surfaces, else as back; back: against the body's heading"},
               &peel_toward, {"load", "normals", "back"});
-    a->Visit({"peel_lift_m", "m", "and this far away from it", Range::Closed(0, 0.1)},
+    a->Visit({"peel_lift_m", "m",
+              "and this far away from its surface (with peel_back_m: the peel's pull)",
+              Range::Closed(0, 0.1)},
              &peel_lift_m);
-    a->Visit({"peel_tilt_rad", "rad",
-              "while it peels, the ankle tilt is turned this far the way the pull turns the pad (the "
-              "servo's torque adds to the pull's moment on the bonds)",
-              Range::Closed(0, 2)},
-             &peel_tilt_rad);
+    a->Visit(
+        {"peel_tilt_rad", "rad",
+         "while it peels, the ankle tilt is turned this far the way the pull turns the pad (the "
+         "servo's torque adds to the pull's moment on the bonds)",
+         Range::Closed(0, 2)},
+        &peel_tilt_rad);
     a->Visit({"peel_ramp_s", "s", "time to the full peel pull", Range::Positive()}, &peel_ramp_s);
     a->Visit({"peel_max_s", "s", "a peel that has not let go after this long stops the manoeuvre",
               Range::Positive()},
