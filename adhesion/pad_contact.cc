@@ -102,6 +102,7 @@ void SensePadContacts(const mjModel* m, const mjData* d, const PadGeometry& pad,
   if (!pad_is_geom2) n = -n;
   out->surface_normal = n;
   const Eigen::Vector3d p(c.pos[0], c.pos[1], c.pos[2]);
+  out->contact_pos = p;
   const Eigen::Vector3d v_rel =
       PointVelocity(m, d, pad.body, p) - PointVelocity(m, d, m->geom_bodyid[surface], p);
   out->approach_speed_mps = -v_rel.dot(n);

@@ -17,6 +17,7 @@
 //   preload_n          Σ f[0] over them (N, ≥ 0: compression)
 //   surface_normal     unit normal from the surface into the pad (the contact normal,
 //                      oriented), of the contact with the largest normal force (or the first)
+//   contact_pos        that contact's point (world)
 //   approach_speed_mps −(v_pad − v_surface)·surface_normal at that contact's point: > 0 when
 //                      the pad moves towards the surface
 //   angle_rad          angle between the pad normal n and surface_normal, 0 when flat
@@ -60,6 +61,7 @@ struct ContactSense {
   double preload_n = 0.0;
   int surface_geom = -1;  // geom of the strongest contact (or the first in the gap)
   Eigen::Vector3d surface_normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d contact_pos = Eigen::Vector3d::Zero();  // that contact's point, world
   double approach_speed_mps = 0.0;
   double angle_rad = 0.0;
 };

@@ -155,6 +155,11 @@ class OscillatorNetwork {
 
   virtual StepStatus status() const = 0;
   virtual IntegrationStats stats() const = 0;
+
+  // Moves every oscillator to phase θ_i (any real, wrapped), keeping its amplitude, time and
+  // counters: a controller that had the legs hands them back at a gait moment of its choice.
+  // The unwrapped phase starts again from θ_i. No checks (θ must be finite), no allocation.
+  virtual void Rephase(std::span<const double> theta_rad) = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -209,6 +214,7 @@ class PhaseNetwork final : public OscillatorNetwork {
   std::optional<double> phase_duty_factor() const override { return std::nullopt; }
   StepStatus status() const override { return status_; }
   IntegrationStats stats() const override;
+  void Rephase(std::span<const double> theta_rad) override;
 
   const PhaseNetworkParams& params() const { return params_; }
 
@@ -368,6 +374,7 @@ class HopfNetwork final : public OscillatorNetwork {
   std::optional<double> phase_duty_factor() const override { return 0.5; }
   StepStatus status() const override { return status_; }
   IntegrationStats stats() const override;
+  void Rephase(std::span<const double> theta_rad) override;
 
   // The Cartesian state, first n entries of the odeint state and the next n.
   std::span<const double> x() const;

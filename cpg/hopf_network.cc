@@ -205,6 +205,18 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
   }
 }
 
+void HopfNetwork::Rephase(std::span<const double> theta_rad) {
+  std::vector<double>& z = driver_.x();
+  for (int i = 0; i < n_; ++i) {
+    const double radius = std::hypot(z[i], z[n_ + i]);
+    z[i] = radius * std::cos(theta_rad[i] - kPi);
+    z[n_ + i] = radius * std::sin(theta_rad[i] - kPi);
+  }
+  UpdateOutputs(/*accumulate=*/false);
+  for (int i = 0; i < n_; ++i) unwrapped_rad_[i] = phase_rad_[i];
+  driver_.Restart();
+}
+
 void HopfNetwork::UpdateOutputs(bool accumulate) {
   const std::vector<double>& z = driver_.x();
   for (int i = 0; i < n_; ++i) {

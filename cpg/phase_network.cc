@@ -137,6 +137,15 @@ void PhaseNetwork::Step(double dt_s, std::span<const double> feedback_rad_per_s,
   status_ = internal::StepStatusOf(finite, finished);
 }
 
+void PhaseNetwork::Rephase(std::span<const double> theta_rad) {
+  std::vector<double>& x = driver_.x();
+  for (int i = 0; i < n_; ++i) {
+    x[i] = internal::WrapTwoPi(theta_rad[i]);
+    unwrapped_rad_[i] = x[i];
+  }
+  driver_.Restart();
+}
+
 std::span<const double> PhaseNetwork::phase_rad() const {
   return std::span<const double>(driver_.x().data(), n_);
 }

@@ -3,6 +3,7 @@
 #include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
 #include "sim/reflex_effect.h"
+#include "sim/transition_effect.h"
 
 namespace climbsim::sim {
 
@@ -10,8 +11,13 @@ namespace climbsim::sim {
 
 CpgReflexController::CpgReflexController(World& world, RunContext& ctx,
                                          std::unique_ptr<CpgEffect> cpg,
-                                         std::unique_ptr<ReflexEffect> reflex)
-    : world_(world), ctx_(ctx), cpg_(std::move(cpg)), reflex_(std::move(reflex)) {}
+                                         std::unique_ptr<ReflexEffect> reflex,
+                                         std::unique_ptr<TransitionEffect> transition)
+    : world_(world),
+      ctx_(ctx),
+      cpg_(std::move(cpg)),
+      reflex_(std::move(reflex)),
+      transition_(std::move(transition)) {}
 
 CpgReflexController::~CpgReflexController() = default;
 
@@ -31,13 +37,28 @@ void CpgReflexController::InitialPose(StartPose* pose) {
 void CpgReflexController::Reset() {
   if (reflex_) reflex_->Reset(world_, ctx_);
   cpg_->Reset(world_, ctx_);
+  if (transition_) transition_->Reset(world_, ctx_);
 }
 
 void CpgReflexController::Update(const Observation&, Command* cmd) {
-  // The effects' own hooks, in their pipeline order; the CPG writes ctrl (targets plus reflex
-  // offsets), which becomes this controller's command.
-  if (reflex_) reflex_->BeforeStep(world_, ctx_);
-  cpg_->BeforeStep(world_, ctx_);
+  if (transition_ && transition_->active()) {
+    transition_->Update(world_, ctx_);
+    if (transition_->resume_pending()) {
+      // The feet are where the gait has them: it goes on from there, the reflexes afresh.
+      cpg_->Resume(transition_->resume_theta(), world_);
+      if (reflex_) reflex_->Reset(world_, ctx_);
+      transition_->ClearResume();
+    }
+  } else {
+    // The effects' own hooks, in their pipeline order; the CPG writes ctrl (targets plus reflex
+    // offsets), which becomes this controller's command.
+    if (reflex_) reflex_->BeforeStep(world_, ctx_);
+    cpg_->BeforeStep(world_, ctx_);
+    if (transition_ && transition_->Watch(world_, ctx_)) {
+      if (reflex_) reflex_->Suspend(world_, ctx_);
+      cpg_->Suspend();
+    }
+  }
   const double* ctrl = world_.data()->ctrl;
   const RobotInfo& r = world_.robot();
   for (size_t i = 0; i < r.legs.size(); ++i) {
@@ -48,6 +69,7 @@ void CpgReflexController::Update(const Observation&, Command* cmd) {
 void CpgReflexController::Summarise(nlohmann::json* summary) const {
   if (reflex_) reflex_->Summarise(world_, summary);
   cpg_->Summarise(world_, summary);
+  if (transition_) transition_->Summarise(world_, summary);
 }
 
 // --- ControllerEffect ---

@@ -38,6 +38,7 @@ namespace climbsim::sim {
 class AdhesionEffect;
 class CpgEffect;
 class ReflexEffect;
+class TransitionEffect;
 
 // One leg's pad as the adhesion effect sees it (all false / 0 without an adhesion block).
 struct PadSense {
@@ -104,10 +105,14 @@ class Controller {
 // block (ReflexEffect) acting on it, composed as before the interface existed: reflexes
 // first, then the CPG, at the CPG's period. Its command is the servo targets the CPG wrote
 // (reflex offsets included); reflex pad releases go straight through the adhesion effect.
+// With a transition block (TransitionEffect) it watches the front pads after the CPG; once a
+// corner is sensed the manoeuvre drives every leg (and the ankle tilts) instead, and the CPG
+// and the reflexes are suspended for the rest of the run.
 class CpgReflexController final : public Controller {
  public:
   CpgReflexController(World& world, RunContext& ctx, std::unique_ptr<CpgEffect> cpg,
-                      std::unique_ptr<ReflexEffect> reflex);
+                      std::unique_ptr<ReflexEffect> reflex,
+                      std::unique_ptr<TransitionEffect> transition = nullptr);
   ~CpgReflexController() override;
   const char* name() const override { return reflex_ ? "cpg+reflex" : "cpg"; }
   double control_period_s() const override;
@@ -116,12 +121,14 @@ class CpgReflexController final : public Controller {
   void Update(const Observation& obs, Command* cmd) override;
   void Summarise(nlohmann::json* summary) const override;
   const CpgEffect& cpg() const { return *cpg_; }
+  const TransitionEffect* transition() const { return transition_.get(); }
 
  private:
   World& world_;
   RunContext& ctx_;
   std::unique_ptr<CpgEffect> cpg_;
   std::unique_ptr<ReflexEffect> reflex_;
+  std::unique_ptr<TransitionEffect> transition_;
 };
 
 // The effect that runs a chain of controllers (the built-in one first when the scenario has

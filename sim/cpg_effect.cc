@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 namespace climbsim::sim {
@@ -126,6 +127,7 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     const double dx = hip_x[i] - mean_x;
     squeeze_sign_[i] = std::abs(dx) < 1e-6 ? 0.0 : (dx > 0 ? 1.0 : -1.0);
   }
+  blend_.assign(n, {0, 0, 0});
 }
 
 std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
@@ -190,6 +192,7 @@ void CpgEffect::InitialPose(World& world, RunContext& ctx) {
 }
 
 void CpgEffect::Reset(World& world, RunContext& ctx) {
+  blend_left_ = 0;
   hold_since_s_ = -1.0;
   hold_ = Hold{};
   WriteTargets(world, ctx);
@@ -282,13 +285,65 @@ std::array<double, 3> CpgEffect::Targets(size_t i, LegSignals* s) const {
   return q;
 }
 
+bool CpgEffect::FootAt(int i, double theta_rad, double* dx, double* dz) const {
+  const double amp = network_->amplitude()[i];
+  const cpg::LegCommand c = cpg::ShapeLeg(shape_, theta_rad, amp);
+  *dx = params_.stride_m ? amp * c.stride * 0.5 * *params_.stride_m : 0.0;
+  *dz = params_.crouch_m + c.lift * params_.lift_m - params_.press_m;
+  return c.stance;
+}
+
+void CpgEffect::ResumePhases(std::span<double> theta) const {
+  const int n = static_cast<int>(offsets_cycles_.size());
+  // Leg `next` two ticks before the end of its stance; of the legs, the one that leaves the
+  // others lowest (the gaits here: every other foot down).
+  const double shape_duty = shape_.duty_factor;
+  const double end = 2 * M_PI - 2 * 2 * M_PI * params_.frequency_hz * period_s_ *
+                                    (shape_duty / *params_.duty_factor);
+  double best_lift = 1e9;
+  int best = 0;
+  for (int next = 0; next < n; ++next) {
+    double worst = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double th = end - 2 * M_PI * (offsets_cycles_[i] - offsets_cycles_[next]);
+      const cpg::LegCommand c =
+          cpg::ShapeLeg(shape_, std::fmod(th + 8 * M_PI, 2 * M_PI), network_->amplitude()[i]);
+      worst = std::max(worst, c.lift);
+    }
+    if (worst < best_lift) best_lift = worst, best = next;
+  }
+  for (int i = 0; i < n; ++i) {
+    theta[i] = std::fmod(end - 2 * M_PI * (offsets_cycles_[i] - offsets_cycles_[best]) + 8 * M_PI,
+                         2 * M_PI);
+  }
+}
+
+void CpgEffect::Resume(std::span<const double> theta, const World& world) {
+  network_->Rephase(theta);
+  hold_since_s_ = -1.0;
+  hold_ = Hold{};
+  const double* ctrl = world.data()->ctrl;
+  const auto& legs = world.robot().legs;
+  for (size_t i = 0; i < legs.size(); ++i) {
+    LegSignals s;
+    const std::array<double, 3> q = Targets(i, &s);
+    for (int k = 0; k < 3; ++k) blend_[i][k] = ctrl[legs[i].actuator[k]] - q[k];
+  }
+  blend_ticks_ = blend_left_ = std::max(1, static_cast<int>(std::lround(kResumeBlendS / period_s_)));
+}
+
 void CpgEffect::WriteTargets(World& world, RunContext& ctx) {
   const auto& legs = world.robot().legs;
   double* ctrl = world.data()->ctrl;
+  // After a Resume: from where the other controller left the servos into the gait.
+  const double w = blend_left_ > 0 ? static_cast<double>(blend_left_) / blend_ticks_ : 0.0;
+  if (blend_left_ > 0) --blend_left_;
   for (size_t i = 0; i < legs.size(); ++i) {
     LegSignals& s = (*ctx.legs)[i];
     const std::array<double, 3> q = Targets(i, &s);
-    for (int k = 0; k < 3; ++k) ctrl[legs[i].actuator[k]] = q[k] + s.offset_rad[k];
+    for (int k = 0; k < 3; ++k) {
+      ctrl[legs[i].actuator[k]] = q[k] + s.offset_rad[k] + (w > 0.0 ? w * blend_[i][k] : 0.0);
+    }
   }
 }
 

@@ -22,6 +22,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,22 @@ class CpgEffect final : public Effect {
   // Legs that must be attached before leg i may swing (wait_for_support).
   const std::vector<std::vector<int>>& support() const { return support_; }
   double control_period_s() const { return period_s_; }
+  // Another controller takes the legs (a surface transition): a hold under way is not a stall.
+  void Suspend() { hold_since_s_ = -1.0; }
+  // Foot space (stride_m given): the gait's feet can be asked for and the gait resumed.
+  bool foot_space() const { return ik_.has_value(); }
+  // Leg i's foot at oscillator phase `theta_rad`, foot space: *dx along the body axis and *dz
+  // along its normal (+ away from the surface) from the neutral foot, press and crouch
+  // included. Returns whether the leg is in stance there.
+  bool FootAt(int i, double theta_rad, double* dx, double* dz) const;
+  // The phases of a moment of the gait with every foot down (the leg that swings next at
+  // the end of its stance), into `theta_rad` (one per leg). No allocation.
+  void ResumePhases(std::span<double> theta_rad) const;
+  // The oscillators jump to `theta_rad` and the gait goes on from there (after another
+  // controller had the legs and put the feet where FootAt says). Its targets start from the
+  // servos' current ones (ctrl) and blend into the gait's over kResumeBlendS.
+  void Resume(std::span<const double> theta_rad, const World& world);
+  static constexpr double kResumeBlendS = 0.5;
 
  private:
   std::unique_ptr<cpg::OscillatorNetwork> MakeNetwork() const;
@@ -70,6 +87,8 @@ class CpgEffect final : public Effect {
   int period_steps_ = 1;
   double period_s_ = 0.0;
   std::vector<double> feedback_;  // rad/s per oscillator, sized once
+  std::vector<std::array<double, 3>> blend_;  // per leg: ctrl − target at Resume, sized once
+  int blend_ticks_ = 0, blend_left_ = 0;
   std::vector<uint8_t> held_;     // oscillators held this tick
   std::vector<double> squeeze_sign_;
   bool placing_ = false;  // InitialPose: targets without the squeeze  // +1 legs ahead of the

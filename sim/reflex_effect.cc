@@ -182,6 +182,19 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
   ctx.hold_all_stance = false;
 }
 
+void ReflexEffect::Suspend(World& world, RunContext& ctx) {
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    for (int k = 0; k < 3; ++k) SetKp(world.model(), actuator_[i][k], kp_[i][k]);
+    if (adhesion_ != nullptr) adhesion_->SetPeelingLeg(static_cast<int>(i), false);
+  }
+  for (LegSignals& s : *ctx.legs) {
+    s.offset_rad = {0, 0, 0};
+    s.kp_fraction = {1, 1, 1};
+    s.hold_stance = s.hold_phase = false;
+  }
+  ctx.hold_all_stance = false;
+}
+
 void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
   const mjData* d = world.data();

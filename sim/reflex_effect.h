@@ -41,6 +41,9 @@ class ReflexEffect final : public Effect {
   // Leg i's reflexes (their parameters: peel.against_grip sets each leg's own peel sign).
   const reflex::LegReflex& leg(int i) const { return legs_[i]; }
   int leg_count() const { return static_cast<int>(legs_.size()); }
+  // Another controller takes the legs (a surface transition): every servo back to its own kp,
+  // no offsets, holds or peels left behind.
+  void Suspend(World& world, RunContext& ctx);
 
  private:
   ReflexParams params_;

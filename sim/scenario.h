@@ -223,6 +223,7 @@ struct Scenario {
   std::optional<AdhesionParams> adhesion;
   std::optional<ReflexParams> reflex;
   std::optional<CpgParams> cpg;
+  std::optional<TransitionParams> transition;
   std::vector<PushParams> perturbations;
   OutputParams outputs;
   FallParams fall;
@@ -263,6 +264,10 @@ struct Scenario {
               "effect: the central pattern generator driving the leg servos; absent: servos hold "
               "the neutral pose"},
              &cpg);
+    a->Visit({"transition", "",
+              "effect: surface transitions at sharp corners, a planned free gait started by what "
+              "the front pads touch; needs cpg, adhesion and a robot with actuated ankles"},
+             &transition);
     a->Visit({"perturbations", "", "effect: pushes on the robot (a list); empty: none"},
              &perturbations);
     a->Visit({"outputs", "", "what is recorded"}, &outputs);

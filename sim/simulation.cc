@@ -15,6 +15,7 @@
 #include "sim/reflex_effect.h"
 #include "sim/surface.h"
 #include "sim/trajectory.h"
+#include "sim/transition_effect.h"
 
 namespace climbsim::sim {
 namespace {
@@ -150,6 +151,10 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
   if (scenario_.reflex && !scenario_.cpg) {
     throw ScenarioError(scenario_, "reflex", "needs the cpg block: reflexes act on its gait");
   }
+  if (scenario_.transition && !scenario_.cpg) {
+    throw ScenarioError(scenario_, "transition",
+                        "needs the cpg block: the robot walks to the corner with its gait");
+  }
   // The controllers: the built-in CPG + reflexes when the scenario has a cpg block, then the
   // user's; one effect runs the chain at the control period (sim/controller.h).
   std::vector<std::shared_ptr<Controller>> chain;
@@ -164,8 +169,14 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
                                               adhesion, leg_event_pad);
     }
     period_s = cpg->control_period_s();
-    chain.push_back(std::make_shared<CpgReflexController>(world_, ctx_, std::move(cpg),
-                                                          std::move(reflex)));
+    std::unique_ptr<TransitionEffect> transition;
+    if (scenario_.transition) {
+      transition = std::make_unique<TransitionEffect>(scenario_, *scenario_.transition, world_,
+                                                      adhesion, cpg.get(), period_s,
+                                                      leg_event_pad);
+    }
+    chain.push_back(std::make_shared<CpgReflexController>(
+        world_, ctx_, std::move(cpg), std::move(reflex), std::move(transition)));
   }
   if (controller) chain.push_back(std::move(controller));
   if (!chain.empty()) {

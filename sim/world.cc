@@ -295,6 +295,11 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
     l.pad_geom = need(mjOBJ_GEOM, leg + "_pad");
     l.ankle_site = need(mjOBJ_SITE, leg + "_ankle");
     l.pad_face_site = need(mjOBJ_SITE, leg + "_pad_face");
+    l.tilt_joint = Id(m, mjOBJ_JOINT, leg + "_ankle_tilt");
+    if (l.tilt_joint >= 0) {
+      l.tilt_qpos_adr = m->jnt_qposadr[l.tilt_joint];
+      l.tilt_actuator = need(mjOBJ_ACTUATOR, leg + "_ankle_tilt");
+    }
     r.legs.push_back(std::move(l));
   }
 

@@ -40,6 +40,11 @@ struct LegInfo {
   int pad_geom = -1;
   int ankle_site = -1;                 // "LF_ankle"
   int pad_face_site = -1;              // "LF_pad_face"
+  // Optional (the robots with actuated ankles, mjcf/README.md): the ankle tilt servo "LF_ankle_tilt"
+  // that turns the pad about its y axis; −1 when the robot has none.
+  int tilt_joint = -1;
+  int tilt_qpos_adr = -1;
+  int tilt_actuator = -1;
 };
 
 struct RobotInfo {

@@ -20,6 +20,9 @@ struct RobotSpec {
   double pad_mass_min_kg, pad_mass_max_kg;
   double stall_torque_nm;      // servo stall torque = forcerange
   double no_load_speed_rad_s;  // servo no-load speed (60 deg per t_60)
+  // The ankle option's tilt servo (0: the robot has none).
+  double tilt_stall_torque_nm = 0;
+  double tilt_no_load_speed_rad_s = 0;
 };
 // Names the case in test listings (gtest would print the struct's bytes).
 void PrintTo(const RobotSpec& spec, std::ostream* os) { *os << spec.robot; }
@@ -38,6 +41,19 @@ RobotSpec Variant(RobotSpec spec, const std::string& name) {
 }
 const RobotSpec kGeckoActive = Variant(kGecko, "gecko_active");
 const RobotSpec kSpiderActive = Variant(kSpider, "spider_active");
+// The options (README, "Actuated ankles"): gecko + 4 x 1.7 g ultra-micro servos (109.3 g),
+// spider + 6 x 4.5 g sub-micro servos (381.2 g).
+RobotSpec WithTilt(RobotSpec spec, const std::string& robot, double mass_min_kg, double mass_max_kg,
+                   double stall_nm, double t60_s) {
+  spec.robot = robot;
+  spec.mass_min_kg = mass_min_kg;
+  spec.mass_max_kg = mass_max_kg;
+  spec.tilt_stall_torque_nm = stall_nm;
+  spec.tilt_no_load_speed_rad_s = (M_PI / 3) / t60_s;
+  return spec;
+}
+const RobotSpec kGeckoAnkle = WithTilt(kGecko, "gecko_ankle", 0.108, 0.111, 0.0078, 0.06);
+const RobotSpec kSpiderAnkle = WithTilt(kSpider, "spider_ankle", 0.378, 0.385, 0.078, 0.10);
 
 class MjcfContract : public testing::TestWithParam<RobotSpec> {
  protected:
@@ -145,7 +161,49 @@ TEST_P(MjcfContract, ActuatedJointsAreLimitedPositionServos) {
       EXPECT_GE(m_->jnt_range[2 * j + 1], 0.5) << name;
     }
   }
-  EXPECT_EQ(m_->nu, actuated) << "no other actuators in a robot file";
+  const int tilts = GetParam().tilt_stall_torque_nm > 0 ? static_cast<int>(spec.legs.size()) : 0;
+  EXPECT_EQ(m_->nu, actuated + tilts) << "no other actuators in a robot file";
+}
+
+// The ankle option: a hinge L_ankle_tilt about the pad's y axis, first in the pad body (so
+// it turns the pad and the passive ankle after it), with +-1.7 rad of travel and a position
+// servo of the documented stall torque and speed. The plain robots have no tilt joint.
+TEST_P(MjcfContract, AnkleTiltServosOnlyInTheOption) {
+  const RobotSpec& spec = GetParam();
+  for (const auto& leg : spec.legs) {
+    const std::string name = leg + "_ankle_tilt";
+    const int j = Id(mjOBJ_JOINT, name);
+    if (spec.tilt_stall_torque_nm == 0) {
+      EXPECT_LT(j, 0) << name;
+      continue;
+    }
+    ASSERT_GE(j, 0) << name;
+    EXPECT_EQ(m_->jnt_type[j], mjJNT_HINGE) << name;
+    const int pad_body = Id(mjOBJ_BODY, leg + "_pad");
+    EXPECT_EQ(m_->jnt_bodyid[j], pad_body) << name;
+    EXPECT_EQ(m_->body_jntadr[pad_body], j) << name << ": first joint of the pad body";
+    EXPECT_EQ(m_->jnt_axis[3 * j + 1], 1.0) << name;
+    EXPECT_TRUE(m_->jnt_limited[j]) << name;
+    EXPECT_EQ(m_->jnt_range[2 * j], -1.7) << name;
+    EXPECT_EQ(m_->jnt_range[2 * j + 1], 1.7) << name;
+    const int a = Id(mjOBJ_ACTUATOR, name);
+    ASSERT_GE(a, 0) << name;
+    EXPECT_EQ(m_->actuator_trnid[2 * a], j) << name;
+    const double kp = m_->actuator_gainprm[mjNGAIN * a];
+    EXPECT_GT(kp, 0) << name;
+    EXPECT_EQ(m_->actuator_biasprm[mjNBIAS * a + 1], -kp) << name;
+    EXPECT_EQ(m_->actuator_ctrlrange[2 * a], m_->jnt_range[2 * j]) << name;
+    EXPECT_EQ(m_->actuator_ctrlrange[2 * a + 1], m_->jnt_range[2 * j + 1]) << name;
+    EXPECT_TRUE(m_->actuator_forcelimited[a]) << name;
+    EXPECT_EQ(m_->actuator_forcerange[2 * a + 1], spec.tilt_stall_torque_nm) << name;
+    const int dof = m_->jnt_dofadr[j];
+    EXPECT_NEAR(m_->dof_damping[dof] * spec.tilt_no_load_speed_rad_s, spec.tilt_stall_torque_nm,
+                0.02 * spec.tilt_stall_torque_nm)
+        << name;
+    EXPECT_GT(m_->dof_armature[dof], 0) << name;
+    // The servo's case is a named geom of the documented servo mass class.
+    EXPECT_GE(Id(mjOBJ_GEOM, leg + "_tilt_servo"), 0) << name;
+  }
 }
 
 // Passive ankle: three hinges (pitch, roll, yaw: a compliant ball joint, as the seed's
@@ -333,7 +391,8 @@ TEST_P(MjcfContract, NeighbouringPadsStayApartAtGaitYawAngles) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, MjcfContract,
-                         testing::Values(kGecko, kSpider, kGeckoActive, kSpiderActive),
+                         testing::Values(kGecko, kSpider, kGeckoActive, kSpiderActive,
+                                         kGeckoAnkle, kSpiderAnkle),
                          [](const testing::TestParamInfo<RobotSpec>& info) {
                            return info.param.robot;
                          });

@@ -24,7 +24,8 @@ std::vector<std::string> AllMjcfFiles() {
   return files;
 }
 
-// The file set is what the README lists: 2 robots, 8 scenes, one viewer file per pair.
+// The file set is what the README lists: 2 robots, their 2 options, 8 scenes, one viewer file
+// per robot and scene.
 TEST(MjcfFiles, TheDocumentedFilesExist) {
   std::set<std::string> files;
   for (const auto& f : AllMjcfFiles()) files.insert(f);
@@ -35,8 +36,9 @@ TEST(MjcfFiles, TheDocumentedFilesExist) {
     }
   }
   for (const auto& variant : VariantNames()) EXPECT_TRUE(files.count(variant + ".xml")) << variant;
+  for (const auto& robot : OptionRobotNames()) EXPECT_TRUE(files.count(robot + ".xml")) << robot;
   for (const auto& scene : SceneNames()) EXPECT_TRUE(files.count("scenes/" + scene + ".xml"));
-  EXPECT_EQ(files.size(), 2u + 2u + 8u + 16u) << "a file was added or removed: update the README";
+  EXPECT_EQ(files.size(), 2u + 2u + 2u + 8u + 16u) << "a file was added or removed: update the README";
 }
 
 std::vector<std::string> Lines(const std::filesystem::path& file) {
@@ -132,8 +134,11 @@ TEST_P(MjcfComposition, LoadsAndStepsWithSimulatorSections) {
   ASSERT_NE(m, nullptr) << error;
   EXPECT_EQ(error, "");
 
-  // Robot actuators (3 per leg) first, then the simulator's adhesion actuators.
-  EXPECT_EQ(m->nu, static_cast<int>(4 * legs.size()));
+  // Robot actuators (3 per leg, 4 with the ankle option) first, then the simulator's
+  // adhesion actuators.
+  EXPECT_EQ(m->nu, alone->nu + static_cast<int>(legs.size()));
+  EXPECT_EQ(alone->nu,
+            static_cast<int>((robot.find("_ankle") != std::string::npos ? 4 : 3) * legs.size()));
   EXPECT_EQ(m->neq, static_cast<int>(legs.size()));
   EXPECT_EQ(m->nsensor, static_cast<int>(2 * legs.size()));
   EXPECT_EQ(m->opt.timestep, 0.001) << "timestep comes from the scene only";
@@ -149,6 +154,12 @@ TEST_P(MjcfComposition, LoadsAndStepsWithSimulatorSections) {
 
 INSTANTIATE_TEST_SUITE_P(AllPairs, MjcfComposition,
                          testing::Combine(testing::ValuesIn(RobotNames()),
+                                          testing::ValuesIn(SceneNames())),
+                         [](const testing::TestParamInfo<RobotScene>& info) {
+                           return std::get<0>(info.param) + "_" + std::get<1>(info.param);
+                         });
+INSTANTIATE_TEST_SUITE_P(OptionPairs, MjcfComposition,
+                         testing::Combine(testing::ValuesIn(OptionRobotNames()),
                                           testing::ValuesIn(SceneNames())),
                          [](const testing::TestParamInfo<RobotScene>& info) {
                            return std::get<0>(info.param) + "_" + std::get<1>(info.param);
@@ -260,12 +271,12 @@ TEST(MjcfCorners, CornerAtThirtyCentimetresUpTheWall) {
   ASSERT_NE(w2t, nullptr) << error;
   const auto wall = box(w2t.get(), "wall");
   const auto top = box(w2t.get(), "top");
-  EXPECT_NEAR(wall[3], 0.30, 1e-12);  // the wall ends at the edge...
-  EXPECT_NEAR(top[3], 0.30, 1e-12);   // ...where the top's face is
+  EXPECT_NEAR(wall[3], 0.30, 1e-12);    // the wall ends at the edge...
+  EXPECT_NEAR(top[3], 0.30, 1e-12);     // ...where the top's face is
   EXPECT_NEAR(top[5], wall[2], 1e-12);  // right under the wall's slab...
-  EXPECT_GE(top[5], -0.005);             // ...at most 5 mm from the edge...
-  EXPECT_LE(top[2], -1.0);            // ...1 m back
-  EXPECT_LE(wall[0], -2.0);           // a wall long enough to climb
+  EXPECT_GE(top[5], -0.005);            // ...at most 5 mm from the edge...
+  EXPECT_LE(top[2], -1.0);              // ...1 m back
+  EXPECT_LE(wall[0], -2.0);             // a wall long enough to climb
   for (const mjModel* m : {w2c.get(), w2t.get()}) {
     const auto spawn = CustomNumeric(m, "climbsim_spawn");
     ASSERT_EQ(spawn.size(), 3u);

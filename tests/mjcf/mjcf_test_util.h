@@ -29,15 +29,23 @@ inline const std::vector<std::string>& VariantNames() {
   static const std::vector<std::string> kVariants = {"gecko_active", "spider_active"};
   return kVariants;
 }
-// Every robot file: the robots and their variants.
+// Every robot file: the robots, their variants and their options.
 inline const std::vector<std::string>& AllRobotNames() {
-  static const std::vector<std::string> kAll = {"gecko", "spider", "gecko_active", "spider_active"};
+  static const std::vector<std::string> kAll = {"gecko",        "spider",      "gecko_active",
+                                                "spider_active", "gecko_ankle", "spider_ankle"};
   return kAll;
 }
+// Options of the robots (mjcf/README.md, "Actuated ankles"): a robot file plus one servo per
+// leg. They compose with every scene but have no viewer files.
+inline const std::vector<std::string>& OptionRobotNames() {
+  static const std::vector<std::string> kOptions = {"gecko_ankle", "spider_ankle"};
+  return kOptions;
+}
 inline const std::vector<std::string>& SceneNames() {
-  static const std::vector<std::string> kScenes = {
-      "floor",         "wall",          "ceiling",         "incline",
-      "floor_to_wall", "floor_to_wall_fillet", "wall_to_ceiling", "wall_to_top"};
+  static const std::vector<std::string> kScenes = {"floor",           "wall",
+                                                   "ceiling",         "incline",
+                                                   "floor_to_wall",   "floor_to_wall_fillet",
+                                                   "wall_to_ceiling", "wall_to_top"};
   return kScenes;
 }
 inline std::filesystem::path RobotFile(const std::string& robot) {

@@ -76,7 +76,7 @@ TEST(Scenario, UnknownKeyNamesItsPlaceAndTheKnownKeys) {
       ErrorOf("unknown.yaml", "robot: gecko\nscene: floor\nduration_s: 1\ndurration: 2\n"),
       "unknown.yaml:4:1: durration: unknown key (known here: adhesion, cpg, duration_s, fall, "
       "initial, optimise, outputs, payload_kg, perturbations, physics, reflex, robot, scene, "
-      "seed)");
+      "seed, transition)");
 }
 
 TEST(Scenario, UnknownNestedKey) {

@@ -1,0 +1,358 @@
+#include "sim/corner_plan.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace climbsim::sim {
+namespace {
+
+constexpr double kHalfPi = M_PI / 2;
+// The pose the run starts in blends into the path over this much of σ.
+constexpr double kBlend = 0.04;
+// Outer corner: how far the body's ladder bulges out from the edge mid-turn (m), so that the
+// body plate clears it.
+constexpr double kBulge = 0.015;
+// A pad is kept this far from the corner line beyond its half width (m).
+constexpr double kCornerClearance = 0.004;
+// A foot lands only where its joints have this much more than margin_rad left, with its pad
+// facing the surface within kLandingTurn (the rest is the passive ankle's to take, and a pad
+// that lands on an edge does not attach), and a step lets the body go on at least kShortestReach
+// (σ units).
+constexpr double kLandingMargin = 0.04;
+constexpr double kLandingTurn = 0.25;
+constexpr double kFlatLanding = 0.08;
+constexpr double kShortestReach = 0.01;
+// A stuck pad's leg may turn it this far from its face (the passive ankle's stops, 0.5 rad).
+constexpr double kStanceTurn = 0.45;
+// Lateral offsets tried for a foothold (m, along the corner).
+constexpr double kSideOffsets[] = {0.0,   0.005, -0.005, 0.01,   -0.01, 0.015, -0.015,
+                                   0.02,  -0.02, 0.025,  -0.025, 0.03,  -0.03};
+// Look-ahead along the path for a foothold, and how far its reach is followed (σ units).
+constexpr double kLookAheadStep = 0.02;
+constexpr double kLookAheadMax = 0.6;
+constexpr double kReachStep = 0.02;
+constexpr double kReachMax = 1.2;
+
+double SmoothStep(double u) {
+  u = std::clamp(u, 0.0, 1.0);
+  return u * u * u * (10 + u * (-15 + 6 * u));
+}
+
+Eigen::Matrix3d Exp(const Eigen::Vector3d& w) {
+  const double a = w.norm();
+  if (a < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+}
+
+Eigen::Vector3d RotationLog(const Eigen::Matrix3d& r) {
+  const Eigen::AngleAxisd aa(r);
+  return aa.angle() * aa.axis();
+}
+
+}  // namespace
+
+CornerPlan::CornerPlan(const mjModel* m, const RobotInfo& robot, const TransitionParams& params)
+    : params_(params) {
+  for (size_t i = 0; i < robot.legs.size(); ++i) {
+    chains_.emplace_back(m, robot, static_cast<int>(i));
+    const LegChain& c = chains_.back();
+    hip_front_x_ = std::max(hip_front_x_, c.hip().x());
+    hip_hind_x_ = std::min(hip_hind_x_, c.hip().x());
+    const int g = robot.legs[i].pad_geom;
+    pad_half_m_ = std::max({pad_half_m_, m->geom_size[3 * g], m->geom_size[3 * g + 1]});
+    height_m_ = std::max(height_m_, -c.neutral_ankle().z() + c.post_m());
+    // Forward reach: hip yaw at its upper limit less the margin, the other joints neutral.
+    const Eigen::Vector3d reach = c.Ankle({c.hi()[0] - params_.margin_rad, 0, 0}, 0.0);
+    reach_x_m_ = std::max(reach_x_m_, reach.x() - c.neutral_ankle().x());
+  }
+  // How far ahead of the front hips the front feet stand (splayed legs).
+  for (const LegChain& c : chains_) {
+    if (c.hip().x() > hip_front_x_ - 1e-9) {
+      front_ankle_x_ = std::max(front_ankle_x_, c.neutral_ankle().x() - c.hip().x());
+    }
+  }
+}
+
+void CornerPlan::SetCorner(const Eigen::Vector3d& origin, const Eigen::Vector3d& n0,
+                           const Eigen::Vector3d& t0, bool inner) {
+  origin_ = origin;
+  n0_ = n0.normalized();
+  t0_ = (t0 - t0.dot(n0_) * n0_).normalized();
+  y0_ = n0_.cross(t0_);
+  sign_ = inner ? 1.0 : -1.0;
+  n_ = {n0_, inner ? Eigen::Vector3d(-t0_) : t0_};
+  away_ = {Eigen::Vector3d(-t0_), inner ? n0_ : Eigen::Vector3d(-n0_)};
+  const double post = chains_.front().post_m();
+  if (inner) {
+    d0_ = post + front_ankle_x_ + params_.reach_share * reach_x_m_;
+    d1_ = h0_ = height_m_;
+  } else {
+    d0_ = h0_ = height_m_ - params_.crouch_m;
+    d1_ = height_m_;
+  }
+  sigma_start_ = -1e9;
+  blend_p_.setZero();
+  blend_w_.setZero();
+}
+
+double CornerPlan::Start(const BodyPose& now) {
+  const Eigen::Vector3d front = now.p + hip_front_x_ * now.r.col(0);
+  const double s = (front - origin_).dot(t0_);
+  // Came closer to a wall ahead than the turn starts at: the turn starts here.
+  if (sign_ > 0 && s + d0_ > 0) d0_ = std::max(-s, chains_.front().post_m() + front_ankle_x_ + 0.005);
+  const double sigma = std::min(sign_ > 0 ? s + d0_ : s - d0_, 0.0);
+  sigma_start_ = -1e9;
+  const BodyPose path = PathPose(sigma);
+  blend_p_ = now.p - path.p;
+  blend_w_ = RotationLog(path.r.transpose() * now.r);
+  sigma_start_ = sigma;
+  return sigma;
+}
+
+double CornerPlan::Rate(double sigma) const {
+  return sigma > 0.0 && sigma < kHalfPi ? params_.pitch_rate_rad_per_s : params_.body_speed_mps;
+}
+
+double CornerPlan::Settled() const { return kHalfPi; }
+
+double CornerPlan::Standoff(const BodyPose& pose) const {
+  return (pose.p - origin_).dot(n_[1]);
+}
+
+BodyPose CornerPlan::PathPose(double sigma) const {
+  // The front hips' point (s along t0, h along n0 from the corner) and the pitch φ.
+  const double span = hip_front_x_ - hip_hind_x_;
+  double s, h, phi;
+  if (sign_ > 0) {
+    if (sigma <= 0.0) {
+      phi = 0.0, s = -d0_ + sigma, h = h0_;
+    } else if (sigma < kHalfPi) {
+      phi = sigma, s = -d0_, h = h0_ + span * std::sin(phi);
+    } else {
+      phi = kHalfPi, s = -d0_, h = h0_ + span + (sigma - kHalfPi);
+    }
+  } else {
+    // A ladder over the edge: hind hips at h0 over the old surface, front hips d0 off the new
+    // one, both bulging out by kBulge mid-turn so that the body clears the edge; then down
+    // the new surface, crouched until the hind hips are over it, then back to standing height.
+    if (sigma <= 0.0) {
+      phi = 0.0, s = d0_ + sigma, h = h0_;
+    } else if (sigma < kHalfPi) {
+      phi = sigma;
+      const double bulge = kBulge * std::sin(2 * phi);
+      s = d0_ + bulge, h = h0_ + bulge - span * std::sin(phi);
+      // The hind hips stay h0 + bulge over the old surface: h is the front hips' height.
+    } else {
+      phi = kHalfPi, s = d0_, h = h0_ - span - (sigma - kHalfPi);
+    }
+  }
+  BodyPose p;
+  const Eigen::Vector3d x = std::cos(phi) * t0_ + sign_ * std::sin(phi) * n0_;
+  const Eigen::Vector3d z = -sign_ * std::sin(phi) * t0_ + std::cos(phi) * n0_;
+  p.r.col(0) = x;
+  p.r.col(1) = z.cross(x);
+  p.r.col(2) = z;
+  p.p = origin_ + s * t0_ + h * n0_ - hip_front_x_ * x;
+  return p;
+}
+
+BodyPose CornerPlan::Pose(double sigma) const {
+  BodyPose p = PathPose(sigma);
+  const double w = 1.0 - SmoothStep((sigma - sigma_start_) / kBlend);
+  if (w > 0.0) {
+    p.p += w * blend_p_;
+    p.r = p.r * Exp(w * blend_w_);
+  }
+  return p;
+}
+
+double CornerPlan::Margin(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w,
+                          const Eigen::Vector3d& normal_w, LegChain::Q* q, double* tilt,
+                          double max_left_rad, double* left_rad) const {
+  const LegChain& c = chains_[i];
+  const double err = c.Solve(pose.r.transpose() * (ankle_w - pose.p), q);
+  double left = 0.0;
+  *tilt = c.Tilt(*q, pose.r.transpose() * normal_w, &left);
+  if (left_rad != nullptr) *left_rad = left;
+  if (err > 0.002 || left > max_left_rad) return -1.0;
+  return std::min({c.RangeMargin(*q), *tilt - c.tilt_lo(), c.tilt_hi() - *tilt});
+}
+
+Eigen::Vector3d CornerPlan::StanceAnkle(int i, const Eigen::Vector3d& face,
+                                        const Eigen::Vector3d& normal) const {
+  return face + (chains_[i].post_m() - params_.press_m) * normal;
+}
+
+int CornerPlan::SurfaceOf(const Eigen::Vector3d& n) const {
+  const double c = std::cos(M_PI / 4);
+  return n.dot(n_[1]) > c ? 1 : n.dot(n_[0]) > c ? 0 : -1;
+}
+
+Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm,
+                          bool old_only) const {
+  // A pad that lands flat attaches at once; one that lands on an edge may not flatten in time
+  // on its soft ankle. Flat landings first, tilted ones only when there is no other.
+  const Foothold flat = Next(i, sigma, now, warm, old_only, kFlatLanding);
+  return flat.margin >= 0 ? flat : Next(i, sigma, now, warm, old_only, kLandingTurn);
+}
+
+Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm,
+                          bool old_only, double max_turn) const {
+  const LegChain& c = chains_[i];
+  Foothold best;
+  double best_score = -1e9;
+  // Settling (σ < −1e8 by the caller, or old_only): below the leg as the body is now.
+  const bool here = old_only || sigma < -1e8;
+  for (double la = here ? 0.0 : kLookAheadStep; la <= kLookAheadMax + 1e-9;
+       la += kLookAheadStep) {
+    const BodyPose ahead = here ? now : Pose(sigma + la);
+    const Eigen::Vector3d a = ahead.p + ahead.r * c.neutral_ankle();
+    for (int k = 0; k < (old_only ? 1 : 2); ++k) {
+      Eigen::Vector3d below = a - (a - origin_).dot(n_[k]) * n_[k];
+      const double clear = pad_half_m_ + kCornerClearance;
+      const double along = (below - origin_).dot(away_[k]);
+      if (along < clear) below += (clear - along) * away_[k];
+      // The leg's joints roll the pad about its own axis, which the one tilt axis cannot
+      // undo: a foot placed a little wider or narrower lands flatter.
+      Foothold h;
+      double h_left = 1e9;
+      LegChain::Q h_q{};
+      for (double side : kSideOffsets) {
+        const Eigen::Vector3d f = below + side * y0_;
+        LegChain::Q q = warm;
+        double tilt = 0.0, left = 0.0;
+        // Landing: reachable pressed into the surface as far as a placed foot is.
+        const double m =
+            Margin(i, now, StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k], n_[k], &q,
+                   &tilt, max_turn, &left);
+        if (m < params_.margin_rad + kLandingMargin) continue;
+        // And lowered onto it from off it (the approach: lift_m, or less where the leg cannot
+        // reach that far out), in the same branch of the leg's kinematics.
+        double approach = -1.0;
+        for (double share : {1.0, 0.6, 0.35}) {
+          LegChain::Q qa = q;
+          double ta = 0.0;
+          const double a = share * params_.lift_m;
+          if (Margin(i, now, StanceAnkle(i, f, n_[k]) + (a + params_.press_m) * n_[k], n_[k], &qa,
+                     &ta, kLandingTurn) >= 0.0) {
+            approach = a;
+            break;
+          }
+        }
+        if (approach < 0.0) continue;
+        if (left + 0.3 * std::abs(side) < h_left) {
+          h_left = left + 0.3 * std::abs(side);
+          h = {f, n_[k], k, m, 0.0, q, approach};
+          h_q = q;
+        }
+      }
+      if (h.margin < 0) continue;
+      if (here) {
+        if (best.margin < 0 || h_left < best_score) best = h, best_score = h_left;
+        continue;
+      }
+      // How long it keeps the foot: the body goes on until the leg would be out of margin.
+      const Eigen::Vector3d ankle = StanceAnkle(i, h.face, h.normal);
+      double reach = 0.0;
+      LegChain::Q q = h_q;
+      double tilt = 0.0;
+      while (reach < kReachMax &&
+             Margin(i, Pose(sigma + reach + kReachStep), ankle, h.normal, &q, &tilt,
+                    kStanceTurn) >= params_.margin_rad) {
+        reach += kReachStep;
+      }
+      h.reach = reach;
+      // A step must buy the body some way along.
+      if (reach < kShortestReach) continue;
+      const double score = reach - 0.5 * h_left;
+      if (score > best_score) best_score = score, best = h;
+    }
+    if (here) break;
+  }
+  return best;
+}
+
+double CornerPlan::DryRun(const BodyPose& start, double beyond_m, std::string* log,
+                          int* steps) const {
+  CornerPlan plan = *this;
+  double sigma = plan.Start(start);
+  const size_t n = chains_.size();
+  std::vector<Foothold> feet(n);
+  std::vector<uint8_t> idle(n, 0);
+  std::vector<LegChain::Q> q(n, LegChain::Q{});
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d a = start.p + start.r * chains_[i].neutral_ankle();
+    feet[i].face = a - (a - origin_).dot(n_[0]) * n_[0];
+    feet[i].normal = n_[0];
+    feet[i].surface = 0;
+  }
+  int count = 0;
+  char line[256];
+  const double end = kHalfPi + beyond_m;
+  double idle_check = 0.0;
+  for (int guard = 0; guard < 100000 && sigma < end; ++guard) {
+    // An idle leg lands as soon as it has a foothold.
+    if (sigma >= idle_check) {
+      idle_check = sigma + 0.02;
+      for (size_t i = 0; i < n; ++i) {
+        if (!idle[i]) continue;
+        const Foothold h = plan.Next(static_cast<int>(i), sigma, plan.Pose(sigma), q[i], false);
+        if (h.margin < 0) continue;
+        idle[i] = 0;
+        feet[i] = h;
+        ++count;
+        std::snprintf(line, sizeof(line), "sigma %.3f: idle leg %d lands on surface %d at (%.3f %.3f %.3f)\n",
+                      sigma, static_cast<int>(i), h.surface, h.face.x(), h.face.y(), h.face.z());
+        if (log != nullptr) *log += line;
+      }
+    }
+    const double next = sigma + 0.005;
+    const BodyPose pose = plan.Pose(next);
+    double worst = 1e9;
+    int worst_leg = -1;
+    for (size_t i = 0; i < n; ++i) {
+      if (idle[i]) continue;
+      LegChain::Q qq = q[i];
+      double tilt = 0.0;
+      const double m = plan.Margin(static_cast<int>(i), pose,
+                                   plan.StanceAnkle(static_cast<int>(i), feet[i].face,
+                                                    feet[i].normal),
+                                   feet[i].normal, &qq, &tilt, kStanceTurn);
+      if (m < worst) worst = m, worst_leg = static_cast<int>(i);
+      q[i] = qq;
+    }
+    if (worst >= params_.margin_rad) {
+      sigma = next;
+      continue;
+    }
+    const Foothold h = plan.Next(worst_leg, sigma, plan.Pose(sigma), q[worst_leg], false);
+    if (h.margin < 0) {
+      int stance = 0;
+      for (size_t i = 0; i < n; ++i) stance += idle[i] ? 0 : 1;
+      if (stance - 1 >= kMinStance) {
+        idle[worst_leg] = 1;
+        std::snprintf(line, sizeof(line), "sigma %.3f: leg %d idles\n", sigma, worst_leg);
+        if (log != nullptr) *log += line;
+        continue;
+      }
+      std::snprintf(line, sizeof(line), "sigma %.3f: leg %d has no foothold\n", sigma, worst_leg);
+      if (log != nullptr) *log += line;
+      break;
+    }
+    ++count;
+    std::snprintf(line, sizeof(line),
+                  "sigma %.3f: leg %d to surface %d at (%.3f %.3f %.3f), margin %.3f, reach %.2f\n",
+                  sigma, worst_leg, h.surface, h.face.x(), h.face.y(), h.face.z(), h.margin,
+                  h.reach);
+    if (log != nullptr) *log += line;
+    feet[worst_leg] = h;
+  }
+  if (steps != nullptr) *steps = count;
+  return sigma;
+}
+
+}  // namespace climbsim::sim

@@ -1,0 +1,87 @@
+// One leg's kinematics relative to the base, for controllers that place feet anywhere (not
+// only on the grid of LegIk): the ankle centre as a function of the leg's three joints
+// (hip_yaw, hip_pitch, knee) with its Jacobian, a damped Newton inverse kinematics warm-started
+// from the last solution, and the ankle tilt (robots with actuated ankles, mjcf/README.md) that
+// turns the pad's face normal towards a given direction. The chain of bodies from the base to
+// the pad is read from the model once (body offsets, joint axes and anchors as compiled); the
+// step only multiplies small matrices: nothing allocates.
+#ifndef CLIMBSIM_SIM_LEG_CHAIN_H_
+#define CLIMBSIM_SIM_LEG_CHAIN_H_
+
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "sim/world.h"
+
+namespace climbsim::sim {
+
+class LegChain {
+ public:
+  using Q = std::array<double, 3>;  // hip_yaw, hip_pitch, knee
+
+  // Leg `leg` of `robot`. Throws std::invalid_argument when a leg joint is not a hinge on the
+  // chain from the base to the pad body.
+  LegChain(const mjModel* model, const RobotInfo& robot, int leg);
+
+  // The ankle centre (site L_ankle) in the base frame for joint angles q and ankle tilt `tilt`
+  // (0 without a tilt servo); optionally the pad body's orientation in the base frame with
+  // every passive ankle joint at 0, and d(ankle)/dq.
+  Eigen::Vector3d Ankle(const Q& q, double tilt, Eigen::Matrix3d* pad_rot = nullptr,
+                        Eigen::Matrix3d* jacobian = nullptr) const;
+
+  // Joint angles that put the ankle at `target` (base frame), from *q (the warm start; the
+  // result is written back, clamped to the joint ranges). Returns the distance left (m).
+  double Solve(const Eigen::Vector3d& target, Q* q, int iterations = 12) const;
+
+  // The tilt that turns the pad's face normal (its frame's z with the passive joints at 0)
+  // as close as a turn about the tilt axis can to `normal` (base frame, unit) for leg angles
+  // q, and the angle left between them (rad, the passive ankle's to take). Without a tilt
+  // servo: 0 and the angle between the untilted face normal and `normal`.
+  double Tilt(const Q& q, const Eigen::Vector3d& normal, double* left_rad) const;
+
+  // How far q lies inside the joint ranges: min over the three joints of the distance to the
+  // nearer limit (rad; negative outside).
+  double RangeMargin(const Q& q) const;
+
+  const Q& lo() const { return lo_; }
+  const Q& hi() const { return hi_; }
+  bool has_tilt() const { return tilt_index_ >= 0; }
+  double tilt_lo() const { return tilt_lo_; }
+  double tilt_hi() const { return tilt_hi_; }
+  // The ankle in the neutral pose (every joint 0), base frame.
+  const Eigen::Vector3d& neutral_ankle() const { return neutral_ankle_; }
+  // The hip-yaw axis' anchor, base frame.
+  const Eigen::Vector3d& hip() const { return hip_; }
+  // From the ankle centre to the pad's face centroid, along the face normal (m).
+  double post_m() const { return post_m_; }
+
+ private:
+  struct Joint {
+    int role = -1;  // 0..2: hip_yaw, hip_pitch, knee; 3: the tilt; -1: passive (held at 0)
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // body frame
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // body frame
+  };
+  struct Link {
+    Eigen::Vector3d pos;  // in the parent body's frame
+    Eigen::Matrix3d rot;
+    int first_joint = 0, joints = 0;  // into joints_
+  };
+  std::vector<Link> links_;  // base's child first, the pad body last
+  std::vector<Joint> joints_;
+  Eigen::Vector3d site_pos_ = Eigen::Vector3d::Zero();  // ankle site in the pad body
+  Eigen::Vector3d face_normal_ = Eigen::Vector3d::UnitZ();  // pad face normal, pad body frame
+  Eigen::Vector3d tilt_axis_ = Eigen::Vector3d::UnitY();    // pad body frame
+  int tilt_index_ = -1;
+  Q lo_{}, hi_{};
+  double tilt_lo_ = 0.0, tilt_hi_ = 0.0;
+  Eigen::Vector3d neutral_ankle_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hip_ = Eigen::Vector3d::Zero();
+  double post_m_ = 0.0;
+};
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_SIM_LEG_CHAIN_H_

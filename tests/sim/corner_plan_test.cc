@@ -1,0 +1,125 @@
+// The kinematics behind the surface transitions: each leg's chain (sim/leg_chain.h) puts the
+// ankle and turns the pad exactly as MuJoCo does, its inverse kinematics and tilt reach what
+// they aim at, and the corner plan (sim/corner_plan.h) takes the robots with actuated ankles
+// round each corner in a dry run (no dynamics): every foot reachable with margin, three pads
+// down at every step.
+#include "sim/corner_plan.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "sim/sim.h"
+
+namespace climbsim::sim {
+namespace {
+
+std::unique_ptr<CompiledModel> Compile(const std::string& robot, const std::string& scene) {
+  const std::string yaml = "robot: " + robot + "\nscene: " + scene + "\nduration_s: 1\n";
+  const Scenario s = ParseScenario(YAML::Load(yaml), std::string(CLIMBSIM_SOURCE_DIR) + "/x.yaml");
+  return CompileScenario(s);
+}
+
+class LegChainTest : public testing::TestWithParam<std::string> {};
+
+// Random joint angles and tilts: the chain's ankle and pad orientation are MuJoCo's, its
+// Jacobian the finite difference, its IK reaches the ankle it came from and its tilt turns
+// the pad's face normal onto a normal the tilt axis can reach.
+TEST_P(LegChainTest, MatchesMujocoKinematics) {
+  const auto compiled = Compile(GetParam(), "floor");
+  const mjModel* m = compiled->model();
+  const RobotInfo& robot = compiled->robot();
+  mjData* d = mj_makeData(m);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (size_t leg = 0; leg < robot.legs.size(); ++leg) {
+    const LegChain c(m, robot, static_cast<int>(leg));
+    const LegInfo& info = robot.legs[leg];
+    EXPECT_EQ(c.has_tilt(), info.tilt_joint >= 0);
+    for (int trial = 0; trial < 20; ++trial) {
+      LegChain::Q q;
+      for (int k = 0; k < 3; ++k) q[k] = c.lo()[k] + (c.hi()[k] - c.lo()[k]) * u(rng);
+      const double tilt = c.has_tilt() ? c.tilt_lo() + (c.tilt_hi() - c.tilt_lo()) * u(rng) : 0;
+      mju_copy(d->qpos, m->qpos0, m->nq);
+      for (int k = 0; k < 3; ++k) d->qpos[info.qpos_adr[k]] = q[k];
+      if (c.has_tilt()) d->qpos[info.tilt_qpos_adr] = tilt;
+      mj_kinematics(m, d);
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rb(
+          d->xmat + 9 * robot.base_body);
+      const Eigen::Map<const Eigen::Vector3d> pb(d->xpos + 3 * robot.base_body);
+      const Eigen::Map<const Eigen::Vector3d> site(d->site_xpos + 3 * info.ankle_site);
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rp(
+          d->xmat + 9 * info.pad_body);
+      Eigen::Matrix3d pad_rot, jac;
+      const Eigen::Vector3d ankle = c.Ankle(q, tilt, &pad_rot, &jac);
+      EXPECT_LT((ankle - rb.transpose() * (site - pb)).norm(), 1e-12);
+      EXPECT_LT((pad_rot - rb.transpose() * rp).norm(), 1e-12);
+      for (int k = 0; k < 3; ++k) {
+        LegChain::Q qp = q;
+        qp[k] += 1e-7;
+        EXPECT_LT(((c.Ankle(qp, tilt) - ankle) / 1e-7 - jac.col(k)).norm(), 1e-5);
+      }
+      LegChain::Q guess = q;  // warm-started, as a controller uses it
+      for (int k = 0; k < 3; ++k) {
+        guess[k] = std::clamp(guess[k] + 0.2 * (u(rng) - 0.5), c.lo()[k], c.hi()[k]);
+      }
+      EXPECT_LT(c.Solve(ankle, &guess, 50), 1e-6) << "leg " << leg << " trial " << trial;
+      if (c.has_tilt()) {
+        const Eigen::Vector3d n = pad_rot.col(2);  // a normal this tilt reaches exactly
+        double left = 1;
+        EXPECT_NEAR(c.Tilt(q, n, &left), tilt, 1e-9);
+        EXPECT_LT(left, 1e-6);
+      }
+    }
+  }
+  mj_deleteData(d);
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, LegChainTest,
+                         testing::Values("gecko", "spider", "gecko_ankle", "spider_ankle"));
+
+BodyPose StandingPose(double x, double height) {
+  BodyPose p;
+  p.p = Eigen::Vector3d(x, 0, height);
+  return p;
+}
+
+// A dry run round each corner: the body gets 5 cm along the new surface.
+struct DryCase {
+  const char* robot;
+  bool inner;
+  double start_x;
+};
+
+class CornerDryRun : public testing::TestWithParam<DryCase> {};
+
+TEST_P(CornerDryRun, TakesTheCorner) {
+  const DryCase dc = GetParam();
+  const auto compiled = Compile(dc.robot, "floor");
+  TransitionParams params;
+  CornerPlan plan(compiled->model(), compiled->robot(), params);
+  // The corner at x = 0.3 on the plane z = 0; inner: a wall ahead; outer: the plane ends there.
+  plan.SetCorner(Eigen::Vector3d(0.3, 0, 0), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
+                 dc.inner);
+  const BodyPose start = StandingPose(dc.start_x, plan.height_m());
+  std::string log;
+  int steps = 0;
+  const double sigma = plan.DryRun(start, 0.05, &log, &steps);
+  std::printf("%s", log.c_str());
+  EXPECT_GE(sigma, M_PI / 2 + 0.05) << log;
+}
+
+INSTANTIATE_TEST_SUITE_P(Corners, CornerDryRun,
+                         testing::Values(DryCase{"gecko_ankle", true, 0.236},
+                                         DryCase{"gecko_ankle", false, 0.22},
+                                         DryCase{"spider_ankle", true, 0.17}),
+                         [](const testing::TestParamInfo<DryCase>& i) {
+                           return std::string(i.param.robot) + (i.param.inner ? "_inner" : "_outer");
+                         });
+
+}  // namespace
+}  // namespace climbsim::sim
