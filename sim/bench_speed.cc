@@ -40,6 +40,7 @@ SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions)
   s.adhesion.reset();
   s.cpg.reset();
   s.reflex.reset();
+  s.transition.reset();  // it needs the CPG: it joins after the reflexes
   s.perturbations.clear();
   s.outputs.trajectory_rate_hz = 0.0;
   variants.push_back({"no effects", s});
@@ -54,6 +55,10 @@ SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions)
   if (base.reflex) {
     s.reflex = base.reflex;
     variants.push_back({"+reflex", s});
+  }
+  if (base.transition && base.cpg) {
+    s.transition = base.transition;
+    variants.push_back({"+transition", s});
   }
   if (!base.perturbations.empty()) {
     s.perturbations = base.perturbations;

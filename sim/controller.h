@@ -107,14 +107,17 @@ class Controller {
 // (reflex offsets included); reflex pad releases go straight through the adhesion effect.
 // With a transition block (TransitionEffect) it watches the front pads after the CPG; once a
 // corner is sensed the manoeuvre drives every leg (and the ankle tilts) instead, and the CPG
-// and the reflexes are suspended for the rest of the run.
+// and the reflexes are suspended until it hands the feet back (transition.then: gait).
 class CpgReflexController final : public Controller {
  public:
   CpgReflexController(World& world, RunContext& ctx, std::unique_ptr<CpgEffect> cpg,
                       std::unique_ptr<ReflexEffect> reflex,
                       std::unique_ptr<TransitionEffect> transition = nullptr);
   ~CpgReflexController() override;
-  const char* name() const override { return reflex_ ? "cpg+reflex" : "cpg"; }
+  const char* name() const override {
+    if (transition_) return reflex_ ? "cpg+reflex+transition" : "cpg+transition";
+    return reflex_ ? "cpg+reflex" : "cpg";
+  }
   double control_period_s() const override;
   void InitialPose(StartPose* pose) override;
   void Reset() override;

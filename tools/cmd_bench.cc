@@ -1,4 +1,5 @@
 // climbsim bench speed|accuracy|optimise|robustness SCENARIO
+#include <algorithm>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -33,14 +34,17 @@ void Speed(const std::string& file, double duration_s, int repetitions) {
   double effects = 0.0;
   for (const auto& e : r.effect_s) effects += e.second;
   std::printf("  profile of the full scenario (time inside each part of the step):\n");
-  std::printf("    %-14s %9.3f s\n", "mj_step", r.mj_step_s);
+  // Names as wide as the longest one (the controller's: cpg+reflex+transition).
+  int w = 14;
+  for (const auto& e : r.effect_s) w = std::max(w, static_cast<int>(e.first.size()));
+  std::printf("    %-*s %9.3f s\n", w, "mj_step", r.mj_step_s);
   for (const auto& e : r.effect_s) {
-    std::printf("    %-14s %9.3f s  %+6.2f%% of mj_step\n", e.first.c_str(), e.second,
+    std::printf("    %-*s %9.3f s  %+6.2f%% of mj_step\n", w, e.first.c_str(), e.second,
                 100 * e.second / r.mj_step_s);
   }
-  std::printf("    %-14s %9.3f s  %+6.2f%% of mj_step\n", "monitor", r.monitor_s,
+  std::printf("    %-*s %9.3f s  %+6.2f%% of mj_step\n", w, "monitor", r.monitor_s,
               100 * r.monitor_s / r.mj_step_s);
-  std::printf("    %-14s %9.3f s  %+6.2f%% of mj_step\n", "all effects", effects,
+  std::printf("    %-*s %9.3f s  %+6.2f%% of mj_step\n", w, "all effects", effects,
               100 * effects / r.mj_step_s);
 }
 

@@ -1,4 +1,4 @@
-// Surface transitions at sharp corners (issue 17, docs/climbing.md, "Corners"): the shipped
+// Surface transitions at sharp corners (issue 17, docs/climbing.md, "Sharp corners"): the shipped
 // examples take each corner and go on along the new surface; the last pad leaves the old
 // surface only when the front pads hold the new one; a robot without the ankle option is
 // refused with the key's place; the step loop through a transition allocates nothing.
@@ -176,9 +176,9 @@ TEST_P(CornerExample, HindPadsLeaveTheOldSurfaceOnlyWhenTheFrontPadsHold) {
 const std::vector<std::string> kGeckoFront = {"LF_pad", "RF_pad"};
 const std::vector<std::string> kGeckoHind = {"LH_pad", "RH_pad"};
 
-// Measured (docs/climbing.md, "Corners"): every pad on the new surface at 25.7 s (floor to
-// wall), 26.7 s (wall to ceiling), 37.2 s (over the outer corner), 37.9 s (spider); the
-// base then goes 0.273, 0.266, 0.169 and 0.132 m on along it by 60 s.
+// Measured (docs/climbing.md, "Sharp corners"): every pad on the new surface at 25.7 s (floor
+// to wall), 25.8 s (wall to ceiling), 37.2 s (over the outer corner), 38.5 s (spider); the
+// base then goes 0.273, 0.265, 0.169 and 0.129 m on along it by 60 s.
 INSTANTIATE_TEST_SUITE_P(
     Examples, CornerExample,
     ::testing::Values(CornerCase{"examples/gecko_floor_to_wall.yaml", "floor", "wall", "inner",
