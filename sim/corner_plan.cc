@@ -37,9 +37,17 @@ constexpr double kLookAheadMax = 0.6;
 constexpr double kReachStep = 0.02;
 constexpr double kReachMax = 1.2;
 
+}  // namespace
+
 double SmoothStep(double u) {
   u = std::clamp(u, 0.0, 1.0);
-  return u * u * u * (10 + u * (-15 + 6 * u));
+  return u * u * u * (10 + u * (-15 + 6 * u));  // minimum jerk
+}
+
+Eigen::Vector3d Slerp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double u) {
+  const double th = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+  if (th < 1e-6) return b;
+  return (std::sin((1 - u) * th) * a + std::sin(u * th) * b) / std::sin(th);
 }
 
 Eigen::Matrix3d Exp(const Eigen::Vector3d& w) {
@@ -52,8 +60,6 @@ Eigen::Vector3d RotationLog(const Eigen::Matrix3d& r) {
   const Eigen::AngleAxisd aa(r);
   return aa.angle() * aa.axis();
 }
-
-}  // namespace
 
 CornerPlan::CornerPlan(const mjModel* m, const RobotInfo& robot, const TransitionParams& params)
     : params_(params) {

@@ -47,6 +47,15 @@
 
 namespace climbsim::sim {
 
+// The manoeuvre's small geometry, shared by the plan and the effect that runs it.
+// Minimum-jerk blend 0 -> 1 for u in [0, 1] (u clamped).
+double SmoothStep(double u);
+// Unit vectors a to b by fraction u along the great circle.
+Eigen::Vector3d Slerp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double u);
+// Rotation by the rotation vector w, and back.
+Eigen::Matrix3d Exp(const Eigen::Vector3d& w);
+Eigen::Vector3d RotationLog(const Eigen::Matrix3d& r);
+
 struct BodyPose {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();  // columns: body x, y, z in the world

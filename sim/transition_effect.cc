@@ -40,29 +40,6 @@ constexpr int kFlatContacts = 3;
 // A foot closer than this to where the gait wants it is not stepped there (m).
 constexpr double kHandBackTolerance = 0.004;
 
-double SmoothStep(double u) {
-  u = std::clamp(u, 0.0, 1.0);
-  return u * u * u * (10 + u * (-15 + 6 * u));  // minimum jerk
-}
-
-// Unit vectors a to b by fraction u along the great circle.
-Eigen::Vector3d Slerp(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double u) {
-  const double th = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
-  if (th < 1e-6) return b;
-  return (std::sin((1 - u) * th) * a + std::sin(u * th) * b) / std::sin(th);
-}
-
-Eigen::Matrix3d Exp(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  if (a < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
-}
-
-Eigen::Vector3d RotationLog(const Eigen::Matrix3d& r) {
-  const Eigen::AngleAxisd aa(r);
-  return aa.angle() * aa.axis();
-}
-
 CornerPlan MakePlan(const Scenario& scenario, const TransitionParams& params, const World& world) {
   try {
     return CornerPlan(world.model(), world.robot(), params);

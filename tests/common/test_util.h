@@ -25,6 +25,26 @@ inline std::vector<std::string> SplitCsv(const std::string& line) {
   return cells;
 }
 
+// One events.csv row: its first five columns (time_s, pad, event, cause, surface).
+struct EventRow {
+  double t;
+  std::string pad, event, cause, surface;
+};
+
+// The rows of an events.csv text (its header skipped).
+inline std::vector<EventRow> ParseEvents(const std::string& csv) {
+  std::vector<EventRow> rows;
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> f = SplitCsv(line);
+    f.resize(5);
+    rows.push_back({std::stod(f[0]), f[1], f[2], f[3], f[4]});
+  }
+  return rows;
+}
+
 // A fresh folder per test process, removed by nobody (tests may inspect it after failure).
 inline std::string TempDir() {
   static const std::string dir = [] {

@@ -140,31 +140,8 @@ TEST(Climb, GtoUnloadAndSupportSurviveThePushWithoutRegrip) {
   EXPECT_NE(events.find("gto_hold,support"), std::string::npos);
 }
 
-// One events.csv row.
-struct Row {
-  double t;
-  std::string pad, event, cause, surface;
-};
-
-std::vector<Row> Parse(const std::string& csv) {
-  std::vector<Row> rows;
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::istringstream f(line);
-    Row r;
-    std::string t;
-    std::getline(f, t, ',');
-    std::getline(f, r.pad, ',');
-    std::getline(f, r.event, ',');
-    std::getline(f, r.cause, ',');
-    std::getline(f, r.surface, ',');
-    r.t = std::stod(t);
-    rows.push_back(r);
-  }
-  return rows;
-}
+using Row = climbsim::testing::EventRow;
+const auto Parse = climbsim::testing::ParseEvents;
 
 // The first row after (or at) index i of `event` on `pad`, or nullptr.
 const Row* Next(const std::vector<Row>& rows, size_t i, const std::string& pad,

@@ -18,23 +18,8 @@ namespace {
 using climbsim::testing::Source;
 using climbsim::testing::WriteFile;
 
-// One events.csv row (time, pad, event, cause, surface).
-struct Row {
-  double t;
-  std::string pad, event, cause, surface;
-};
-
-std::vector<Row> Parse(const std::string& csv) {
-  std::vector<Row> rows;
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    const std::vector<std::string> f = climbsim::testing::SplitCsv(line);
-    rows.push_back({std::stod(f[0]), f[1], f[2], f[3], f[4]});
-  }
-  return rows;
-}
+using Row = climbsim::testing::EventRow;
+const auto Parse = climbsim::testing::ParseEvents;
 
 // What each corner example must do (issue 17, "Done when").
 struct CornerCase {
