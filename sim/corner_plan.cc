@@ -36,6 +36,8 @@ constexpr double kLookAheadStep = 0.02;
 constexpr double kLookAheadMax = 0.6;
 constexpr double kReachStep = 0.02;
 constexpr double kReachMax = 1.2;
+// A leg's solve that ends further than this from its target has no foothold there (m).
+constexpr double kSolveTolM = 0.002;
 
 }  // namespace
 
@@ -184,8 +186,13 @@ double CornerPlan::Margin(int i, const BodyPose& pose, const Eigen::Vector3d& an
   double left = 0.0;
   *tilt = c.Tilt(*q, pose.r.transpose() * normal_w, &left);
   if (left_rad != nullptr) *left_rad = left;
-  if (err > 0.002 || left > max_left_rad) return -1.0;
+  if (err > kSolveTolM || left > max_left_rad) return -1.0;
   return std::min({c.RangeMargin(*q), *tilt - c.tilt_lo(), c.tilt_hi() - *tilt});
+}
+
+bool CornerPlan::OutOfReach(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w) const {
+  // 1 µm over the solve's tolerance: rounding in the two computations of the ankle.
+  return chains_[i].OutOfReach(pose.r.transpose() * (ankle_w - pose.p), kSolveTolM + 1e-6);
 }
 
 Eigen::Vector3d CornerPlan::StanceAnkle(int i, const Eigen::Vector3d& face,
@@ -231,10 +238,11 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
         const Eigen::Vector3d f = below + side * y0_;
         LegChain::Q q = warm;
         double tilt = 0.0, left = 0.0;
-        // Landing: reachable pressed into the surface as far as a placed foot is.
-        const double m =
-            Margin(i, now, StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k], n_[k], &q,
-                   &tilt, max_turn, &left);
+        // Landing: reachable pressed into the surface as far as a placed foot is. (Out of the
+        // leg's reach Margin would say so after a full solve: skipped, the same answer.)
+        const Eigen::Vector3d landing = StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k];
+        if (OutOfReach(i, now, landing)) continue;
+        const double m = Margin(i, now, landing, n_[k], &q, &tilt, max_turn, &left);
         if (m < params_.margin_rad + kLandingMargin) continue;
         // And lowered onto it from off it (the approach: lift_m, or less where the leg cannot
         // reach that far out), in the same branch of the leg's kinematics.
@@ -243,8 +251,9 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
           LegChain::Q qa = q;
           double ta = 0.0;
           const double a = share * params_.lift_m;
-          if (Margin(i, now, StanceAnkle(i, f, n_[k]) + (a + params_.press_m) * n_[k], n_[k], &qa,
-                     &ta, kLandingTurn) >= 0.0) {
+          const Eigen::Vector3d above = StanceAnkle(i, f, n_[k]) + (a + params_.press_m) * n_[k];
+          if (!OutOfReach(i, now, above) &&
+              Margin(i, now, above, n_[k], &qa, &ta, kLandingTurn) >= 0.0) {
             approach = a;
             break;
           }
@@ -266,9 +275,12 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
       double reach = 0.0;
       LegChain::Q q = h_q;
       double tilt = 0.0;
-      while (reach < kReachMax &&
-             Margin(i, Pose(sigma + reach + kReachStep), ankle, h.normal, &q, &tilt,
-                    kStanceTurn) >= params_.margin_rad) {
+      while (reach < kReachMax) {
+        const BodyPose pose = Pose(sigma + reach + kReachStep);
+        if (OutOfReach(i, pose, ankle) ||
+            Margin(i, pose, ankle, h.normal, &q, &tilt, kStanceTurn) < params_.margin_rad) {
+          break;
+        }
         reach += kReachStep;
       }
       h.reach = reach;

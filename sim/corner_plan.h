@@ -100,6 +100,9 @@ class CornerPlan {
   double Margin(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w,
                 const Eigen::Vector3d& normal_w, LegChain::Q* q, double* tilt,
                 double max_left_rad, double* left_rad = nullptr) const;
+  // True when ankle_w (world) lies out of leg i's reach from the body at `pose`: Margin
+  // would return -1 for it after a full solve.
+  bool OutOfReach(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w) const;
   // The ankle of a foot standing on `face` with normal `normal` (its stance target: press_m in).
   Eigen::Vector3d StanceAnkle(int i, const Eigen::Vector3d& face, const Eigen::Vector3d& normal) const;
   // Where leg i steps to when the body waits at σ in pose `now` (see the file comment); margin

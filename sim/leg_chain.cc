@@ -86,6 +86,26 @@ LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
     }
     if (hip_ != Eigen::Vector3d::Zero()) break;
   }
+  // The reach: from the yaw anchor through the pitch and knee anchors to the ankle, each piece
+  // rigid between its joints (the tilt and the passive joints at 0, as in Solve), so no q puts
+  // the ankle further from the yaw anchor than their sum (the triangle inequality).
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  std::array<Eigen::Vector3d, 3> anchor_w;
+  for (const Link& l : links_) {
+    p += r * l.pos;
+    r = r * l.rot;
+    for (int j = l.first_joint; j < l.first_joint + l.joints; ++j) {
+      if (joints_[j].role >= 0 && joints_[j].role < 3) anchor_w[joints_[j].role] = r * joints_[j].anchor + p;
+    }
+  }
+  reach_m_ = (anchor_w[1] - anchor_w[0]).norm() + (anchor_w[2] - anchor_w[1]).norm() +
+             (neutral_ankle_ - anchor_w[2]).norm();
+  reach_from_ = anchor_w[0];
+}
+
+bool LegChain::OutOfReach(const Eigen::Vector3d& target, double tolerance_m) const {
+  return (target - reach_from_).norm() > reach_m_ + tolerance_m;
 }
 
 Eigen::Vector3d LegChain::Ankle(const Q& q, double tilt, Eigen::Matrix3d* pad_rot,

@@ -42,6 +42,12 @@ class LegChain {
   // servo: 0 and the angle between the untilted face normal and `normal`.
   double Tilt(const Q& q, const Eigen::Vector3d& normal, double* left_rad) const;
 
+  // True when no joint angles put the ankle within tolerance_m of `target` (base frame): it lies
+  // further from the hip-yaw anchor than the leg reaches. So Solve would end further than
+  // tolerance_m from it, after all its iterations; callers that would reject such a target
+  // skip the solve.
+  bool OutOfReach(const Eigen::Vector3d& target, double tolerance_m) const;
+
   // How far q lies inside the joint ranges: min over the three joints of the distance to the
   // nearer limit (rad; negative outside).
   double RangeMargin(const Q& q) const;
@@ -78,6 +84,8 @@ class LegChain {
   Q lo_{}, hi_{};
   double tilt_lo_ = 0.0, tilt_hi_ = 0.0;
   Eigen::Vector3d neutral_ankle_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d reach_from_ = Eigen::Vector3d::Zero();  // the hip-yaw anchor, base frame
+  double reach_m_ = 0.0;  // the furthest the ankle gets from it
   Eigen::Vector3d hip_ = Eigen::Vector3d::Zero();
   double post_m_ = 0.0;
 };

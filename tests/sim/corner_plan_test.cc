@@ -79,6 +79,36 @@ TEST_P(LegChainTest, MatchesMujocoKinematics) {
   mj_deleteData(d);
 }
 
+// OutOfReach is a bound: no joint angles in or out of range put the ankle out of reach of
+// the hip, and a target just past the furthest ankle found is out of reach, one just inside
+// it is not; a solve towards an out-of-reach target ends further than the tolerance from it.
+TEST_P(LegChainTest, OutOfReachBoundsEveryAnkle) {
+  const auto compiled = Compile(GetParam(), "floor");
+  const RobotInfo& robot = compiled->robot();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-M_PI, M_PI);
+  for (size_t leg = 0; leg < robot.legs.size(); ++leg) {
+    const LegChain c(compiled->model(), robot, static_cast<int>(leg));
+    double furthest = 0.0;
+    Eigen::Vector3d far_dir = Eigen::Vector3d::UnitX();
+    for (int k = 0; k < 20000; ++k) {
+      const LegChain::Q q = {u(rng), u(rng), u(rng)};  // any angles, past the limits too
+      const Eigen::Vector3d a = c.Ankle(q, 0.0);
+      EXPECT_FALSE(c.OutOfReach(a, 0.0)) << "leg " << leg;
+      if ((a - c.hip()).norm() > furthest) {
+        furthest = (a - c.hip()).norm();
+        far_dir = (a - c.hip()).normalized();
+      }
+    }
+    // The bound is the straight leg: the samples come within 1 mm of it.
+    EXPECT_TRUE(c.OutOfReach(c.hip() + (furthest + 0.001) * far_dir, 0.0)) << "leg " << leg;
+    const Eigen::Vector3d target = c.hip() + (furthest + 0.01) * far_dir;
+    ASSERT_TRUE(c.OutOfReach(target, 0.002));
+    LegChain::Q q = {0, 0, 0};
+    EXPECT_GT(c.Solve(target, &q), 0.002) << "leg " << leg;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, LegChainTest,
                          testing::Values("gecko", "spider", "gecko_ankle", "spider_ankle"));
 
