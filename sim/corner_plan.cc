@@ -26,8 +26,6 @@ constexpr double kLandingMargin = 0.04;
 constexpr double kLandingTurn = 0.25;
 constexpr double kFlatLanding = 0.08;
 constexpr double kShortestReach = 0.01;
-// A stuck pad's leg may turn it this far from its face (the passive ankle's stops, 0.5 rad).
-constexpr double kStanceTurn = 0.45;
 // Lateral offsets tried for a foothold (m, along the corner).
 constexpr double kSideOffsets[] = {0.0,   0.005, -0.005, 0.01,   -0.01, 0.015, -0.015,
                                    0.02,  -0.02, 0.025,  -0.025, 0.03,  -0.03};

@@ -109,6 +109,8 @@ class CornerPlan {
   // −1 when nothing can be reached. old_only: back onto the old surface, below the leg as the
   // body is now (σ unused); σ = kHere: onto either surface, below the leg as the body is now.
   static constexpr double kHere = -1e9;
+  // A stuck pad's leg may turn it this far from its face (the passive ankle's stops, 0.5 rad).
+  static constexpr double kStanceTurn = 0.45;
   Foothold Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm,
                 bool old_only) const;
 

@@ -79,16 +79,10 @@ LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
   face_normal_ = pad.face_rot_body.col(2);
   post_m_ = std::abs((pad.face_pos_body - site_pos_).dot(face_normal_));
   neutral_ankle_ = Ankle({0, 0, 0}, 0.0);
-  // The hip: the yaw joint's anchor in the base frame (its body's offset, joints at 0).
-  for (const Link& l : links_) {
-    for (int j = l.first_joint; j < l.first_joint + l.joints; ++j) {
-      if (joints_[j].role == 0) hip_ = l.pos + l.rot * joints_[j].anchor;
-    }
-    if (hip_ != Eigen::Vector3d::Zero()) break;
-  }
-  // The reach: from the yaw anchor through the pitch and knee anchors to the ankle, each piece
-  // rigid between its joints (the tilt and the passive joints at 0, as in Solve), so no q puts
-  // the ankle further from the yaw anchor than their sum (the triangle inequality).
+  // The joints' anchors in the base frame, joints at 0: the hip is the yaw joint's. The reach:
+  // from it through the pitch and knee anchors to the ankle, each piece rigid between its
+  // joints (the tilt and the passive joints at 0, as in Solve), so no q puts the ankle further
+  // from the hip than their sum (the triangle inequality).
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   std::array<Eigen::Vector3d, 3> anchor_w;
@@ -101,11 +95,11 @@ LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
   }
   reach_m_ = (anchor_w[1] - anchor_w[0]).norm() + (anchor_w[2] - anchor_w[1]).norm() +
              (neutral_ankle_ - anchor_w[2]).norm();
-  reach_from_ = anchor_w[0];
+  hip_ = anchor_w[0];
 }
 
 bool LegChain::OutOfReach(const Eigen::Vector3d& target, double tolerance_m) const {
-  return (target - reach_from_).norm() > reach_m_ + tolerance_m;
+  return (target - hip_).norm() > reach_m_ + tolerance_m;
 }
 
 Eigen::Vector3d LegChain::Ankle(const Q& q, double tilt, Eigen::Matrix3d* pad_rot,

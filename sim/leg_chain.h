@@ -84,8 +84,7 @@ class LegChain {
   Q lo_{}, hi_{};
   double tilt_lo_ = 0.0, tilt_hi_ = 0.0;
   Eigen::Vector3d neutral_ankle_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d reach_from_ = Eigen::Vector3d::Zero();  // the hip-yaw anchor, base frame
-  double reach_m_ = 0.0;  // the furthest the ankle gets from it
+  double reach_m_ = 0.0;  // the furthest the ankle gets from hip_
   Eigen::Vector3d hip_ = Eigen::Vector3d::Zero();
   double post_m_ = 0.0;
 };

@@ -15,13 +15,6 @@ constexpr reflex::LegEventType kEventTypes[] = {
     reflex::LegEventType::kRegrip,       reflex::LegEventType::kGtoHold,
     reflex::LegEventType::kSpindle,      reflex::LegEventType::kGtoUnload};
 
-// A position servo's stiffness: force = gain·ctrl + bias1·q + bias2·q̇ with gain = kp,
-// bias1 = −kp.
-void SetKp(mjModel* m, int actuator, double kp) {
-  m->actuator_gainprm[actuator * mjNGAIN] = kp;
-  m->actuator_biasprm[actuator * mjNBIAS + 1] = -kp;
-}
-
 }  // namespace
 
 ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params, const World& world,
@@ -62,7 +55,7 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     std::array<double, 3> kp{};
     for (int k = 0; k < 3; ++k) {
       a[k] = info.actuator[k];
-      kp[k] = m->actuator_gainprm[a[k] * mjNGAIN];
+      kp[k] = ServoKp(m, a[k]);
       // Only a position servo (gain kp, bias −kp·q) can have its stiffness scaled.
       if (m->actuator_biastype[a[k]] != mjBIAS_AFFINE ||
           m->actuator_biasprm[a[k] * mjNBIAS + 1] != -kp[k]) {
@@ -165,7 +158,7 @@ void ReflexEffect::ShareLoad(World& world, std::vector<LegSignals>& signals) {
 
 void ReflexEffect::Reset(World& world, RunContext& ctx) {
   for (size_t i = 0; i < legs_.size(); ++i) {
-    for (int k = 0; k < 3; ++k) SetKp(world.model(), actuator_[i][k], kp_[i][k]);
+    for (int k = 0; k < 3; ++k) SetServoKp(world.model(), actuator_[i][k], kp_[i][k]);
   }
   for (auto& l : legs_) l.Reset();
   if (sharing_) {
@@ -184,7 +177,7 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
 
 void ReflexEffect::Suspend(World& world, RunContext& ctx) {
   for (size_t i = 0; i < legs_.size(); ++i) {
-    for (int k = 0; k < 3; ++k) SetKp(world.model(), actuator_[i][k], kp_[i][k]);
+    for (int k = 0; k < 3; ++k) SetServoKp(world.model(), actuator_[i][k], kp_[i][k]);
     if (adhesion_ != nullptr) adhesion_->SetPeelingLeg(static_cast<int>(i), false);
   }
   for (LegSignals& s : *ctx.legs) {
@@ -232,7 +225,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     for (int k = 0; k < 3; ++k) {
       s.offset_rad[k] = out.target_offset_rad[k];
       s.kp_fraction[k] = out.kp_fraction[k];
-      SetKp(world.model(), actuator_[i][k], kp_[i][k] * out.kp_fraction[k]);
+      SetServoKp(world.model(), actuator_[i][k], kp_[i][k] * out.kp_fraction[k]);
     }
     s.hold_stance = out.hold_stance;
     s.hold_phase = out.hold_phase;

@@ -9,8 +9,7 @@
 namespace climbsim::sim {
 namespace {
 
-// A stuck pad's leg may turn it this far from its face (the passive ankle's stops, 0.5 rad).
-constexpr double kStanceTurn = 0.45;
+constexpr double kStanceTurn = CornerPlan::kStanceTurn;
 // A foot pressed onto its surface that has not attached after this long is lifted and placed
 // again (the pad must leave the surface before it can attach again: adhesion/sticky_pad.h).
 constexpr double kAttachWait = 0.35;
@@ -91,7 +90,7 @@ TransitionEffect::TransitionEffect(const Scenario& scenario, const TransitionPar
   air_since_.assign(robot.legs.size(), -1.0);
   for (const LegInfo& l : robot.legs) {
     std::array<double, 3> kp{};
-    for (int k = 0; k < 3; ++k) kp[k] = world.model()->actuator_gainprm[l.actuator[k] * mjNGAIN];
+    for (int k = 0; k < 3; ++k) kp[k] = ServoKp(world.model(), l.actuator[k]);
     kp_.push_back(kp);
   }
 }
@@ -804,11 +803,7 @@ void TransitionEffect::RestoreKp(World& world) const {
   mjModel* m = world.model();
   const RobotInfo& r = world.robot();
   for (size_t i = 0; i < feet_.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = r.legs[i].actuator[k];
-      m->actuator_gainprm[a * mjNGAIN] = kp_[i][k];
-      m->actuator_biasprm[a * mjNBIAS + 1] = -kp_[i][k];
-    }
+    for (int k = 0; k < 3; ++k) SetServoKp(m, r.legs[i].actuator[k], kp_[i][k]);
   }
 }
 
@@ -844,11 +839,7 @@ void TransitionEffect::WriteTargets(World& world) const {
                            : adhesion_->utilisation(adhesion_->pad_of_leg(static_cast<int>(i)));
       const double f = std::max(
           0.2, 1.0 - params_.unload_gain * std::max(0.0, u - params_.unload_threshold));
-      for (int k = 0; k < 3; ++k) {
-        const int a = r.legs[i].actuator[k];
-        m->actuator_gainprm[a * mjNGAIN] = kp_[i][k] * f;
-        m->actuator_biasprm[a * mjNBIAS + 1] = -kp_[i][k] * f;
-      }
+      for (int k = 0; k < 3; ++k) SetServoKp(m, r.legs[i].actuator[k], kp_[i][k] * f);
     }
   }
 }

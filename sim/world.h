@@ -130,6 +130,14 @@ class World {
   std::vector<double> start_qpos_;
 };
 
+// A position servo's stiffness (force = gain·ctrl + bias1·q + bias2·q̇ with gain = kp and
+// bias1 = −kp): read, and set at run time (the run's own model copy; both terms together).
+inline double ServoKp(const mjModel* m, int actuator) { return m->actuator_gainprm[actuator * mjNGAIN]; }
+inline void SetServoKp(mjModel* m, int actuator, double kp) {
+  m->actuator_gainprm[actuator * mjNGAIN] = kp;
+  m->actuator_biasprm[actuator * mjNBIAS + 1] = -kp;
+}
+
 // A model's custom numeric `name` with at least `size` numbers into out; false when absent.
 bool CustomNumeric(const mjModel* model, const char* name, int size, double* out);
 

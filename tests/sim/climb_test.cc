@@ -141,7 +141,7 @@ TEST(Climb, GtoUnloadAndSupportSurviveThePushWithoutRegrip) {
 }
 
 using Row = climbsim::testing::EventRow;
-const auto Parse = climbsim::testing::ParseEvents;
+using climbsim::testing::ParseEvents;
 
 // The first row after (or at) index i of `event` on `pad`, or nullptr.
 const Row* Next(const std::vector<Row>& rows, size_t i, const std::string& pad,
@@ -166,7 +166,7 @@ TEST(Climb, EveryClimbingReflexIsLoggedOnTheLegThatFiredIt) {
   RunScenario(LoadScenario(Source("examples/gecko_ceiling.yaml")), &ceiling_events);
   int seen[4] = {0, 0, 0, 0};  // peel, preload, search, regrip
   for (const std::string& csv : {wall_events, ceiling_events}) {
-    const std::vector<Row> rows = Parse(csv);
+    const std::vector<Row> rows = ParseEvents(csv);
     for (size_t i = 0; i < rows.size(); ++i) {
       const Row& r = rows[i];
       if (r.event == "peel") {
@@ -238,7 +238,7 @@ TEST(Climb, GeckoWalksFromTheFloorOntoTheWallRoundAFillet) {
   const double q0 = root[3], q1 = root[4], q2 = root[5], q3 = root[6];
   const double forward_z = 2 * (q1 * q3 - q0 * q2);
   EXPECT_GE(forward_z, std::sin(80.0 * M_PI / 180.0));
-  const std::vector<Row> rows = Parse(sim.EventsCsv());
+  const std::vector<Row> rows = ParseEvents(sim.EventsCsv());
   for (const char* pad : {"LF_pad", "RF_pad", "LH_pad", "RH_pad"}) {
     const Row* last = nullptr;
     for (const Row& row : rows) {

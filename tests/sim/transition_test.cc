@@ -19,7 +19,7 @@ using climbsim::testing::Source;
 using climbsim::testing::WriteFile;
 
 using Row = climbsim::testing::EventRow;
-const auto Parse = climbsim::testing::ParseEvents;
+using climbsim::testing::ParseEvents;
 
 // What each corner example must do (issue 17, "Done when").
 struct CornerCase {
@@ -51,7 +51,7 @@ CornerRun RunCorner(const Scenario& s) {
   sample(0);
   run.result = sim.Run(sample);
   run.transition = sim.Summary()["transition"];
-  run.events = Parse(sim.EventsCsv());
+  run.events = ParseEvents(sim.EventsCsv());
   return run;
 }
 
