@@ -206,18 +206,56 @@ int CornerPlan::SurfaceOf(const Eigen::Vector3d& n) const {
 Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm,
                           bool old_only) const {
   // A pad that lands flat attaches at once; one that lands on an edge may not flatten in time
-  // on its soft ankle. Flat landings first, tilted ones only when there is no other.
-  const Foothold flat = Next(i, sigma, now, warm, old_only, kFlatLanding);
-  return flat.margin >= 0 ? flat : Next(i, sigma, now, warm, old_only, kLandingTurn);
-}
-
-Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm,
-                          bool old_only, double max_turn) const {
+  // on its soft ankle. Flat landings first (at most kFlatLanding off the face), tilted ones
+  // (kLandingTurn) only when there is no flat one. One sweep serves both: a candidate's solve
+  // does not depend on how far off flat it may land, only its acceptance does.
   const LegChain& c = chains_[i];
-  Foothold best;
-  double best_score = -1e9;
+  struct Candidate {
+    Foothold h;
+    double left = 1e9;  // angle left to the ankle, plus a little for each cm sideways
+    int side = -1;
+    double reach = -1.0;  // σ the body may go on with it; < 0 not yet followed
+  };
+  // How long a foothold keeps the foot: the body goes on until the leg would be out of margin.
+  const auto follow = [&](const Candidate& h) {
+    const Eigen::Vector3d ankle = StanceAnkle(i, h.h.face, h.h.normal);
+    double reach = 0.0;
+    LegChain::Q q = h.h.q;
+    double tilt = 0.0;
+    while (reach < kReachMax) {
+      const BodyPose pose = Pose(sigma + reach + kReachStep);
+      if (OutOfReach(i, pose, ankle) ||
+          Margin(i, pose, ankle, h.h.normal, &q, &tilt, kStanceTurn) < params_.margin_rad) {
+        break;
+      }
+      reach += kReachStep;
+    }
+    return reach;
+  };
+  // The best of one kind (flat or tilted) over the look-ahead.
+  struct Best {
+    Foothold h;
+    double score = -1e9;
+  };
   // Settling (σ < −1e8 by the caller, or old_only): below the leg as the body is now.
   const bool here = old_only || sigma < -1e8;
+  const auto consider = [&](Candidate& cand, Best* best) {
+    if (cand.h.margin < 0) return;
+    if (here) {
+      if (best->h.margin < 0 || cand.left < best->score) best->h = cand.h, best->score = cand.left;
+      return;
+    }
+    if (cand.reach < 0) cand.reach = follow(cand);
+    cand.h.reach = cand.reach;
+    // A step must buy the body some way along.
+    if (cand.reach < kShortestReach) return;
+    const double score = cand.reach - 0.5 * cand.left;
+    if (score > best->score) best->score = score, best->h = cand.h;
+  };
+  constexpr int kLookAheads = static_cast<int>(kLookAheadMax / kLookAheadStep + 1e-9) + 1;
+  std::array<Candidate, 2 * kLookAheads> tilted{};  // by look-ahead and surface, kept in order
+  int n_tilted = 0;
+  Best flat_best;
   for (double la = here ? 0.0 : kLookAheadStep; la <= kLookAheadMax + 1e-9;
        la += kLookAheadStep) {
     const BodyPose ahead = here ? now : Pose(sigma + la);
@@ -229,10 +267,9 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
       if (along < clear) below += (clear - along) * away_[k];
       // The leg's joints roll the pad about its own axis, which the one tilt axis cannot
       // undo: a foot placed a little wider or narrower lands flatter.
-      Foothold h;
-      double h_left = 1e9;
-      LegChain::Q h_q{};
-      for (double side : kSideOffsets) {
+      Candidate flat, tilt_one;
+      for (int s = 0; s < static_cast<int>(std::size(kSideOffsets)); ++s) {
+        const double side = kSideOffsets[s];
         const Eigen::Vector3d f = below + side * y0_;
         LegChain::Q q = warm;
         double tilt = 0.0, left = 0.0;
@@ -240,56 +277,45 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
         // leg's reach Margin would say so after a full solve: skipped, the same answer.)
         const Eigen::Vector3d landing = StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k];
         if (OutOfReach(i, now, landing)) continue;
-        const double m = Margin(i, now, landing, n_[k], &q, &tilt, max_turn, &left);
-        if (m < params_.margin_rad + kLandingMargin) continue;
+        const double m = Margin(i, now, landing, n_[k], &q, &tilt, kLandingTurn, &left);
+        const double need = params_.margin_rad + kLandingMargin;
+        if (m < need) continue;
+        const bool is_flat = left <= kFlatLanding;
+        const double score = left + 0.3 * std::abs(side);
+        if (score >= tilt_one.left && !(is_flat && score < flat.left)) continue;
         // And lowered onto it from off it (the approach: lift_m, or less where the leg cannot
         // reach that far out), in the same branch of the leg's kinematics.
         double approach = -1.0;
         for (double share : {1.0, 0.6, 0.35}) {
           LegChain::Q qa = q;
           double ta = 0.0;
-          const double a = share * params_.lift_m;
-          const Eigen::Vector3d above = StanceAnkle(i, f, n_[k]) + (a + params_.press_m) * n_[k];
+          const double lift = share * params_.lift_m;
+          const Eigen::Vector3d above =
+              StanceAnkle(i, f, n_[k]) + (lift + params_.press_m) * n_[k];
           if (!OutOfReach(i, now, above) &&
               Margin(i, now, above, n_[k], &qa, &ta, kLandingTurn) >= 0.0) {
-            approach = a;
+            approach = lift;
             break;
           }
         }
         if (approach < 0.0) continue;
-        if (left + 0.3 * std::abs(side) < h_left) {
-          h_left = left + 0.3 * std::abs(side);
-          h = {f, n_[k], k, m, 0.0, q, approach};
-          h_q = q;
-        }
+        const Foothold h{f, n_[k], k, m, 0.0, q, approach};
+        if (score < tilt_one.left) tilt_one = {h, score, s};
+        if (is_flat && score < flat.left) flat = {h, score, s};
       }
-      if (h.margin < 0) continue;
-      if (here) {
-        if (best.margin < 0 || h_left < best_score) best = h, best_score = h_left;
-        continue;
+      consider(flat, &flat_best);
+      // The same candidate as the flat one: followed once.
+      if (tilt_one.side == flat.side) tilt_one.reach = flat.reach;
+      if (tilt_one.h.margin >= 0 && n_tilted < static_cast<int>(tilted.size())) {
+        tilted[n_tilted++] = tilt_one;
       }
-      // How long it keeps the foot: the body goes on until the leg would be out of margin.
-      const Eigen::Vector3d ankle = StanceAnkle(i, h.face, h.normal);
-      double reach = 0.0;
-      LegChain::Q q = h_q;
-      double tilt = 0.0;
-      while (reach < kReachMax) {
-        const BodyPose pose = Pose(sigma + reach + kReachStep);
-        if (OutOfReach(i, pose, ankle) ||
-            Margin(i, pose, ankle, h.normal, &q, &tilt, kStanceTurn) < params_.margin_rad) {
-          break;
-        }
-        reach += kReachStep;
-      }
-      h.reach = reach;
-      // A step must buy the body some way along.
-      if (reach < kShortestReach) continue;
-      const double score = reach - 0.5 * h_left;
-      if (score > best_score) best_score = score, best = h;
     }
     if (here) break;
   }
-  return best;
+  if (flat_best.h.margin >= 0) return flat_best.h;
+  Best tilted_best;
+  for (int t = 0; t < n_tilted; ++t) consider(tilted[t], &tilted_best);
+  return tilted_best.h;
 }
 
 double CornerPlan::DryRun(const BodyPose& start, double beyond_m, std::string* log,

@@ -134,9 +134,6 @@ class CornerPlan {
 
  private:
   BodyPose PathPose(double sigma) const;  // without the blend
-  // Next with the pad landing at most max_turn off its surface.
-  Foothold Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm, bool old_only,
-                double max_turn) const;
 
   TransitionParams params_;
   std::vector<LegChain> chains_;
