@@ -178,12 +178,14 @@ BodyPose CornerPlan::Pose(double sigma) const {
 
 double CornerPlan::Margin(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w,
                           const Eigen::Vector3d& normal_w, LegChain::Q* q, double* tilt,
-                          double max_left_rad, double* left_rad) const {
+                          double max_left_rad, double* left_rad, double* err_m) const {
   const LegChain& c = chains_[i];
-  const double err = c.Solve(pose.r.transpose() * (ankle_w - pose.p), q);
+  Eigen::Matrix3d pad_rot;
+  const double err = c.Solve(pose.r.transpose() * (ankle_w - pose.p), q, LegChain::kSolveIterations, &pad_rot);
   double left = 0.0;
-  *tilt = c.Tilt(*q, pose.r.transpose() * normal_w, &left);
+  *tilt = c.Tilt(pad_rot, pose.r.transpose() * normal_w, &left);
   if (left_rad != nullptr) *left_rad = left;
+  if (err_m != nullptr) *err_m = err;
   if (err > kSolveTolM || left > max_left_rad) return -1.0;
   return std::min({c.RangeMargin(*q), *tilt - c.tilt_lo(), c.tilt_hi() - *tilt});
 }

@@ -96,10 +96,11 @@ class CornerPlan {
 
   // Leg i with its ankle at `ankle_w`, its pad facing `normal_w` and the body at `pose`: the
   // joint-range margin (rad; −1 when out of reach or the pad would be more than `max_left_rad`
-  // off its face), the solution (*q from its warm start, *tilt) and the angle left.
+  // off its face), the solution (*q from its warm start, *tilt), the angle left and the
+  // distance the solve ended from ankle_w.
   double Margin(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w,
                 const Eigen::Vector3d& normal_w, LegChain::Q* q, double* tilt,
-                double max_left_rad, double* left_rad = nullptr) const;
+                double max_left_rad, double* left_rad = nullptr, double* err_m = nullptr) const;
   // True when ankle_w (world) lies out of leg i's reach from the body at `pose`: Margin
   // would return -1 for it after a full solve.
   bool OutOfReach(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w) const;

@@ -132,13 +132,15 @@ Eigen::Vector3d LegChain::Ankle(const Q& q, double tilt, Eigen::Matrix3d* pad_ro
   return ankle;
 }
 
-double LegChain::Solve(const Eigen::Vector3d& target, Q* q, int iterations) const {
+double LegChain::Solve(const Eigen::Vector3d& target, Q* q, int iterations,
+                       Eigen::Matrix3d* pad_rot) const {
   double err = 0.0;
+  // Every way out of the loop leaves *q where the last forward pass was made.
   for (int it = 0; it <= iterations; ++it) {
     Eigen::Matrix3d jac;
-    const Eigen::Vector3d e = target - Ankle(*q, 0.0, nullptr, &jac);
+    const Eigen::Vector3d e = target - Ankle(*q, 0.0, pad_rot, &jac);
     err = e.norm();
-    if (err < 1e-7 || it == iterations) break;
+    if (err < kSolvedM || it == iterations) break;
     // Damped least squares: finite near singular poses and at the joint limits.
     const Eigen::Vector3d dq =
         jac.transpose() * (jac * jac.transpose() + 1e-7 * Eigen::Matrix3d::Identity()).ldlt().solve(e);
@@ -152,6 +154,11 @@ double LegChain::Solve(const Eigen::Vector3d& target, Q* q, int iterations) cons
 double LegChain::Tilt(const Q& q, const Eigen::Vector3d& normal, double* left_rad) const {
   Eigen::Matrix3d r0;
   Ankle(q, 0.0, &r0);
+  return Tilt(r0, normal, left_rad);
+}
+
+double LegChain::Tilt(const Eigen::Matrix3d& r0, const Eigen::Vector3d& normal,
+                      double* left_rad) const {
   const Eigen::Vector3d n = r0.transpose() * normal;  // wanted normal, pad body frame
   if (!has_tilt()) {
     if (left_rad != nullptr) *left_rad = std::acos(std::clamp(face_normal_.dot(n), -1.0, 1.0));

@@ -33,14 +33,22 @@ class LegChain {
                         Eigen::Matrix3d* jacobian = nullptr) const;
 
   // Joint angles that put the ankle at `target` (base frame), from *q (the warm start; the
-  // result is written back, clamped to the joint ranges). Returns the distance left (m).
-  double Solve(const Eigen::Vector3d& target, Q* q, int iterations = 12) const;
+  // result is written back, clamped to the joint ranges). Returns the distance left (m) and,
+  // when asked, the pad's orientation at the result (as Ankle's, tilt 0: its last forward pass
+  // was at the result, so Tilt need not run the chain again).
+  static constexpr int kSolveIterations = 12;
+  static constexpr double kSolvedM = 1e-7;  // Solve stops this close to its target
+  double Solve(const Eigen::Vector3d& target, Q* q, int iterations = kSolveIterations,
+               Eigen::Matrix3d* pad_rot = nullptr) const;
 
   // The tilt that turns the pad's face normal (its frame's z with the passive joints at 0)
   // as close as a turn about the tilt axis can to `normal` (base frame, unit) for leg angles
   // q, and the angle left between them (rad, the passive ankle's to take). Without a tilt
   // servo: 0 and the angle between the untilted face normal and `normal`.
   double Tilt(const Q& q, const Eigen::Vector3d& normal, double* left_rad) const;
+  // The same from the pad's orientation at q with tilt 0 (Ankle's or Solve's pad_rot).
+  double Tilt(const Eigen::Matrix3d& pad_rot, const Eigen::Vector3d& normal,
+              double* left_rad) const;
 
   // True when no joint angles put the ankle within tolerance_m of `target` (base frame): it lies
   // further from the hip-yaw anchor than the leg reaches. So Solve would end further than

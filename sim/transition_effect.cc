@@ -671,20 +671,22 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
   double worst = 1e9;
   int worst_leg = -1;
   std::array<LegChain::Q, 8> q{};
-  std::array<double, 8> tilt{};
+  std::array<double, 8> tilt{}, err{};
   for (size_t i = 0; i < n && i < q.size(); ++i) {
     if (!feet_[i].stance) continue;
     q[i] = feet_[i].q;
     const double m =
         plan_.Margin(static_cast<int>(i), Corrected(pose), StanceTarget(static_cast<int>(i)),
-                     feet_[i].normal_w, &q[i], &tilt[i], kStanceTurn);
+                     feet_[i].normal_w, &q[i], &tilt[i], kStanceTurn, nullptr, &err[i]);
     if (m < worst) worst = m, worst_leg = static_cast<int>(i);
   }
   if (worst >= params_.margin_rad) {
     sigma_ = next;
     cmd_ = pose;
     for (size_t i = 0; i < n && i < q.size(); ++i) {
-      if (feet_[i].stance) feet_[i].q = q[i], feet_[i].tilt = tilt[i];
+      if (!feet_[i].stance) continue;
+      feet_[i].q = q[i], feet_[i].tilt = tilt[i];
+      feet_[i].solved = err[i] < LegChain::kSolvedM;
     }
     return;
   }
@@ -704,6 +706,7 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
 
 void TransitionEffect::Update(World& world, RunContext& ctx) {
   const std::vector<LegSignals>& legs = *ctx.legs;
+  for (Foot& f : feet_) f.solved = false;
   // Bookkeeping: the last pad off the old surface and the first onto the new one.
   for (size_t i = 0; i < legs.size(); ++i) {
     const bool now = legs[i].attached;
@@ -757,7 +760,7 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
     const BodyPose stance = Corrected(cmd_);
     for (size_t i = 0; i < feet_.size(); ++i) {
       Foot& f = feet_[i];
-      if (!f.stance || static_cast<int>(i) == step_leg_) continue;
+      if (!f.stance || static_cast<int>(i) == step_leg_ || f.solved) continue;
       plan_.Margin(static_cast<int>(i), stance, StanceTarget(static_cast<int>(i)), f.normal_w,
                    &f.q, &f.tilt, kStanceTurn);
     }

@@ -87,6 +87,9 @@ class TransitionEffect final : public Effect {
     Eigen::Vector3d normal_w = Eigen::Vector3d::UnitZ();
     LegChain::Q q{};
     double tilt = 0.0;
+    // q and tilt already solved to convergence for this tick's commanded body (RunTick's
+    // margin check): the stance targets need not solve them again.
+    bool solved = false;
   };
 
   BodyPose ActualPose(const World& world) const;
