@@ -192,7 +192,7 @@ double CornerPlan::Margin(int i, const BodyPose& pose, const Eigen::Vector3d& an
 
 bool CornerPlan::OutOfReach(int i, const BodyPose& pose, const Eigen::Vector3d& ankle_w) const {
   // 1 µm over the solve's tolerance: rounding in the two computations of the ankle.
-  return chains_[i].OutOfReach(pose.r.transpose() * (ankle_w - pose.p), kSolveTolM + 1e-6);
+  return chains_[i].Unreachable(pose.r.transpose() * (ankle_w - pose.p), kSolveTolM + 1e-6);
 }
 
 Eigen::Vector3d CornerPlan::StanceAnkle(int i, const Eigen::Vector3d& face,

@@ -96,6 +96,100 @@ LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
   reach_m_ = (anchor_w[1] - anchor_w[0]).norm() + (anchor_w[2] - anchor_w[1]).norm() +
              (neutral_ankle_ - anchor_w[2]).norm();
   hip_ = anchor_w[0];
+  // A turn of joint k by δ moves the ankle at most its distance from the joint's anchor times
+  // δ: these bound those distances (rigid pieces, as the reach).
+  BuildReachMap({reach_m_, (anchor_w[2] - anchor_w[1]).norm() + (neutral_ankle_ - anchor_w[2]).norm(),
+                 (neutral_ankle_ - anchor_w[2]).norm()});
+}
+
+void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
+  // The joints' grid: every q in the ranges is within half a spacing of a grid point in each
+  // joint, so its ankle is within cover_m of that point's (one joint at a time, each moving
+  // the ankle at most lever × its share).
+  constexpr double kCoverM = 0.008;
+  std::array<int, 3> n{};
+  std::array<double, 3> step{};
+  double cover_m = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double range = hi_[k] - lo_[k];
+    const double want = 2.0 * kCoverM / (3.0 * std::max(lever_m[k], 1e-6));
+    n[k] = std::max(2, static_cast<int>(std::ceil(range / want)) + 1);
+    step[k] = range / (n[k] - 1);
+    cover_m += 0.5 * lever_m[k] * step[k];
+  }
+  std::vector<Eigen::Vector3d> samples;
+  samples.reserve(static_cast<size_t>(n[0]) * n[1] * n[2]);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = Eigen::Vector3d::Constant(-1e9);
+  for (int a = 0; a < n[0]; ++a) {
+    for (int b = 0; b < n[1]; ++b) {
+      for (int c = 0; c < n[2]; ++c) {
+        const Eigen::Vector3d x =
+            Ankle({lo_[0] + a * step[0], lo_[1] + b * step[1], lo_[2] + c * step[2]}, 0.0);
+        samples.push_back(x);
+        lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+      }
+    }
+  }
+  // A target within cover + tolerance of a sample has its voxel's centre within `grow` of the
+  // sample's voxel's centre (each point within half a voxel diagonal of its centre).
+  const double grow = cover_m + kMapTolM + std::sqrt(3.0) * voxel_m_ + 1e-9;
+  map_lo_ = lo - Eigen::Vector3d::Constant(grow + voxel_m_);
+  for (int k = 0; k < 3; ++k) {
+    map_n_[k] = static_cast<int>(std::ceil((hi[k] - lo[k] + 2.0 * (grow + voxel_m_)) / voxel_m_)) + 1;
+  }
+  const size_t cells = static_cast<size_t>(map_n_[0]) * map_n_[1] * map_n_[2];
+  std::vector<uint8_t> occupied(cells, 0);
+  const auto index = [&](const std::array<int, 3>& v) {
+    return (static_cast<size_t>(v[0]) * map_n_[1] + v[1]) * map_n_[2] + v[2];
+  };
+  const auto voxel = [&](const Eigen::Vector3d& x) {
+    std::array<int, 3> v{};
+    for (int k = 0; k < 3; ++k) v[k] = static_cast<int>(std::floor((x[k] - map_lo_[k]) / voxel_m_));
+    return v;
+  };
+  for (const Eigen::Vector3d& x : samples) occupied[index(voxel(x))] = 1;
+  const int r = static_cast<int>(std::ceil(grow / voxel_m_));
+  std::vector<std::array<int, 3>> ball;
+  for (int dx = -r; dx <= r; ++dx) {
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dz = -r; dz <= r; ++dz) {
+        if (voxel_m_ * std::sqrt(double(dx * dx + dy * dy + dz * dz)) <= grow) ball.push_back({dx, dy, dz});
+      }
+    }
+  }
+  map_.assign((cells + 63) / 64, 0);
+  for (int a = 0; a < map_n_[0]; ++a) {
+    for (int b = 0; b < map_n_[1]; ++b) {
+      for (int c = 0; c < map_n_[2]; ++c) {
+        if (!occupied[index({a, b, c})]) continue;
+        for (const auto& d : ball) {
+          const std::array<int, 3> v = {a + d[0], b + d[1], c + d[2]};
+          if (v[0] < 0 || v[1] < 0 || v[2] < 0 || v[0] >= map_n_[0] || v[1] >= map_n_[1] ||
+              v[2] >= map_n_[2]) {
+            continue;
+          }
+          const size_t i = index(v);
+          map_[i / 64] |= uint64_t{1} << (i % 64);
+        }
+      }
+    }
+  }
+}
+
+bool LegChain::MapSet(const std::array<int, 3>& v) const {
+  for (int k = 0; k < 3; ++k) {
+    if (v[k] < 0 || v[k] >= map_n_[k]) return false;
+  }
+  const size_t i = (static_cast<size_t>(v[0]) * map_n_[1] + v[1]) * map_n_[2] + v[2];
+  return (map_[i / 64] >> (i % 64)) & 1;
+}
+
+bool LegChain::Unreachable(const Eigen::Vector3d& target, double tolerance_m) const {
+  if (OutOfReach(target, tolerance_m)) return true;
+  if (tolerance_m > kMapTolM || map_.empty()) return false;
+  std::array<int, 3> v{};
+  for (int k = 0; k < 3; ++k) v[k] = static_cast<int>(std::floor((target[k] - map_lo_[k]) / voxel_m_));
+  return !MapSet(v);
 }
 
 bool LegChain::OutOfReach(const Eigen::Vector3d& target, double tolerance_m) const {

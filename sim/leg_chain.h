@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "sim/world.h"
@@ -56,6 +57,15 @@ class LegChain {
   // skip the solve.
   bool OutOfReach(const Eigen::Vector3d& target, double tolerance_m) const;
 
+  // True when no joint angles within the ranges (Solve's results are) put the ankle within
+  // tolerance_m of `target`: OutOfReach, or, for tolerances up to kMapTolM, outside a map of
+  // where the ankle can be. The map is conservative: built from the ankle over a grid of the
+  // joints' ranges, each sample grown by how far the ankle can be from the nearest one (the
+  // joints' lever arms times half the grid's spacing) and by the tolerance. Targets it rejects
+  // are ones Solve would end further than tolerance_m from, after all its iterations.
+  static constexpr double kMapTolM = 0.0025;
+  bool Unreachable(const Eigen::Vector3d& target, double tolerance_m) const;
+
   // How far q lies inside the joint ranges: min over the three joints of the distance to the
   // nearer limit (rad; negative outside).
   double RangeMargin(const Q& q) const;
@@ -93,6 +103,14 @@ class LegChain {
   double tilt_lo_ = 0.0, tilt_hi_ = 0.0;
   Eigen::Vector3d neutral_ankle_ = Eigen::Vector3d::Zero();
   double reach_m_ = 0.0;  // the furthest the ankle gets from hip_
+  // The reach map (Unreachable): voxels of voxel_m_ from map_lo_, map_n_ of them along each
+  // base axis, one bit each, set where a target may be within kMapTolM of the ankle.
+  void BuildReachMap(const std::array<double, 3>& lever_m);
+  bool MapSet(const std::array<int, 3>& v) const;
+  Eigen::Vector3d map_lo_ = Eigen::Vector3d::Zero();
+  double voxel_m_ = 0.004;
+  std::array<int, 3> map_n_{};
+  std::vector<uint64_t> map_;
   Eigen::Vector3d hip_ = Eigen::Vector3d::Zero();
   double post_m_ = 0.0;
 };

@@ -109,6 +109,45 @@ TEST_P(LegChainTest, OutOfReachBoundsEveryAnkle) {
   }
 }
 
+// The reach map never rejects an ankle the joints' ranges allow (nor a target within the
+// tolerance of one), and what it rejects inside the reach sphere no solve reaches.
+TEST_P(LegChainTest, ReachMapIsConservativeAndPrunes) {
+  const auto compiled = Compile(GetParam(), "floor");
+  const RobotInfo& robot = compiled->robot();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (size_t leg = 0; leg < robot.legs.size(); ++leg) {
+    const LegChain c(compiled->model(), robot, static_cast<int>(leg));
+    const auto in_range = [&] {
+      LegChain::Q q{};
+      for (int k = 0; k < 3; ++k) q[k] = c.lo()[k] + u(rng) * (c.hi()[k] - c.lo()[k]);
+      return q;
+    };
+    for (int k = 0; k < 20000; ++k) {
+      const Eigen::Vector3d a = c.Ankle(in_range(), 0.0);
+      ASSERT_FALSE(c.Unreachable(a, 0.0)) << "leg " << leg;
+      const Eigen::Vector3d off = Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      ASSERT_FALSE(c.Unreachable(a + 0.0024 * off.normalized(), LegChain::kMapTolM)) << "leg " << leg;
+    }
+    // Points in the reach sphere: the map rejects some; none of those is solved to 2 mm from
+    // five warm starts.
+    int inside = 0, pruned = 0;
+    const double r = (c.neutral_ankle() - c.hip()).norm() * 1.5;
+    for (int k = 0; k < 3000; ++k) {
+      const Eigen::Vector3d x = c.hip() + r * Eigen::Vector3d(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+      if (c.OutOfReach(x, 0.002)) continue;
+      ++inside;
+      if (!c.Unreachable(x, 0.002)) continue;
+      ++pruned;
+      for (int w = 0; w < 5; ++w) {
+        LegChain::Q q = in_range();
+        ASSERT_GT(c.Solve(x, &q), 0.002) << "leg " << leg << " point " << x.transpose();
+      }
+    }
+    EXPECT_GT(pruned, inside / 5) << "leg " << leg << ": " << pruned << " of " << inside;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, LegChainTest,
                          testing::Values("gecko", "spider", "gecko_ankle", "spider_ankle"));
 
