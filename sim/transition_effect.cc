@@ -759,17 +759,16 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
   if (mode_ != Mode::kWatching && mode_ != Mode::kFailed) {
     const BodyPose stance = Corrected(cmd_);
     for (size_t i = 0; i < feet_.size(); ++i) {
-      Foot& f = feet_[i];
+      const Foot& f = feet_[i];
       if (!f.stance || static_cast<int>(i) == step_leg_ || f.solved) continue;
-      plan_.Margin(static_cast<int>(i), stance, StanceTarget(static_cast<int>(i)), f.normal_w,
-                   &f.q, &f.tilt, kStanceTurn);
+      HoldLeg(static_cast<int>(i), stance);
     }
   }
   // Idle legs hold their place in the body's frame.
   for (size_t i = 0; i < feet_.size(); ++i) {
-    Foot& f = feet_[i];
+    const Foot& f = feet_[i];
     if (!f.idle || static_cast<int>(i) == step_leg_) continue;
-    plan_.chains()[i].Solve(f.ankle_w, &f.q);
+    HoldLeg(static_cast<int>(i), BodyPose{});
   }
   if (mode_ == Mode::kWatching) return;  // handed back: the gait writes the targets
   if (end_time_s_ < 0 && mode_ == Mode::kRun && step_leg_ < 0) {
@@ -781,6 +780,24 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
     }
   }
   WriteTargets(world);
+}
+
+void TransitionEffect::HoldLeg(int i, const BodyPose& pose) {
+  Foot& f = feet_[i];
+  const Eigen::Vector3d target = f.stance ? StanceTarget(i) : f.ankle_w;
+  if (f.held && f.held_q == f.q && f.held_tilt == f.tilt && f.held_target == target && f.held_normal == f.normal_w &&
+      f.held_pose.p == pose.p && f.held_pose.r == pose.r) {
+    return;
+  }
+  double err = 1.0;
+  if (f.stance) {
+    plan_.Margin(i, pose, target, f.normal_w, &f.q, &f.tilt, kStanceTurn, nullptr, &err);
+  } else {
+    err = plan_.chains()[i].Solve(target, &f.q);
+  }
+  f.held = err < LegChain::kSolvedM;
+  f.held_pose = pose, f.held_target = target, f.held_normal = f.normal_w, f.held_q = f.q;
+  f.held_tilt = f.tilt;
 }
 
 BodyPose TransitionEffect::Corrected(const BodyPose& pose) const {

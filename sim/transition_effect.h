@@ -90,6 +90,13 @@ class TransitionEffect final : public Effect {
     // q and tilt already solved to convergence for this tick's commanded body (RunTick's
     // margin check): the stance targets need not solve them again.
     bool solved = false;
+    // The last converged solve of the stance targets or the idle hold: with the same inputs
+    // (bit for bit) a solve would stop at once with the same q and tilt, so it is skipped.
+    bool held = false;
+    BodyPose held_pose;
+    Eigen::Vector3d held_target = Eigen::Vector3d::Zero(), held_normal = Eigen::Vector3d::Zero();
+    LegChain::Q held_q{};
+    double held_tilt = 0.0;
   };
 
   BodyPose ActualPose(const World& world) const;
@@ -122,6 +129,9 @@ class TransitionEffect final : public Effect {
   bool SupportsHold(int except, const std::vector<LegSignals>& legs) const;
   int StanceCount() const;
   Eigen::Vector3d StanceTarget(int i) const;
+  // Leg i's joints for its stance target with the body at `pose` (idle legs: its ankle held
+  // in the body frame), skipped when the inputs are those of its last converged solve.
+  void HoldLeg(int i, const BodyPose& pose);
 
   TransitionParams params_;
   AdhesionEffect* adhesion_;
