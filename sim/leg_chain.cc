@@ -34,6 +34,7 @@ LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
     Link l;
     l.pos = Eigen::Vector3d(m->body_pos[3 * b], m->body_pos[3 * b + 1], m->body_pos[3 * b + 2]);
     l.rot = QuatMat(m->body_quat + 4 * b);
+    l.identity = l.rot == Eigen::Matrix3d::Identity();
     l.first_joint = static_cast<int>(joints_.size());
     for (int j = m->body_jntadr[b]; j >= 0 && j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
       Joint jt;
@@ -203,10 +204,11 @@ Eigen::Vector3d LegChain::Ankle(const Q& q, double tilt, Eigen::Matrix3d* pad_ro
   Eigen::Vector3d axis_w[3], anchor_w[3];
   for (const Link& l : links_) {
     p += r * l.pos;
-    r = r * l.rot;
+    if (!l.identity) r = r * l.rot;
     for (int j = l.first_joint; j < l.first_joint + l.joints; ++j) {
       const Joint& jt = joints_[j];
       const double angle = jt.role >= 0 && jt.role < 3 ? q[jt.role] : jt.role == 3 ? tilt : 0.0;
+      if (angle == 0.0 && (jt.role < 0 || jt.role > 2)) continue;  // a joint at 0 moves nothing
       const Eigen::Vector3d xanchor = r * jt.anchor + p;
       if (jt.role >= 0 && jt.role < 3) {
         axis_w[jt.role] = r * jt.axis;

@@ -91,6 +91,7 @@ class LegChain {
   struct Link {
     Eigen::Vector3d pos;  // in the parent body's frame
     Eigen::Matrix3d rot;
+    bool identity = false;  // rot is exactly the identity: the chain skips the product
     int first_joint = 0, joints = 0;  // into joints_
   };
   std::vector<Link> links_;  // base's child first, the pad body last
