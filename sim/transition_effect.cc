@@ -672,11 +672,12 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
   int worst_leg = -1;
   std::array<LegChain::Q, 8> q{};
   std::array<double, 8> tilt{}, err{};
+  const BodyPose corrected = Corrected(pose);
   for (size_t i = 0; i < n && i < q.size(); ++i) {
     if (!feet_[i].stance) continue;
     q[i] = feet_[i].q;
     const double m =
-        plan_.Margin(static_cast<int>(i), Corrected(pose), StanceTarget(static_cast<int>(i)),
+        plan_.Margin(static_cast<int>(i), corrected, StanceTarget(static_cast<int>(i)),
                      feet_[i].normal_w, &q[i], &tilt[i], kStanceTurn, nullptr, &err[i]);
     if (m < worst) worst = m, worst_leg = static_cast<int>(i);
   }
@@ -686,7 +687,8 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
     for (size_t i = 0; i < n && i < q.size(); ++i) {
       if (!feet_[i].stance) continue;
       feet_[i].q = q[i], feet_[i].tilt = tilt[i];
-      feet_[i].solved = err[i] < LegChain::kSolvedM;
+      // The stance targets below solve the same: they skip it.
+      Remember(static_cast<int>(i), corrected, StanceTarget(static_cast<int>(i)), err[i]);
     }
     return;
   }
@@ -706,7 +708,6 @@ void TransitionEffect::RunTick(World& world, RunContext& ctx) {
 
 void TransitionEffect::Update(World& world, RunContext& ctx) {
   const std::vector<LegSignals>& legs = *ctx.legs;
-  for (Foot& f : feet_) f.solved = false;
   // Bookkeeping: the last pad off the old surface and the first onto the new one.
   for (size_t i = 0; i < legs.size(); ++i) {
     const bool now = legs[i].attached;
@@ -760,7 +761,7 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
     const BodyPose stance = Corrected(cmd_);
     for (size_t i = 0; i < feet_.size(); ++i) {
       const Foot& f = feet_[i];
-      if (!f.stance || static_cast<int>(i) == step_leg_ || f.solved) continue;
+      if (!f.stance || static_cast<int>(i) == step_leg_) continue;
       HoldLeg(static_cast<int>(i), stance);
     }
   }
@@ -785,8 +786,8 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
 void TransitionEffect::HoldLeg(int i, const BodyPose& pose) {
   Foot& f = feet_[i];
   const Eigen::Vector3d target = f.stance ? StanceTarget(i) : f.ankle_w;
-  if (f.held && f.held_q == f.q && f.held_tilt == f.tilt && f.held_target == target && f.held_normal == f.normal_w &&
-      f.held_pose.p == pose.p && f.held_pose.r == pose.r) {
+  if (f.held && f.held_q == f.q && f.held_tilt == f.tilt && f.held_target == target &&
+      f.held_normal == f.normal_w && f.held_pose.p == pose.p && f.held_pose.r == pose.r) {
     return;
   }
   double err = 1.0;
@@ -795,7 +796,13 @@ void TransitionEffect::HoldLeg(int i, const BodyPose& pose) {
   } else {
     err = plan_.chains()[i].Solve(target, &f.q);
   }
-  f.held = err < LegChain::kSolvedM;
+  Remember(i, pose, target, err);
+}
+
+void TransitionEffect::Remember(int i, const BodyPose& pose, const Eigen::Vector3d& target,
+                                double err_m) {
+  Foot& f = feet_[i];
+  f.held = err_m < LegChain::kSolvedM;
   f.held_pose = pose, f.held_target = target, f.held_normal = f.normal_w, f.held_q = f.q;
   f.held_tilt = f.tilt;
 }

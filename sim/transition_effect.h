@@ -87,11 +87,9 @@ class TransitionEffect final : public Effect {
     Eigen::Vector3d normal_w = Eigen::Vector3d::UnitZ();
     LegChain::Q q{};
     double tilt = 0.0;
-    // q and tilt already solved to convergence for this tick's commanded body (RunTick's
-    // margin check): the stance targets need not solve them again.
-    bool solved = false;
-    // The last converged solve of the stance targets or the idle hold: with the same inputs
-    // (bit for bit) a solve would stop at once with the same q and tilt, so it is skipped.
+    // The last converged solve of this leg (RunTick's margin check, the stance targets, the
+    // idle hold): with the same inputs, bit for bit, a solve would stop at once with the same
+    // q and tilt, so HoldLeg skips it.
     bool held = false;
     BodyPose held_pose;
     Eigen::Vector3d held_target = Eigen::Vector3d::Zero(), held_normal = Eigen::Vector3d::Zero();
@@ -132,6 +130,8 @@ class TransitionEffect final : public Effect {
   // Leg i's joints for its stance target with the body at `pose` (idle legs: its ankle held
   // in the body frame), skipped when the inputs are those of its last converged solve.
   void HoldLeg(int i, const BodyPose& pose);
+  // Leg i's q and tilt are its solve for these inputs, converged when err_m < kSolvedM.
+  void Remember(int i, const BodyPose& pose, const Eigen::Vector3d& target, double err_m);
 
   TransitionParams params_;
   AdhesionEffect* adhesion_;
