@@ -140,15 +140,7 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
   }
   const size_t cells = static_cast<size_t>(map_n_[0]) * map_n_[1] * map_n_[2];
   std::vector<uint8_t> occupied(cells, 0);
-  const auto index = [&](const std::array<int, 3>& v) {
-    return (static_cast<size_t>(v[0]) * map_n_[1] + v[1]) * map_n_[2] + v[2];
-  };
-  const auto voxel = [&](const Eigen::Vector3d& x) {
-    std::array<int, 3> v{};
-    for (int k = 0; k < 3; ++k) v[k] = static_cast<int>(std::floor((x[k] - map_lo_[k]) / voxel_m_));
-    return v;
-  };
-  for (const Eigen::Vector3d& x : samples) occupied[index(voxel(x))] = 1;
+  for (const Eigen::Vector3d& x : samples) occupied[MapIndex(Voxel(x))] = 1;
   const int r = static_cast<int>(std::ceil(grow / voxel_m_));
   std::vector<std::array<int, 3>> ball;
   for (int dx = -r; dx <= r; ++dx) {
@@ -162,14 +154,14 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
   for (int a = 0; a < map_n_[0]; ++a) {
     for (int b = 0; b < map_n_[1]; ++b) {
       for (int c = 0; c < map_n_[2]; ++c) {
-        if (!occupied[index({a, b, c})]) continue;
+        if (!occupied[MapIndex({a, b, c})]) continue;
         for (const auto& d : ball) {
           const std::array<int, 3> v = {a + d[0], b + d[1], c + d[2]};
           if (v[0] < 0 || v[1] < 0 || v[2] < 0 || v[0] >= map_n_[0] || v[1] >= map_n_[1] ||
               v[2] >= map_n_[2]) {
             continue;
           }
-          const size_t i = index(v);
+          const size_t i = MapIndex(v);
           map_[i / 64] |= uint64_t{1} << (i % 64);
         }
       }
@@ -177,20 +169,28 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
   }
 }
 
+std::array<int, 3> LegChain::Voxel(const Eigen::Vector3d& x) const {
+  std::array<int, 3> v{};
+  for (int k = 0; k < 3; ++k) v[k] = static_cast<int>(std::floor((x[k] - map_lo_[k]) / voxel_m_));
+  return v;
+}
+
+size_t LegChain::MapIndex(const std::array<int, 3>& v) const {
+  return (static_cast<size_t>(v[0]) * map_n_[1] + v[1]) * map_n_[2] + v[2];
+}
+
 bool LegChain::MapSet(const std::array<int, 3>& v) const {
   for (int k = 0; k < 3; ++k) {
     if (v[k] < 0 || v[k] >= map_n_[k]) return false;
   }
-  const size_t i = (static_cast<size_t>(v[0]) * map_n_[1] + v[1]) * map_n_[2] + v[2];
+  const size_t i = MapIndex(v);
   return (map_[i / 64] >> (i % 64)) & 1;
 }
 
 bool LegChain::Unreachable(const Eigen::Vector3d& target, double tolerance_m) const {
   if (OutOfReach(target, tolerance_m)) return true;
   if (tolerance_m > kMapTolM || map_.empty()) return false;
-  std::array<int, 3> v{};
-  for (int k = 0; k < 3; ++k) v[k] = static_cast<int>(std::floor((target[k] - map_lo_[k]) / voxel_m_));
-  return !MapSet(v);
+  return !MapSet(Voxel(target));
 }
 
 bool LegChain::OutOfReach(const Eigen::Vector3d& target, double tolerance_m) const {

@@ -107,6 +107,8 @@ class LegChain {
   // The reach map (Unreachable): voxels of voxel_m_ from map_lo_, map_n_ of them along each
   // base axis, one bit each, set where a target may be within kMapTolM of the ankle.
   void BuildReachMap(const std::array<double, 3>& lever_m);
+  std::array<int, 3> Voxel(const Eigen::Vector3d& x) const;  // may lie outside the map
+  size_t MapIndex(const std::array<int, 3>& v) const;         // v inside the map
   bool MapSet(const std::array<int, 3>& v) const;
   Eigen::Vector3d map_lo_ = Eigen::Vector3d::Zero();
   double voxel_m_ = 0.004;

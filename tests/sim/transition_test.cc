@@ -187,16 +187,24 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
+// `climbsim simulate` on an example with its first `from` replaced by `to`, written as
+// <name>.yaml and run into <name>/ (the edit must find its text).
+climbsim::testing::CliResult SimulateEdited(const std::string& example, const std::string& from,
+                                           const std::string& to, const std::string& name) {
+  std::string text = climbsim::testing::ReadFile(Source(example));
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  const std::string file = WriteFile(name + ".yaml", text);
+  return climbsim::testing::RunClimbsim("simulate " + file + " --out " +
+                                        climbsim::testing::TempDir() + "/" + name);
+}
+
 // The transition needs the ankle option (a servo that turns each pad): the plain gecko is
 // refused at load with the file, the line and the key, exit code 2.
 TEST(CornerInput, APlainRobotIsRefusedWithTheKeysPlace) {
-  std::string text = climbsim::testing::ReadFile(Source("examples/gecko_floor_to_wall.yaml"));
-  const size_t at = text.find("robot: gecko_ankle");
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, 18, "robot: gecko");
-  const std::string file = WriteFile("plain_corner.yaml", text);
-  const auto r = climbsim::testing::RunClimbsim("simulate " + file + " --out " +
-                                                climbsim::testing::TempDir() + "/plain_corner");
+  const auto r = SimulateEdited("examples/gecko_floor_to_wall.yaml", "robot: gecko_ankle",
+                                "robot: gecko", "plain_corner");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("plain_corner.yaml:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("transition"), std::string::npos) << r.err;
@@ -205,13 +213,8 @@ TEST(CornerInput, APlainRobotIsRefusedWithTheKeysPlace) {
 
 // A bad value of a transition key is refused with its place, like every key.
 TEST(CornerInput, AnUnknownHandBackIsRefused) {
-  std::string text = climbsim::testing::ReadFile(Source("examples/gecko_wall_to_top.yaml"));
-  const size_t at = text.find("transition:\n");
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, 12, "transition:\n  then: jump\n");
-  const std::string file = WriteFile("bad_then.yaml", text);
-  const auto r = climbsim::testing::RunClimbsim("simulate " + file + " --out " +
-                                                climbsim::testing::TempDir() + "/bad_then");
+  const auto r = SimulateEdited("examples/gecko_wall_to_top.yaml", "transition:\n",
+                                "transition:\n  then: jump\n", "bad_then");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("bad_then.yaml:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("then"), std::string::npos) << r.err;
