@@ -231,19 +231,32 @@ Eigen::Vector3d LegChain::Ankle(const Q& q, double tilt, Eigen::Matrix3d* pad_ro
 double LegChain::Solve(const Eigen::Vector3d& target, Q* q, int iterations,
                        Eigen::Matrix3d* pad_rot) const {
   double err = 0.0;
+  Pass pass, start;
   // Every way out of the loop leaves *q where the last forward pass was made.
   for (int it = 0; it <= iterations; ++it) {
-    Eigen::Matrix3d jac;
-    const Eigen::Vector3d e = target - Ankle(*q, 0.0, pad_rot, &jac);
+    if (it == 0 && last_pass_.valid && last_pass_.q == *q) {
+      pass = last_pass_;
+    } else if (it == 0 && first_pass_.valid && first_pass_.q == *q) {
+      pass = first_pass_;
+    } else {
+      pass.q = *q;
+      pass.ankle = Ankle(*q, 0.0, &pass.pad_rot, &pass.jacobian);
+      pass.valid = true;
+    }
+    if (it == 0) start = pass;
+    const Eigen::Vector3d e = target - pass.ankle;
     err = e.norm();
     if (err < kSolvedM || it == iterations) break;
     // Damped least squares: finite near singular poses and at the joint limits.
+    const Eigen::Matrix3d& jac = pass.jacobian;
     const Eigen::Vector3d dq =
         jac.transpose() * (jac * jac.transpose() + 1e-7 * Eigen::Matrix3d::Identity()).ldlt().solve(e);
     const Q before = *q;
     for (int k = 0; k < 3; ++k) (*q)[k] = std::clamp((*q)[k] + dq[k], lo_[k], hi_[k]);
     if (*q == before) break;
   }
+  first_pass_ = start, last_pass_ = pass;
+  if (pad_rot != nullptr) *pad_rot = pass.pad_rot;
   return err;
 }
 

@@ -36,7 +36,8 @@ class LegChain {
   // Joint angles that put the ankle at `target` (base frame), from *q (the warm start; the
   // result is written back, clamped to the joint ranges). Returns the distance left (m) and,
   // when asked, the pad's orientation at the result (as Ankle's, tilt 0: its last forward pass
-  // was at the result, so Tilt need not run the chain again).
+  // was at the result, so Tilt need not run the chain again). Not for calls from two threads
+  // at once (it remembers its passes).
   static constexpr int kSolveIterations = 12;
   static constexpr double kSolvedM = 1e-7;  // Solve stops this close to its target
   double Solve(const Eigen::Vector3d& target, Q* q, int iterations = kSolveIterations,
@@ -116,6 +117,18 @@ class LegChain {
   std::vector<uint64_t> map_;
   Eigen::Vector3d hip_ = Eigen::Vector3d::Zero();
   double post_m_ = 0.0;
+  // Solve's forward passes remembered by q. A solve's first pass, at its warm start, is often
+  // the last pass of the solve before (a stance leg following a moving body: one pass a tick
+  // instead of two) or the first pass of the solve before (a search trying many targets from
+  // one warm start). Ankle is a function of q alone (tilt 0), so a remembered pass is the pass,
+  // bit for bit. Mutable state: a chain belongs to one run, as its model copy does.
+  struct Pass {
+    Q q{};
+    Eigen::Vector3d ankle = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d pad_rot = Eigen::Matrix3d::Zero(), jacobian = Eigen::Matrix3d::Zero();
+    bool valid = false;
+  };
+  mutable Pass first_pass_, last_pass_;
 };
 
 }  // namespace climbsim::sim
