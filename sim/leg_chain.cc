@@ -16,6 +16,27 @@ Eigen::Matrix3d QuatMat(const mjtNum* q) {
   return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
 }
 
+// k when `axis` is exactly ±e_k, else -1.
+int UnitAxis(const Eigen::Vector3d& axis) {
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(axis[k]) == 1.0 && axis[(k + 1) % 3] == 0.0 && axis[(k + 2) % 3] == 0.0) return k;
+  }
+  return -1;
+}
+
+// r ← r · R(angle about ±e_k), with R as Eigen's AngleAxis builds it: R(k,k) = (1 − c) + c,
+// the other diagonal entries c, R(j,i) = s_k = −R(i,j) for (k, i, j) cyclic, s_k = ±sin, and
+// zeros. Each column of the product then has at most two nonzero terms, whose sum does not
+// depend on the order of addition: bit for bit the general product.
+void TurnAboutUnit(int k, double sign, double angle, Eigen::Matrix3d* r) {
+  const double s = std::sin(angle) * sign, c = std::cos(angle);
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const Eigen::Vector3d ci = r->col(i), cj = r->col(j);
+  r->col(i) = ci * c + cj * s;
+  r->col(j) = ci * (-s) + cj * c;
+  r->col(k) *= (1.0 - c) + c;
+}
+
 }  // namespace
 
 LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
@@ -48,6 +69,8 @@ LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
       if (m->jnt_type[j] != mjJNT_HINGE) continue;  // none on the bundled legs
       jt.axis = Eigen::Vector3d(m->jnt_axis[3 * j], m->jnt_axis[3 * j + 1], m->jnt_axis[3 * j + 2]);
       jt.anchor = Eigen::Vector3d(m->jnt_pos[3 * j], m->jnt_pos[3 * j + 1], m->jnt_pos[3 * j + 2]);
+      jt.unit = UnitAxis(jt.axis);
+      jt.at_origin = jt.anchor.isZero(0.0);
       if (jt.role >= 0 && jt.role < 3) {
         ++found;
         lo_[jt.role] = m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI;
@@ -209,14 +232,19 @@ Eigen::Vector3d LegChain::Ankle(const Q& q, double tilt, Eigen::Matrix3d* pad_ro
       const Joint& jt = joints_[j];
       const double angle = jt.role >= 0 && jt.role < 3 ? q[jt.role] : jt.role == 3 ? tilt : 0.0;
       if (angle == 0.0 && (jt.role < 0 || jt.role > 2)) continue;  // a joint at 0 moves nothing
-      const Eigen::Vector3d xanchor = r * jt.anchor + p;
+      const Eigen::Vector3d xanchor = jt.at_origin ? p : Eigen::Vector3d(r * jt.anchor + p);
       if (jt.role >= 0 && jt.role < 3) {
-        axis_w[jt.role] = r * jt.axis;
+        axis_w[jt.role] = jt.unit >= 0 ? Eigen::Vector3d(r.col(jt.unit) * jt.axis[jt.unit])
+                                       : Eigen::Vector3d(r * jt.axis);
         anchor_w[jt.role] = xanchor;
       }
       if (angle != 0.0) {
-        r = r * Eigen::AngleAxisd(angle, jt.axis).toRotationMatrix();
-        p = xanchor - r * jt.anchor;
+        if (jt.unit >= 0) {
+          TurnAboutUnit(jt.unit, jt.axis[jt.unit], angle, &r);
+        } else {
+          r = r * Eigen::AngleAxisd(angle, jt.axis).toRotationMatrix();
+        }
+        if (!jt.at_origin) p = xanchor - r * jt.anchor;
       }
     }
   }

@@ -88,6 +88,11 @@ class LegChain {
     int role = -1;  // 0..2: hip_yaw, hip_pitch, knee; 3: the tilt; -1: passive (held at 0)
     Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // body frame
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // body frame
+    // k when the axis is exactly ±e_k (every joint of the bundled robots), else -1: Ankle then
+    // turns two columns instead of multiplying by a rotation matrix, the same numbers (the
+    // terms it skips are exact zeros).
+    int unit = -1;
+    bool at_origin = true;  // anchor exactly 0: no product for it
   };
   struct Link {
     Eigen::Vector3d pos;  // in the parent body's frame
