@@ -33,13 +33,18 @@ struct SpeedReport {
   long steps = 0;                   // per run
   int repetitions = 0;
   std::vector<SpeedVariant> variants;
-  // Profile of the full scenario: seconds in mj_step, in each effect, in the monitor.
+  // Profile of the full scenario: seconds in mj_step, in each effect, in the monitor, over the
+  // steps from profile_from_s on (e.g. a corner's manoeuvre; those before run unprofiled).
+  double profile_from_s = 0.0;
+  long profiled_steps = 0;
   double mj_step_s = 0.0;
   std::vector<std::pair<std::string, double>> effect_s;
   double monitor_s = 0.0;
 };
 
-SpeedReport BenchSpeed(const Scenario& scenario, double duration_s, int repetitions);
+// profile_from_s in [0, duration_s): where the profile of the full scenario starts.
+SpeedReport BenchSpeed(const Scenario& scenario, double duration_s, int repetitions,
+                       double profile_from_s = 0.0);
 
 // Two settings of the same scenario (e.g. two physics options), every effect on, run
 // alternately A, B, A, B, ... in one process so that the load of the machine falls on both

@@ -797,7 +797,8 @@ struct TransitionParams {
              &place_force_n);
     a->Visit({"track_s", "s",
               "time constant of the integral correction that moves the stance legs' targets until "
-              "the body, sagging on its compliant servos, is where the plan commands it; 0: off",
+              "the body, sagging on its compliant servos, is where the plan commands it (updated "
+              "every 10 ms); 0: off",
               Range::NonNegative()},
              &track_s);
     a->Visit({"peel_back_m", "m",

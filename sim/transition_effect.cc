@@ -32,6 +32,9 @@ constexpr double kProbeBack = 0.06;
 // The body's sag correction: its largest shift and turn.
 constexpr double kTrackMaxM = 0.015;
 constexpr double kTrackMaxRad = 0.15;
+// The sag correction is a slow integral (track_s, about a second): updated every 10 ms, so that
+// a stance leg's target, and its solve, change once a period while another leg steps.
+constexpr double kTrackPeriodS = 0.01;
 // The share of a swing spent lifting the foot straight off the surface it leaves.
 constexpr double kLiftShare = 0.3;
 // A pad with this many contact points with a surface lies flat on it.
@@ -59,6 +62,7 @@ TransitionEffect::TransitionEffect(const Scenario& scenario, const TransitionPar
       event_pad_(std::move(event_pad)),
       plan_(MakePlan(scenario, params, world)),
       cpg_(cpg) {
+  track_every_ = std::max(1, static_cast<int>(std::lround(kTrackPeriodS / period_s)));
   if (params_.then == "gait" && (cpg_ == nullptr || !cpg_->foot_space())) {
     throw ScenarioError(scenario, "transition.then",
                         "gait: the feet are handed back to the CPG's foot-space gait, which needs "
@@ -726,7 +730,10 @@ void TransitionEffect::Update(World& world, RunContext& ctx) {
       }
     }
   }
-  if (mode_ != Mode::kFailed && params_.track_s > 0) TrackBody(world);
+  if (mode_ != Mode::kFailed && params_.track_s > 0 && ++track_tick_ >= track_every_) {
+    track_tick_ = 0;
+    TrackBody(world);
+  }
   if (mode_ != Mode::kFailed) {
     if (step_leg_ >= 0) {
       AdvanceStep(world, ctx);
@@ -819,7 +826,7 @@ void TransitionEffect::TrackBody(const World& world) {
   // stance legs' targets until the body is where the plan commands it (so that a foot lands,
   // in its joints, where the plan expects).
   const BodyPose actual = ActualPose(world);
-  const double k = dt_ / params_.track_s;
+  const double k = track_every_ * dt_ / params_.track_s;
   corr_p_ += k * (cmd_.p - actual.p);
   corr_w_ += k * RotationLog(actual.r.transpose() * cmd_.r);
   if (corr_p_.norm() > kTrackMaxM) corr_p_ *= kTrackMaxM / corr_p_.norm();

@@ -17,9 +17,13 @@
 namespace climbsim::tools {
 namespace {
 
-void Speed(const std::string& file, double duration_s, int repetitions) {
+void Speed(const std::string& file, double duration_s, int repetitions, double profile_from_s) {
+  if (profile_from_s >= duration_s) {
+    throw InputError("climbsim bench speed", 0, 0, "--profile-from",
+                     "must be less than --duration (" + std::to_string(duration_s) + " s)");
+  }
   const sim::Scenario s = sim::LoadScenario(file);
-  const sim::SpeedReport r = sim::BenchSpeed(s, duration_s, repetitions);
+  const sim::SpeedReport r = sim::BenchSpeed(s, duration_s, repetitions, profile_from_s);
   std::printf("climbsim bench speed: %s, %ld steps per run, %d repetitions, interleaved\n",
               file.c_str(), r.steps, r.repetitions);
   std::printf("  %-16s %14s %12s %s\n", "variant", "steps/s", "vs bare", "(median; each run)");
@@ -33,7 +37,12 @@ void Speed(const std::string& file, double duration_s, int repetitions) {
   }
   double effects = 0.0;
   for (const auto& e : r.effect_s) effects += e.second;
-  std::printf("  profile of the full scenario (time inside each part of the step):\n");
+  if (r.profile_from_s > 0) {
+    std::printf("  profile of the full scenario from %g s (%ld steps; time inside each part of "
+                "the step):\n", r.profile_from_s, r.profiled_steps);
+  } else {
+    std::printf("  profile of the full scenario (time inside each part of the step):\n");
+  }
   // Names as wide as the longest one (the controller's: cpg+reflex+transition).
   int w = 14;
   for (const auto& e : r.effect_s) w = std::max(w, static_cast<int>(e.first.size()));
@@ -213,7 +222,7 @@ void AddBenchCommand(CLI::App& app) {
   cmd->footer("Example:\n  climbsim bench speed examples/gecko_wall.yaml --duration 5");
 
   static std::string file, out_dir = "runs/bench";
-  static double duration_s = 10.0;
+  static double duration_s = 10.0, profile_from_s = 0.0;
   static int repetitions = 5, threads = 0, evaluations = 8;
   static std::vector<std::string> versus;
 
@@ -223,16 +232,22 @@ void AddBenchCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   speed->add_option("--repetitions", repetitions, "runs per variant, interleaved")
       ->check(CLI::Range(1, 1000));
+  speed->add_option("--profile-from", profile_from_s,
+                    "simulated time at which the profile starts (e.g. a corner's trigger time "
+                    "from summary.json); the steps before it run unprofiled")
+      ->check(CLI::NonNegativeNumber);
   speed->add_option("--versus", versus,
                     "KEY=VALUE (repeatable): instead of the effect variants, compare the "
                     "scenario as written with the same scenario with these keys changed");
   speed->footer(
       "Examples:\n  climbsim bench speed examples/gecko_wall.yaml --duration 5\n"
       "  climbsim bench speed examples/gecko_wall.yaml --duration 5 --versus "
-      "physics.integrator=implicit");
+      "physics.integrator=implicit\n"
+      "  climbsim bench speed examples/spider_floor_to_wall.yaml --duration 39 "
+      "--profile-from 6.7");
   speed->callback([] {
     if (versus.empty()) {
-      Speed(file, duration_s, repetitions);
+      Speed(file, duration_s, repetitions, profile_from_s);
     } else {
       SpeedVersus(file, versus, duration_s, repetitions);
     }

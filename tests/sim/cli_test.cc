@@ -84,4 +84,21 @@ TEST(Cli, BenchSpeedVersusComparesTwoSettingsAndRejectsABadKey) {
       << wrong.err;
 }
 
+// `bench speed --profile-from`: the profile covers the steps from that time on (0.1 s of a
+// 0.25 s run at 1 ms: the last 150 steps), and a window that starts at or after the end is
+// refused before anything runs.
+TEST(Cli, BenchSpeedProfilesFromAGivenTime) {
+  const std::string scenario = climbsim::testing::Source("examples/gecko_floor.yaml");
+  const CliResult r = RunClimbsim("bench speed " + scenario +
+                                  " --duration 0.25 --repetitions 1 --profile-from 0.1");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("profile of the full scenario from 0.1 s (150 steps;"), std::string::npos)
+      << r.out;
+  const CliResult late =
+      RunClimbsim("bench speed " + scenario + " --duration 0.25 --profile-from 0.25");
+  EXPECT_EQ(late.code, 2) << late.err;
+  EXPECT_NE(late.err.find("--profile-from"), std::string::npos) << late.err;
+  EXPECT_EQ(late.out.find("steps/s"), std::string::npos) << late.out;
+}
+
 }  // namespace

@@ -162,8 +162,8 @@ const std::vector<std::string> kGeckoFront = {"LF_pad", "RF_pad"};
 const std::vector<std::string> kGeckoHind = {"LH_pad", "RH_pad"};
 
 // Measured (docs/climbing.md, "Sharp corners"): every pad on the new surface at 25.7 s (floor
-// to wall), 25.8 s (wall to ceiling), 37.2 s (over the outer corner), 38.5 s (spider); the
-// base then goes 0.273, 0.265, 0.169 and 0.129 m on along it by 60 s.
+// to wall), 25.8 s (wall to ceiling), 37.2 s (over the outer corner), 38.2 s (spider); the
+// base then goes 0.273, 0.265, 0.169 and 0.132 m on along it by 60 s.
 INSTANTIATE_TEST_SUITE_P(
     Examples, CornerExample,
     ::testing::Values(CornerCase{"examples/gecko_floor_to_wall.yaml", "floor", "wall", "inner",
