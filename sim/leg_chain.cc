@@ -37,6 +37,17 @@ void TurnAboutUnit(int k, double sign, double angle, Eigen::Matrix3d* r) {
   r->col(k) *= (1.0 - c) + c;
 }
 
+// R(angle about ±e_k)·v with the same R: each entry two nonzero terms, as in TurnAboutUnit.
+Eigen::Vector3d RotateAboutUnit(int k, double sign, double angle, const Eigen::Vector3d& v) {
+  const double s = std::sin(angle) * sign, c = std::cos(angle);
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  Eigen::Vector3d out;
+  out[i] = c * v[i] + (-s) * v[j];
+  out[j] = s * v[i] + c * v[j];
+  out[k] = ((1.0 - c) + c) * v[k];
+  return out;
+}
+
 }  // namespace
 
 LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
@@ -307,7 +318,9 @@ double LegChain::Tilt(const Eigen::Matrix3d& r0, const Eigen::Vector3d& normal,
   double tilt = std::atan2(a.dot(f.cross(w)), f.dot(w));
   tilt = std::clamp(tilt, tilt_lo_, tilt_hi_);
   if (left_rad != nullptr) {
-    const Eigen::Vector3d turned = Eigen::AngleAxisd(tilt, a) * face_normal_;
+    const int k = UnitAxis(a);
+    const Eigen::Vector3d turned = k >= 0 ? RotateAboutUnit(k, a[k], tilt, face_normal_)
+                                          : Eigen::Vector3d(Eigen::AngleAxisd(tilt, a) * face_normal_);
     *left_rad = std::acos(std::clamp(turned.dot(n), -1.0, 1.0));
   }
   return tilt;

@@ -274,6 +274,7 @@ void TransitionEffect::ProbeTick(World& world, RunContext& ctx) {
 void TransitionEffect::HoldFeet(World& world, RunContext& ctx) {
   corr_p_.setZero();
   corr_w_.setZero();
+  corr_r_ = Exp(corr_w_);
   const mjData* d = world.data();
   const std::vector<LegSignals>& legs = *ctx.legs;
   for (size_t i = 0; i < feet_.size(); ++i) {
@@ -817,7 +818,7 @@ void TransitionEffect::Remember(int i, const BodyPose& pose, const Eigen::Vector
 BodyPose TransitionEffect::Corrected(const BodyPose& pose) const {
   BodyPose p = pose;
   p.p += corr_p_;
-  p.r = p.r * Exp(corr_w_);
+  p.r = p.r * corr_r_;
   return p;
 }
 
@@ -831,6 +832,7 @@ void TransitionEffect::TrackBody(const World& world) {
   corr_w_ += k * RotationLog(actual.r.transpose() * cmd_.r);
   if (corr_p_.norm() > kTrackMaxM) corr_p_ *= kTrackMaxM / corr_p_.norm();
   if (corr_w_.norm() > kTrackMaxRad) corr_w_ *= kTrackMaxRad / corr_w_.norm();
+  corr_r_ = Exp(corr_w_);
 }
 
 void TransitionEffect::RestoreKp(World& world) const {

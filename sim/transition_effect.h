@@ -161,6 +161,7 @@ class TransitionEffect final : public Effect {
   double sigma_ = 0.0, idle_check_ = 0.0;
   BodyPose cmd_;
   Eigen::Vector3d corr_p_ = Eigen::Vector3d::Zero(), corr_w_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d corr_r_ = Eigen::Matrix3d::Identity();  // Exp(corr_w_), for Corrected
   int track_every_ = 1, track_tick_ = 0;  // the correction's period, in control ticks
   Eigen::Vector3d up_ = Eigen::Vector3d::UnitZ();  // against gravity
   // The stepping leg.
