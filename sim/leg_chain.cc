@@ -165,41 +165,45 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
       }
     }
   }
-  // A target within cover + tolerance of a sample has its voxel's centre within `grow` of the
-  // sample's voxel's centre (each point within half a voxel diagonal of its centre).
-  const double grow = cover_m + kMapTolM + std::sqrt(3.0) * voxel_m_ + 1e-9;
-  map_lo_ = lo - Eigen::Vector3d::Constant(grow + voxel_m_);
+  // A target within r = cover + tolerance of a sample lies in a voxel whose box is within r of
+  // the sample: each sample marks exactly those voxels (their box's distance to it, not their
+  // centres', so no voxel diagonal is added to the growth).
+  const double r = cover_m + kMapTolM + 1e-9;  // 1 nm: rounding of the boxes' corners
+  map_lo_ = lo - Eigen::Vector3d::Constant(r + voxel_m_);
   for (int k = 0; k < 3; ++k) {
-    map_n_[k] = static_cast<int>(std::ceil((hi[k] - lo[k] + 2.0 * (grow + voxel_m_)) / voxel_m_)) + 1;
+    map_n_[k] = static_cast<int>(std::ceil((hi[k] - lo[k] + 2.0 * (r + voxel_m_)) / voxel_m_)) + 1;
   }
   const size_t cells = static_cast<size_t>(map_n_[0]) * map_n_[1] * map_n_[2];
-  std::vector<uint8_t> occupied(cells, 0);
-  for (const Eigen::Vector3d& x : samples) occupied[MapIndex(Voxel(x))] = 1;
-  const int r = static_cast<int>(std::ceil(grow / voxel_m_));
-  std::vector<std::array<int, 3>> ball;
-  for (int dx = -r; dx <= r; ++dx) {
-    for (int dy = -r; dy <= r; ++dy) {
-      for (int dz = -r; dz <= r; ++dz) {
-        if (voxel_m_ * std::sqrt(double(dx * dx + dy * dy + dz * dz)) <= grow) ball.push_back({dx, dy, dz});
+  map_.assign((cells + 63) / 64, 0);
+  for (const Eigen::Vector3d& x : samples) {
+    const std::array<int, 3> v0 = Voxel(x - Eigen::Vector3d::Constant(r));
+    const std::array<int, 3> v1 = Voxel(x + Eigen::Vector3d::Constant(r));
+    // Distance from x to the slab of voxels `v` along axis k.
+    const auto gap = [&](int k, int v) {
+      const double box_lo = map_lo_[k] + v * voxel_m_;
+      return std::max({0.0, box_lo - x[k], x[k] - (box_lo + voxel_m_)});
+    };
+    for (int a = std::max(0, v0[0]); a <= std::min(map_n_[0] - 1, v1[0]); ++a) {
+      const double da = gap(0, a);
+      for (int b = std::max(0, v0[1]); b <= std::min(map_n_[1] - 1, v1[1]); ++b) {
+        const double db = gap(1, b), left = r * r - da * da - db * db;
+        if (left < 0.0) continue;
+        // Along z (the map's fastest index) the voxels within r form one run.
+        const double rz = std::sqrt(left);
+        const int c0 = std::max(0, static_cast<int>(std::floor((x[2] - rz - map_lo_[2]) / voxel_m_)));
+        const int c1 = std::min(map_n_[2] - 1,
+                                static_cast<int>(std::floor((x[2] + rz - map_lo_[2]) / voxel_m_)));
+        if (c1 >= c0) SetRun(MapIndex({a, b, c0}), MapIndex({a, b, c1}));
       }
     }
   }
-  map_.assign((cells + 63) / 64, 0);
-  for (int a = 0; a < map_n_[0]; ++a) {
-    for (int b = 0; b < map_n_[1]; ++b) {
-      for (int c = 0; c < map_n_[2]; ++c) {
-        if (!occupied[MapIndex({a, b, c})]) continue;
-        for (const auto& d : ball) {
-          const std::array<int, 3> v = {a + d[0], b + d[1], c + d[2]};
-          if (v[0] < 0 || v[1] < 0 || v[2] < 0 || v[0] >= map_n_[0] || v[1] >= map_n_[1] ||
-              v[2] >= map_n_[2]) {
-            continue;
-          }
-          const size_t i = MapIndex(v);
-          map_[i / 64] |= uint64_t{1} << (i % 64);
-        }
-      }
-    }
+}
+
+void LegChain::SetRun(size_t first, size_t last) {
+  while (first <= last) {
+    const size_t bit = first % 64, n = std::min<size_t>(64 - bit, last - first + 1);
+    map_[first / 64] |= (n == 64 ? ~uint64_t{0} : ((uint64_t{1} << n) - 1)) << bit;
+    first += n;
   }
 }
 

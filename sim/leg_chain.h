@@ -116,6 +116,7 @@ class LegChain {
   std::array<int, 3> Voxel(const Eigen::Vector3d& x) const;  // may lie outside the map
   size_t MapIndex(const std::array<int, 3>& v) const;         // v inside the map
   bool MapSet(const std::array<int, 3>& v) const;
+  void SetRun(size_t first, size_t last);  // sets the map's bits first..last
   Eigen::Vector3d map_lo_ = Eigen::Vector3d::Zero();
   double voxel_m_ = 0.004;
   std::array<int, 3> map_n_{};
