@@ -115,6 +115,7 @@ void TransitionEffect::Reset(World&, RunContext&) {
   resume_pending_ = false;
   std::fill(air_since_.begin(), air_since_.end(), -1.0);
   probe_leg_ = -1;
+  track_tick_ = 0;
 }
 
 BodyPose TransitionEffect::ActualPose(const World& world) const {
