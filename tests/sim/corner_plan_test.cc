@@ -148,6 +148,41 @@ TEST_P(LegChainTest, ReachMapIsConservativeAndPrunes) {
   }
 }
 
+// Solve remembers its first and last forward pass by q (a stance leg following the body, a
+// search from one warm start). A remembered pass must be the pass: the same sequence of solves
+// on a chain that remembers and on one whose memory is evicted before each solve (by a solve
+// from elsewhere) ends at the same q, distance and pad orientation, bit for bit.
+TEST_P(LegChainTest, RememberedPassesChangeNoBit) {
+  const auto compiled = Compile(GetParam(), "floor");
+  const RobotInfo& robot = compiled->robot();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (size_t leg = 0; leg < robot.legs.size(); ++leg) {
+    const LegChain remembers(compiled->model(), robot, static_cast<int>(leg));
+    const LegChain evicted = remembers;
+    LegChain::Q q1{}, q2{}, other{};
+    for (int k = 0; k < 3; ++k) other[k] = 0.5 * (remembers.lo()[k] + remembers.hi()[k]) + 0.1;
+    for (int step = 0; step < 400; ++step) {
+      // Mostly small moves of the target (a tracking stance leg), now and then a jump, and
+      // now and then several targets from one warm start (a search).
+      const Eigen::Vector3d target =
+          remembers.neutral_ankle() +
+          (step % 50 == 0 ? 0.02 : 0.003) * Eigen::Vector3d(u(rng), u(rng), u(rng));
+      const LegChain::Q start = q1;
+      Eigen::Matrix3d rot1, rot2;
+      const double e1 = remembers.Solve(target, &q1, LegChain::kSolveIterations, &rot1);
+      LegChain::Q scratch = other;
+      evicted.Solve(remembers.neutral_ankle(), &scratch);  // its memory now holds other passes
+      q2 = start;
+      const double e2 = evicted.Solve(target, &q2, LegChain::kSolveIterations, &rot2);
+      ASSERT_EQ(q1, q2) << "leg " << leg << " step " << step;
+      ASSERT_EQ(e1, e2) << "leg " << leg << " step " << step;
+      ASSERT_TRUE(rot1 == rot2) << "leg " << leg << " step " << step;
+      if (step % 7 == 3) q1 = start;  // the next solve starts from the same warm start
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, LegChainTest,
                          testing::Values("gecko", "spider", "gecko_ankle", "spider_ankle"));
 
