@@ -322,7 +322,7 @@ double LegChain::Tilt(const Eigen::Matrix3d& r0, const Eigen::Vector3d& normal,
   double tilt = std::atan2(a.dot(f.cross(w)), f.dot(w));
   tilt = std::clamp(tilt, tilt_lo_, tilt_hi_);
   if (left_rad != nullptr) {
-    const int k = UnitAxis(a);
+    const int k = joints_[tilt_index_].unit;  // the tilt joint's, found with the chain
     const Eigen::Vector3d turned = k >= 0 ? RotateAboutUnit(k, a[k], tilt, face_normal_)
                                           : Eigen::Vector3d(Eigen::AngleAxisd(tilt, a) * face_normal_);
     *left_rad = std::acos(std::clamp(turned.dot(n), -1.0, 1.0));
