@@ -169,9 +169,9 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
   // the sample: each sample marks exactly those voxels (their box's distance to it, not their
   // centres', so no voxel diagonal is added to the growth).
   const double r = cover_m + kMapTolM + 1e-9;  // 1 nm: rounding of the boxes' corners
-  map_lo_ = lo - Eigen::Vector3d::Constant(r + voxel_m_);
+  map_lo_ = lo - Eigen::Vector3d::Constant(r + kVoxelM);
   for (int k = 0; k < 3; ++k) {
-    map_n_[k] = static_cast<int>(std::ceil((hi[k] - lo[k] + 2.0 * (r + voxel_m_)) / voxel_m_)) + 1;
+    map_n_[k] = static_cast<int>(std::ceil((hi[k] - lo[k] + 2.0 * (r + kVoxelM)) / kVoxelM)) + 1;
   }
   const size_t cells = static_cast<size_t>(map_n_[0]) * map_n_[1] * map_n_[2];
   map_.assign((cells + 63) / 64, 0);
@@ -180,8 +180,8 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
     const std::array<int, 3> v1 = Voxel(x + Eigen::Vector3d::Constant(r));
     // Distance from x to the slab of voxels `v` along axis k.
     const auto gap = [&](int k, int v) {
-      const double box_lo = map_lo_[k] + v * voxel_m_;
-      return std::max({0.0, box_lo - x[k], x[k] - (box_lo + voxel_m_)});
+      const double box_lo = map_lo_[k] + v * kVoxelM;
+      return std::max({0.0, box_lo - x[k], x[k] - (box_lo + kVoxelM)});
     };
     for (int a = std::max(0, v0[0]); a <= std::min(map_n_[0] - 1, v1[0]); ++a) {
       const double da = gap(0, a);
@@ -190,9 +190,9 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
         if (left < 0.0) continue;
         // Along z (the map's fastest index) the voxels within r form one run.
         const double rz = std::sqrt(left);
-        const int c0 = std::max(0, static_cast<int>(std::floor((x[2] - rz - map_lo_[2]) / voxel_m_)));
+        const int c0 = std::max(0, static_cast<int>(std::floor((x[2] - rz - map_lo_[2]) / kVoxelM)));
         const int c1 = std::min(map_n_[2] - 1,
-                                static_cast<int>(std::floor((x[2] + rz - map_lo_[2]) / voxel_m_)));
+                                static_cast<int>(std::floor((x[2] + rz - map_lo_[2]) / kVoxelM)));
         if (c1 >= c0) SetRun(MapIndex({a, b, c0}), MapIndex({a, b, c1}));
       }
     }
@@ -209,7 +209,7 @@ void LegChain::SetRun(size_t first, size_t last) {
 
 std::array<int, 3> LegChain::Voxel(const Eigen::Vector3d& x) const {
   std::array<int, 3> v{};
-  for (int k = 0; k < 3; ++k) v[k] = static_cast<int>(std::floor((x[k] - map_lo_[k]) / voxel_m_));
+  for (int k = 0; k < 3; ++k) v[k] = static_cast<int>(std::floor((x[k] - map_lo_[k]) / kVoxelM));
   return v;
 }
 

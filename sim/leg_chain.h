@@ -110,7 +110,7 @@ class LegChain {
   double tilt_lo_ = 0.0, tilt_hi_ = 0.0;
   Eigen::Vector3d neutral_ankle_ = Eigen::Vector3d::Zero();
   double reach_m_ = 0.0;  // the furthest the ankle gets from hip_
-  // The reach map (Unreachable): voxels of voxel_m_ from map_lo_, map_n_ of them along each
+  // The reach map (Unreachable): voxels of kVoxelM from map_lo_, map_n_ of them along each
   // base axis, one bit each, set where a target may be within kMapTolM of the ankle.
   void BuildReachMap(const std::array<double, 3>& lever_m);
   std::array<int, 3> Voxel(const Eigen::Vector3d& x) const;  // may lie outside the map
@@ -118,7 +118,7 @@ class LegChain {
   bool MapSet(const std::array<int, 3>& v) const;
   void SetRun(size_t first, size_t last);  // sets the map's bits first..last
   Eigen::Vector3d map_lo_ = Eigen::Vector3d::Zero();
-  double voxel_m_ = 0.004;
+  static constexpr double kVoxelM = 0.004;  // the map's voxel side (m)
   std::array<int, 3> map_n_{};
   std::vector<uint64_t> map_;
   Eigen::Vector3d hip_ = Eigen::Vector3d::Zero();
