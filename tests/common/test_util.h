@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 #include <sstream>
@@ -46,12 +47,13 @@ inline std::vector<EventRow> ParseEvents(const std::string& csv) {
 }
 
 // A fresh folder per test process, removed by nobody (tests may inspect it after failure).
+// mkdtemp makes a new one every time: a folder named by the pid alone was found again when the
+// pid was reused, with an earlier process's runs in it (a run folder there refused a new run).
 inline std::string TempDir() {
   static const std::string dir = [] {
-    auto d = std::filesystem::temp_directory_path() /
-             ("climbsim_test_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d.string();
+    std::string tmpl = (std::filesystem::temp_directory_path() / "climbsim_test_XXXXXX").string();
+    if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp " + tmpl);
+    return tmpl;
   }();
   return dir;
 }
