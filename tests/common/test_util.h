@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,8 @@
 #include <string>
 #include <vector>
 #include <sstream>
+
+#include <gtest/gtest.h>
 
 namespace climbsim::testing {
 
@@ -46,15 +49,27 @@ inline std::vector<EventRow> ParseEvents(const std::string& csv) {
   return rows;
 }
 
-// A fresh folder per test process, removed by nobody (tests may inspect it after failure).
-// mkdtemp makes a new one every time: a folder named by the pid alone was found again when the
-// pid was reused, with an earlier process's runs in it (a run folder there refused a new run).
+// A fresh folder per test process. mkdtemp makes a new one every time: a folder named by the
+// pid alone was found again when the pid was reused, with an earlier process's runs in it (a
+// run folder there refused a new run). At exit it is removed if every test of the process
+// passed, and kept (its path on stderr) if one failed, so that its files can be read: kept
+// always, the suite left 6 GB in /tmp after a few hundred runs. (Children from fork leave by
+// _exit and never run the handler; std::system's shell replaces its image.)
 inline std::string TempDir() {
   static const std::string dir = [] {
     std::string tmpl = (std::filesystem::temp_directory_path() / "climbsim_test_XXXXXX").string();
     if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp " + tmpl);
     return tmpl;
   }();
+  // Registered once `dir` is made, so that the handler runs before `dir` is destroyed.
+  [[maybe_unused]] static const int registered = std::atexit([] {
+    if (::testing::UnitTest::GetInstance()->Passed()) {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    } else {
+      std::fprintf(stderr, "test files kept in %s\n", dir.c_str());
+    }
+  });
   return dir;
 }
 
