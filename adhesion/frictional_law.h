@@ -97,6 +97,14 @@ class FrictionalLaw {
   double grip_y() const { return dy_; }
   double GripShear(double fx, double fy) const { return fx * dx_ + fy * dy_; }  // F_t
 
+  // The least gripping shear F_t with which the pad holds the normal load fn_n (+ pulls off),
+  // the pad-level law's edge: pulled, F_n/tan α*; pressed, −credit·μ·|F_n| (reversed shear
+  // that friction carries, of which only the share `credit` in [0, 1] is spent: a press can
+  // vanish at the next landing or release). Stance controllers aim above it.
+  double LeastGripShear(double fn_n, double credit) const {
+    return fn_n > 0.0 ? fn_n / tan_critical_ : credit * params_.friction_mu * fn_n;
+  }
+
   // Utilisation of a stress state (σ tension +, shear (τ_x, τ_y)), per the file comment;
   // > 1 breaks. Also the pad-level law with forces over the pad area.
   double Utilisation(double sigma_pa, double tau_x_pa, double tau_y_pa) const;

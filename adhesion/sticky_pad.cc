@@ -42,6 +42,8 @@ void ValidateStickyPadParams(const StickyPadParams& p) {
         ">= 0 and finite", a.buildup_time_s);
   Check(std::isfinite(a.attach_window_s) && a.attach_window_s >= 0, "attach_window_s",
         ">= 0 and finite", a.attach_window_s);
+  Check(std::isfinite(p.release_contact_delay_s) && p.release_contact_delay_s >= 0,
+        "release_contact_delay_s", ">= 0 and finite", p.release_contact_delay_s);
   if (p.law == PadLaw::kFrictional) ValidateFrictionalParams(p.frictional);
   if (p.model == AdhesionModel::kMujoco) {
     Check(std::isfinite(p.actuator_gain_n) && p.actuator_gain_n > 0, "gain_n", "> 0 and finite",
@@ -129,6 +131,9 @@ void StickyPad::Reset(mjModel* m, mjData* d) {
   }
   const double tau = params_.attach.buildup_time_s;
   grow_decay_ = tau > 0 ? std::exp(-m->opt.timestep / tau) : 0.0;
+  release_contact_steps_ =
+      static_cast<int>(std::lround(params_.release_contact_delay_s / m->opt.timestep));
+  contact_off_steps_ = 0;
   grid_.Release();
   sense_ = ContactSense{};
   load_ = PadLoad{};
@@ -170,6 +175,10 @@ void StickyPad::SetUnweldedLoad() {
 
 void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_current,
                        PadEventSink* sink) {
+  if (contact_off_steps_ > 0 && --contact_off_steps_ == 0) {
+    m->geom_contype[geometry_.geom] = contype_;
+    m->geom_conaffinity[geometry_.geom] = conaffinity_;
+  }
   if (attached_) {
     if (params_.model == AdhesionModel::kBonds) {
       // Build-up while the pad is not pulled off (known from the weld's first step on).
@@ -264,6 +273,7 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
     }
     SetWeldFromCurrentPoses(m, d, weld_eq_, m->geom_bodyid[surface_geom], geometry_.face_pos_body);
     SetWeldActive(m, d, weld_eq_, true);
+    contact_off_steps_ = 0;  // welded: no contacts to give back
     m->geom_contype[geometry_.geom] = 0;
     m->geom_conaffinity[geometry_.geom] = 0;
     buildup_ = fraction;
@@ -367,8 +377,12 @@ void StickyPad::Detach(mjModel* m, mjData* d, double time_s, PadCause cause,
   Emit(sink, time_s, PadEventKind::kDetach, cause, 0.0, false);
   if (params_.model == AdhesionModel::kBonds) {
     SetWeldActive(m, d, weld_eq_, false);
-    m->geom_contype[geometry_.geom] = contype_;
-    m->geom_conaffinity[geometry_.geom] = conaffinity_;
+    if (cause == PadCause::kReleased && release_contact_steps_ > 0) {
+      contact_off_steps_ = release_contact_steps_;  // Decide gives the contacts back
+    } else {
+      m->geom_contype[geometry_.geom] = contype_;
+      m->geom_conaffinity[geometry_.geom] = conaffinity_;
+    }
     grid_.Release();
     blind_ = true;
   } else {

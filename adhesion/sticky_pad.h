@@ -104,6 +104,13 @@ struct StickyPadParams {
   // it is the law.
   PadLaw law = PadLaw::kVonMises;
   FrictionalParams frictional;
+  // kBonds: after a release (detach cause "released") the pad collides again only this much
+  // later (s, ≥ 0; rounded to whole steps). The weld holds a pad at the depth its landing
+  // pressed it into the surface's soft contact; given back its contact at once, the pad is
+  // pushed out by that depth in one step, a kick the other pads feel (measured on the
+  // directional gecko: a released front pad's kick pulled its hind neighbour off). A peeling
+  // pad leaves the surface in that time.
+  double release_contact_delay_s = 0.0;
 };
 
 // Throws std::invalid_argument naming the key and the value (ValidatePadParams for the grid).
@@ -234,6 +241,9 @@ class StickyPad {
   // law kFrictional: the largest bond utilisation left after the last AfterStep while
   // attached (frictional_law.h); read it only while attached (0 after Reset).
   double frictional_utilisation() const { return frictional_utilisation_; }
+  // The directional law as prepared (unit gripping direction, tan α*); the default law's
+  // parameters unless params().law is kFrictional.
+  const FrictionalLaw& frictional_law() const { return frictional_law_; }
   // The GRADIENT of the pad's utilisation with respect to its load, ∂U/∂(F_n, F_x, F_y, M_x,
   // M_y) in the pad frame (per N and per N·m): at the bond that carries the peak utilisation
   // of the last AfterStep (the law's: von Mises or frictional), through the bond's influence
@@ -265,6 +275,8 @@ class StickyPad {
   int actuator_;
   int contype_, conaffinity_;  // of the pad geom, as compiled
   double grow_decay_ = 0.0;    // exp(−Δt/τ), set by Reset
+  int release_contact_steps_ = 0;  // release_contact_delay_s in steps, set by Reset
+  int contact_off_steps_ = 0;      // steps left before a released pad collides again
 
   BondGrid grid_;
   ContactSense sense_;

@@ -106,9 +106,18 @@ const std::array<Eigen::Vector3d, kMaxSharingLegs>& LoadSharing::Update(const Sh
     }
   };
 
-  // Leak, and keep the request internal on the pads attached now.
+  // Leak, and keep the request internal on the pads attached now (force tracking: λ as set).
   const double keep = std::max(0.0, 1.0 - dt_s_ / params_.leak_s);
   for (int i = 0; i < count; ++i) lambda_[i] *= keep;
+  if (params_.mode == SharingMode::kForceTracking) {
+    std::array<Eigen::Vector3d, kMaxSharingLegs> e;
+    for (int i = 0; i < count; ++i) e[i] = on[i] ? legs[i].force_error_n : Eigen::Vector3d::Zero();
+    project(&e);
+    const double step = params_.gain_per_s * dt_s_;
+    for (int i = 0; i < count; ++i) lambda_[i] += step * e[i];
+    CapLambda(count);
+    return lambda_;
+  }
   project(&lambda_);
 
   // The soft maximum of the utilisations and its gradient.
@@ -145,13 +154,17 @@ const std::array<Eigen::Vector3d, kMaxSharingLegs>& LoadSharing::Update(const Sh
       for (int i = 0; i < count; ++i) lambda_[i] -= k * d[i];
     }
   }
+  CapLambda(count);
+  return lambda_;
+}
+
+void LoadSharing::CapLambda(int count) {
   // The cap, as a whole: a uniform scale keeps λ internal.
   double largest = 0.0;
   for (int i = 0; i < count; ++i) largest = std::max(largest, lambda_[i].norm());
   if (largest > params_.max_force_n) {
     for (int i = 0; i < count; ++i) lambda_[i] *= params_.max_force_n / largest;
   }
-  return lambda_;
 }
 
 }  // namespace climbsim::reflex

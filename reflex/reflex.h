@@ -307,7 +307,22 @@ struct RegripParams {
 // Unlike a law at each leg alone (tried first: each pad descending its own U shifted load onto
 // whichever pad the chain's stiffness chose and raised the worst pad's utilisation, 0.50 →
 // 0.77 on the gecko hanging with a payload), this sees every pad the internal force touches.
+//
+// FORCE TRACKING (mode kForceTracking, for directional pads): the caller gives each pad the
+// error e_i = f*_i − f_i between the force it wants on the pad and the one measured, and
+//   dλ/dt = K·P·e  −  λ/τ
+// moves the internal force towards the internal part of the request at rate K (per second),
+// without the threshold, the soft maximum or max_rate_n_per_s. λ itself is not projected
+// again when the attached set changes: the forces it set are already in balance, and
+// re-projecting it when a pad lets go would jolt the others (measured: a released front pad
+// pulled its hind neighbour off). A directional pad's limit is a cone, not a bond stress, and
+// it holds nothing at zero load, so the utilisation's gradient cannot steer it: the targets
+// (sim/reflex_effect.cc, ShareLoad) give each pad its least gripping shear plus a share of the
+// rest (docs/climbing.md, "Directional pads").
+enum class SharingMode { kUtilisation, kForceTracking };
+
 struct LoadSharingParams {
+  SharingMode mode = SharingMode::kUtilisation;
   double gain_per_s = 100.0;   // K, > 0 switches the law on; 0 = off
   double threshold = 0.3;      // U_S: the soft maximum above which load is shared
   double leak_s = 0.5;         // τ > 0
@@ -335,6 +350,8 @@ struct SharingLeg {
   // Added to U_i in the soft maximum. A pad about to be let go (an active-release peel) gets
   // a bias of 1: it dominates S, and the descent moves its load to the others first.
   double bias = 0.0;
+  // kForceTracking: the wanted minus the measured force the leg puts on its pad, world, N.
+  Eigen::Vector3d force_error_n = Eigen::Vector3d::Zero();
 };
 
 class LoadSharing {
@@ -355,6 +372,8 @@ class LoadSharing {
  private:
   LoadSharingParams params_;
   double dt_s_;
+  void CapLambda(int count);  // scales λ as a whole so that no pad's exceeds max_force_n
+
   std::array<Eigen::Vector3d, kMaxSharingLegs> lambda_;
   double soft_max_ = 0.0;
 };

@@ -18,6 +18,7 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   s.actuator_ctrl = p.ctrl;
   s.law = p.law == "frictional" ? adhesion::PadLaw::kFrictional : adhesion::PadLaw::kVonMises;
   s.frictional = p.frictional;
+  s.release_contact_delay_s = p.release_contact_delay_s;
   return s;
 }
 

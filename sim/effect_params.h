@@ -279,6 +279,7 @@ struct AdhesionParams : adhesion::PadParams, adhesion::AttachParams {
   double pad_failure_window_s = 1.0;
   std::string law = "von_mises";
   FrictionalKeys frictional;
+  double release_contact_delay_s = adhesion::StickyPadParams{}.release_contact_delay_s;
 
   template <class A>
   void Serialize(A* a) {
@@ -384,6 +385,12 @@ struct AdhesionParams : adhesion::PadParams, adhesion::AttachParams {
                "direction (adhesion.frictional)"},
               &law, {"von_mises", "frictional"});
     a->Visit({"frictional", "", "the frictional law's parameters (law: frictional)"}, &frictional);
+    a->Visit({"release_contact_delay_s", "s",
+              "model bonds: a pad let go by its release (detach cause released) collides again "
+              "only this much later, so that it is not pushed out of the depth its landing pressed "
+              "it to (a kick the other pads feel); 0 = at once",
+              Range::NonNegative()},
+             &release_contact_delay_s);
   }
 
   void Validate(const Checker& c) const {
@@ -509,15 +516,38 @@ struct RegripKeys : reflex::RegripParams {
   }
 };
 struct LoadSharingKeys : reflex::LoadSharingParams {
+  std::string mode_name = "utilisation";
+  double friction_credit = 0.5;
+
+  // The reflex module's parameters, the mode's name resolved.
+  reflex::LoadSharingParams Params() const {
+    reflex::LoadSharingParams p = *this;
+    p.mode = mode_name == "force_tracking" ? reflex::SharingMode::kForceTracking
+                                           : reflex::SharingMode::kUtilisation;
+    return p;
+  }
+
   template <class A>
   void Serialize(A* a) {
+    a->Choice({"mode", "",
+               "utilisation: drive down the worst pad's utilisation (bond stress); "
+               "force_tracking (adhesion.law frictional): move each directional pad's gripping "
+               "shear towards the least its pull needs plus an equal share of the rest, and a pad "
+               "being let go towards no load (reflex/reflex.h)"},
+              &mode_name, {"utilisation", "force_tracking"});
     a->Visit({"gain_per_s", "1/s",
-              "K: while the soft maximum S of the attached pads' utilisations is above the "
-              "threshold, internal forces between the pads (the null space of the grasp map, "
-              "set through the legs' servo targets) drive it down at K [S - threshold]+ per "
-              "second; 0 = off",
+              "K. utilisation: while the soft maximum S of the attached pads' utilisations is "
+              "above the threshold, internal forces between the pads (the null space of the grasp "
+              "map, set through the legs' servo targets) drive it down at K [S - threshold]+ per "
+              "second. force_tracking: the internal force follows the internal part of the pads' "
+              "force errors at rate K; 0 = off",
               Range::NonNegative()},
              &gain_per_s);
+    a->Visit({"friction_credit", "",
+              "force_tracking: share of a pressed pad's friction (mu times its press) that may be "
+              "spent on reversed shear",
+              Range::Closed(0, 1)},
+             &friction_credit);
     a->Visit({"threshold", "", "U_S: the soft maximum of the utilisations above which load is shared"},
              &threshold);
     a->Visit({"leak_s", "s", "time constant with which an internal force no longer needed fades",
@@ -671,7 +701,30 @@ struct ComplianceKeys : reflex::ComplianceParams {
   }
 };
 
+// Landing on a directional pad (sim/reflex_effect.h, the landing channel): a pad welded at zero
+// load holds no pull, so the leg that lands must neither pull it nor spring back off it.
+struct LandingKeys {
+  double settle_s = 0.0;
+  double drag_n = 0.0;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"settle_s", "s",
+              "at each attach the leg's servo error is taken into its target and fades with this "
+              "time constant, so the leg holds the pad where it landed; 0 = off",
+              Range::NonNegative()},
+             &settle_s);
+    a->Visit({"drag_n", "N",
+              "settle_s > 0, adhesion.law frictional: the settled target also drags the pad this "
+              "much along its gripping direction (through the servos' stiffness), engaging the "
+              "adhesive before it is pulled",
+              Range::NonNegative()},
+             &drag_n);
+  }
+};
+
 struct ReflexParams {
+  LandingKeys landing;
   PreloadKeys preload;
   SearchKeys search;
   PeelKeys peel;
@@ -691,6 +744,7 @@ struct ReflexParams {
     a->Visit({"gto", "", "load reflexes"}, &gto);
     a->Visit({"spindle", "", "stretch reflexes"}, &spindle);
     a->Visit({"compliance", "", "servo stiffness by phase"}, &compliance);
+    a->Visit({"landing", "", "settle and drag a leg as its pad attaches"}, &landing);
     a->Visit({"max_offset_rad", "rad", "the reflexes' summed offset per joint is clamped to this",
               Range::Positive()},
              &max_offset_rad);

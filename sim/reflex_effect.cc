@@ -74,7 +74,7 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
   if (leg.gto.enabled && params.gto.share.gain_per_s > 0.0 && adhesion_ != nullptr) {
     try {
       share_every_ = std::max(1, static_cast<int>(std::lround(params.gto.share.period_s / dt)));
-      sharing_.emplace(params.gto.share, dt * share_every_);
+      sharing_.emplace(params.gto.share.Params(), dt * share_every_);
     } catch (const std::invalid_argument& e) {
       const std::string msg = e.what();
       throw ScenarioError(scenario, "reflex.gto.share", msg.substr(msg.find(' ') + 1));
@@ -88,6 +88,34 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     share_offset_.assign(legs_.size(), {0.0, 0.0, 0.0});
     unload_.assign(legs_.size(), false);
     jacp_.assign(3 * m->nv, 0.0);
+    if (sharing_->params().mode == reflex::SharingMode::kForceTracking) {
+      RequireFrictionalPads(scenario, "reflex.gto.share.mode",
+                            "force_tracking steers directional pads");
+      tracking_.resize(legs_.size());
+    }
+  }
+  const LandingKeys& landing = params.landing;
+  if (landing.settle_s > 0.0) {
+    if (adhesion_ == nullptr) {
+      throw ScenarioError(scenario, "reflex.landing", "needs the adhesion block (pads that attach)");
+    }
+    if (landing.drag_n > 0.0) {
+      RequireFrictionalPads(scenario, "reflex.landing.drag_n",
+                            "the drag follows each pad's gripping direction");
+    }
+    landing_.assign(legs_.size(), LandingState{});
+    jacp_.assign(3 * m->nv, 0.0);
+  }
+}
+
+void ReflexEffect::RequireFrictionalPads(const Scenario& scenario, const std::string& key,
+                                         const std::string& why) const {
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    const int pad = adhesion_ != nullptr ? adhesion_->pad_of_leg(static_cast<int>(i)) : -1;
+    if (pad < 0 || adhesion_->pad(pad).params().law != adhesion::PadLaw::kFrictional) {
+      throw ScenarioError(scenario, key,
+                          "needs adhesion.law: frictional on every leg's pad (" + why + ")");
+    }
   }
 }
 
@@ -140,6 +168,7 @@ void ReflexEffect::ShareLoad(World& world, std::vector<LegSignals>& signals) {
     in.position_m = Eigen::Map<const Eigen::Vector3d>(d->site_xpos + 3 * ankle);
     if (in.bias == 0.0) in.utilisation = s.utilisation;
   }
+  if (!tracking_.empty()) TrackingErrors(world);
   const auto& lambda = sharing_->Update(sharing_in_.data(), static_cast<int>(legs_.size()));
   for (size_t i = 0; i < legs_.size(); ++i) {
     share_offset_[i] = {0.0, 0.0, 0.0};
@@ -156,6 +185,104 @@ void ReflexEffect::ShareLoad(World& world, std::vector<LegSignals>& signals) {
   }
 }
 
+void ReflexEffect::TrackingErrors(const World& world) {
+  // Each directional pad's force (what its leg puts on it) in the world: its gripping
+  // direction g, its normal n (+ off the surface), its gripping shear F_t = f·g and pull F_n,
+  // and the least gripping shear that holds that pull (FrictionalLaw::LeastGripShear).
+  const mjData* d = world.data();
+  const double credit = params_.gto.share.friction_credit;
+  double total = 0.0, need_sum = 0.0;
+  int sharing = 0;
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    reflex::SharingLeg& in = sharing_in_[i];
+    TrackedPad& t = tracking_[i];
+    in.force_error_n.setZero();
+    if (!in.active) continue;
+    const adhesion::StickyPad& pad = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)));
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
+        d->site_xmat + 9 * world.robot().legs[i].pad_face_site);
+    const adhesion::FrictionalLaw& law = pad.frictional_law();
+    t.grip = rot * Eigen::Vector3d(law.grip_x(), law.grip_y(), 0.0);
+    t.normal = rot.col(2);
+    t.force = rot * Eigen::Vector3d(pad.load().fx_n, pad.load().fy_n, pad.load().fn_n);
+    t.shear = t.force.dot(t.grip);
+    t.pull = pad.load().fn_n;
+    t.need = law.LeastGripShear(t.pull, credit);
+    total += t.shear;
+    if (in.bias != 0.0) {
+      // A pad being let go keeps only what its pull needs (plus kReleaseShearN) and gives the
+      // rest away.
+      t.need = std::max(t.need, 0.0) + kReleaseShearN;
+      total -= std::min(t.shear, t.need);
+    } else {
+      need_sum += t.need;
+      ++sharing;
+    }
+  }
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    reflex::SharingLeg& in = sharing_in_[i];
+    const TrackedPad& t = tracking_[i];
+    if (!in.active) continue;
+    const Eigen::Vector3d lateral = t.force - t.pull * t.normal - t.shear * t.grip;
+    if (in.bias != 0.0) {
+      // To no load: no pull (but kept pressed while its shear is reversed, which only friction
+      // holds), gripping shear down to its need (up to kReleaseShearN if reversed), no lateral.
+      const double mu = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)))
+                            .frictional_law().params().friction_mu;
+      const double pull_target = t.shear < 0.0 ? 1.5 * t.shear / std::max(mu, 1e-3) : 0.0;
+      const double shear_target =
+          std::max(std::min(t.shear, t.need), t.shear < 0.0 ? kReleaseShearN : -1e9);
+      in.force_error_n = (pull_target - t.pull) * t.normal + (shear_target - t.shear) * t.grip -
+                         lateral;
+    } else if (sharing > 0) {
+      // Its need plus an equal share of the rest; lateral shear left free (moving down-wall
+      // shear between the left and right pads takes a yaw couple of lateral forces).
+      const double target = t.need + (total - need_sum) / sharing;
+      in.force_error_n = (target - t.shear) * t.grip;
+    }
+  }
+}
+
+void ReflexEffect::Land(World& world, std::vector<LegSignals>& signals) {
+  const LandingKeys& p = params_.landing;
+  const mjModel* m = world.model();
+  const mjData* d = world.data();
+  const double period_s = period_steps_ * m->opt.timestep;
+  const double keep = std::exp(-period_s / p.settle_s);
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    LegSignals& s = signals[i];
+    LandingState& l = landing_[i];
+    const LegInfo& info = world.robot().legs[i];
+    if (s.attached && !l.attached) {
+      // The servo error now becomes part of the target; the drag is a force along the pad's
+      // gripping direction through the servos' stiffness, Δq = Kp⁻¹·Jᵀ·f.
+      Eigen::Vector3d f = Eigen::Vector3d::Zero();
+      if (p.drag_n > 0.0) {
+        const adhesion::FrictionalLaw& law =
+            adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i))).frictional_law();
+        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
+            d->site_xmat + 9 * info.pad_face_site);
+        f = p.drag_n * (rot * Eigen::Vector3d(law.grip_x(), law.grip_y(), 0.0));
+        mj_jacSite(m, d, jacp_.data(), nullptr, info.ankle_site);
+      }
+      for (int k = 0; k < 3; ++k) {
+        l.offset_rad[k] = d->qpos[info.qpos_adr[k]] - (s.cpg_target_rad[k] + s.offset_rad[k]);
+        if (!f.isZero()) {
+          const int dof = info.dof_adr[k];
+          const Eigen::Vector3d column(jacp_[dof], jacp_[m->nv + dof], jacp_[2 * m->nv + dof]);
+          l.offset_rad[k] += column.dot(f) / kp_[i][k];
+        }
+      }
+    }
+    l.attached = s.attached;
+    for (int k = 0; k < 3; ++k) {
+      if (!s.attached) l.offset_rad[k] = 0.0;
+      l.offset_rad[k] *= keep;
+      s.offset_rad[k] += l.offset_rad[k];
+    }
+  }
+}
+
 void ReflexEffect::Reset(World& world, RunContext& ctx) {
   for (size_t i = 0; i < legs_.size(); ++i) {
     for (int k = 0; k < 3; ++k) SetServoKp(world.model(), actuator_[i][k], kp_[i][k]);
@@ -167,6 +294,7 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
     std::fill(unload_.begin(), unload_.end(), false);
   }
   for (auto& c : counts_) c.fill(0);
+  std::fill(landing_.begin(), landing_.end(), LandingState{});
   for (LegSignals& s : *ctx.legs) {
     s.offset_rad = {0, 0, 0};
     s.kp_fraction = {1, 1, 1};
@@ -265,6 +393,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
       for (int k = 0; k < 3; ++k) signals[i].offset_rad[k] += share_offset_[i][k];
     }
   }
+  if (!landing_.empty()) Land(world, signals);
   ctx.hold_all_stance = hold_all;
 }
 

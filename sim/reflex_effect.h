@@ -15,7 +15,9 @@
 #ifndef CLIMBSIM_SIM_REFLEX_EFFECT_H_
 #define CLIMBSIM_SIM_REFLEX_EFFECT_H_
 
+#include <array>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "reflex/reflex.h"
@@ -69,6 +71,27 @@ class ReflexEffect final : public Effect {
   bool UtilisationGradientWorld(const World& world, int leg, Eigen::Vector3d* grad) const;
   // Runs the load sharing: each leg's Δq = Kp⁻¹·Jᵀ·λ into share_offset_.
   void ShareLoad(World& world, std::vector<LegSignals>& signals);
+
+  // Force tracking (reflex.gto.share.mode force_tracking): each attached directional pad's
+  // force error into sharing_in_ (the targets: reflex.h, LoadSharingParams).
+  struct TrackedPad {
+    Eigen::Vector3d grip, normal, force;  // world; force: what the leg puts on the pad
+    double shear = 0.0, pull = 0.0, need = 0.0;  // N: along grip, along normal, least shear
+  };
+  static constexpr double kReleaseShearN = 0.02;  // gripping shear a pad being let go keeps
+  std::vector<TrackedPad> tracking_;
+  void TrackingErrors(const World& world);
+
+  // The landing channel (reflex.landing): per leg, whether its pad was attached at the last
+  // tick and the settled offset.
+  struct LandingState {
+    bool attached = false;
+    std::array<double, 3> offset_rad{};
+  };
+  std::vector<LandingState> landing_;
+  void Land(World& world, std::vector<LegSignals>& signals);
+  void RequireFrictionalPads(const Scenario& scenario, const std::string& key,
+                             const std::string& why) const;
 };
 
 }  // namespace climbsim::sim

@@ -102,6 +102,27 @@ TEST(FrictionalLaw, NoHoldWithZeroOrReversedShearWhenPulled) {
   EXPECT_TRUE(Load(f, fn, 0.0, -0.5 * big * (1 - 1e-6), &grid).detached);
 }
 
+// The least gripping shear that holds a normal load is the law's own edge: pulled, the pad
+// holds just above it and lets go just below; pressed, it may carry reversed shear up to the
+// spent share of its friction, and the pad-level law holds there.
+TEST(FrictionalLaw, LeastGripShearIsTheEdgeOfTheHoldingCone) {
+  const PadParams pad = Pad();
+  const double area = pad.width_m * pad.length_m;
+  const FrictionalLaw law(Law(30.0));  // grips along −y: F_t = −fy
+  const double fn = 0.2;
+  const double least = law.LeastGripShear(fn, 0.5);
+  EXPECT_NEAR(least, fn / std::tan(30.0 * kDeg), 1e-12);
+  EXPECT_TRUE(law.PadHolds({.fn_n = fn, .fx_n = 0.0, .fy_n = -least * (1 + 1e-6)}, area));
+  EXPECT_FALSE(law.PadHolds({.fn_n = fn, .fx_n = 0.0, .fy_n = -least * (1 - 1e-6)}, area));
+  // Pressed by 0.2 N with μ = 0.6: credit 1 spends all the friction (reversed shear 0.12 N
+  // holds, a little more slides), credit 0.5 half of it, credit 0 none.
+  EXPECT_NEAR(law.LeastGripShear(-fn, 1.0), -0.6 * fn, 1e-15);
+  EXPECT_NEAR(law.LeastGripShear(-fn, 0.5), -0.3 * fn, 1e-15);
+  EXPECT_EQ(law.LeastGripShear(-fn, 0.0), 0.0);
+  EXPECT_TRUE(law.PadHolds({.fn_n = -fn, .fx_n = 0.0, .fy_n = 0.6 * fn * (1 - 1e-6)}, area));
+  EXPECT_FALSE(law.PadHolds({.fn_n = -fn, .fx_n = 0.0, .fy_n = 0.6 * fn * (1 + 1e-3)}, area));
+}
+
 TEST(FrictionalLaw, ShearLimitAndFrictionWhenPressed) {
   const PadParams pad = Pad();
   BondGrid grid(pad);

@@ -277,6 +277,29 @@ TEST(PadDetach, ReleaseLetsGoAndWaitsForLiftOff) {
   EXPECT_NE(rig.m()->geom_contype[rig.pad().geometry().geom], 0) << "collides again";
 }
 
+// release_contact_delay_s: a released pad collides again only after the delay, in whole steps
+// (10 ms at 1 ms steps: the geom's contype is 0 through 9 more steps and back at the 10th);
+// without a delay at once.
+TEST(PadDetach, AReleasedPadCollidesAgainAfterTheReleaseContactDelay) {
+  for (double delay : {0.0, 0.01}) {
+    SCOPED_TRACE(::testing::Message() << "delay " << delay);
+    BlockSpec spec = Dropped(0.0002);
+    spec.pad.release_contact_delay_s = delay;
+    BlockRig rig(spec);
+    rig.Run(0.2);
+    ASSERT_TRUE(rig.pad().attached());
+    const int geom = rig.pad().geometry().geom;
+    ASSERT_TRUE(rig.system().Release(0, rig.m(), rig.d(), &rig.events()));
+    int steps_without = 0;
+    while (rig.m()->geom_contype[geom] == 0 && steps_without < 100) {
+      rig.Step();
+      ++steps_without;
+    }
+    EXPECT_EQ(steps_without, delay == 0.0 ? 0 : 10);
+    EXPECT_FALSE(rig.pad().attached());
+  }
+}
+
 // A disengaged pad (an active-release foot with its toe held peeled) touches without a
 // touchdown or an attach; engaged again while it rests on the floor, that touch is a new
 // episode, judged then: the block, at rest, attaches.

@@ -214,5 +214,75 @@ TEST(ReflexLoadSharing, OffAtZeroGainAndRejectsBadParams) {
   }
 }
 
+
+// Force tracking: λ moves by K·dt·P·e each period. With K·dt = 1 an internal error is met in
+// one period exactly (two pads on the x axis: equal and opposite x forces), a non-internal
+// one (the same force on both) not at all, and the result is internal.
+TEST(ReflexLoadSharing, ForceTrackingMeetsTheInternalPartOfTheErrorAtItsRate) {
+  LoadSharingParams p = Params();
+  p.mode = SharingMode::kForceTracking;
+  p.gain_per_s = 1.0 / kDt;
+  p.leak_s = 1e9;  // no leak
+  std::vector<SharingLeg> legs(2);
+  legs[0].position_m = Eigen::Vector3d(0.05, 0.0, 0.0);
+  legs[1].position_m = Eigen::Vector3d(-0.05, 0.0, 0.0);
+  for (auto& l : legs) l.active = true;
+  legs[0].force_error_n = Eigen::Vector3d(0.3, 0.2, 0.0);   // internal part: (+0.3, 0, 0),
+  legs[1].force_error_n = Eigen::Vector3d(-0.3, 0.2, 0.0);  // the y parts move the body
+  LoadSharing sharing(p, kDt);
+  const auto& lambda = sharing.Update(legs.data(), 2);
+  EXPECT_NEAR(lambda[0].x(), 0.3, 1e-9);
+  EXPECT_NEAR(lambda[1].x(), -0.3, 1e-9);
+  EXPECT_NEAR(lambda[0].y(), 0.0, 1e-9);
+  EXPECT_NEAR(lambda[1].y(), 0.0, 1e-9);
+  ExpectInternal(legs, lambda, 1e-8);
+
+  // At half the rate, half the way; errors that are met (zero) leave λ where it is.
+  p.gain_per_s = 0.5 / kDt;
+  LoadSharing half(p, kDt);
+  EXPECT_NEAR(half.Update(legs.data(), 2)[0].x(), 0.15, 1e-9);
+  for (auto& l : legs) l.force_error_n.setZero();
+  EXPECT_NEAR(half.Update(legs.data(), 2)[0].x(), 0.15, 1e-9);
+}
+
+// Force tracking does not project λ again when a pad lets go: the forces it set are in
+// balance already, and a re-projection would move the other pads' requests (the utilisation
+// mode does re-project, and there the third pad's request changes).
+TEST(ReflexLoadSharing, ForceTrackingKeepsTheOthersRequestsWhenAPadLetsGo) {
+  for (SharingMode mode : {SharingMode::kForceTracking, SharingMode::kUtilisation}) {
+    LoadSharingParams p = Params();
+    p.mode = mode;
+    p.gain_per_s = mode == SharingMode::kForceTracking ? 1.0 / kDt : 200.0;
+    p.threshold = 0.0;
+    p.leak_s = 1e9;
+    std::vector<SharingLeg> legs(3);
+    legs[0].position_m = Eigen::Vector3d(0.05, 0.03, 0.0);
+    legs[1].position_m = Eigen::Vector3d(-0.05, 0.03, 0.0);
+    legs[2].position_m = Eigen::Vector3d(0.0, -0.04, 0.0);
+    const Eigen::Vector3d e[3] = {{0.2, 0.1, 0.0}, {-0.1, 0.05, 0.0}, {-0.1, -0.15, 0.0}};
+    for (int i = 0; i < 3; ++i) {
+      legs[i].active = true;
+      legs[i].force_error_n = e[i];
+      legs[i].utilisation = 0.5 + 0.1 * i;
+      legs[i].gradient_per_n = e[i];
+    }
+    LoadSharing sharing(p, kDt);
+    const std::array<Eigen::Vector3d, kMaxSharingLegs> before = sharing.Update(legs.data(), 3);
+    ASSERT_GT(before[2].norm(), 1e-3);
+    legs[0].active = false;  // lets go
+    for (auto& l : legs) l.force_error_n.setZero();
+    for (auto& l : legs) l.gradient_per_n.setZero();  // no new descent step
+    const auto& after = sharing.Update(legs.data(), 3);
+    EXPECT_EQ(after[0], Eigen::Vector3d::Zero());
+    if (mode == SharingMode::kForceTracking) {  // unchanged but for the leak (10⁻¹²)
+      EXPECT_LT((after[1] - before[1]).norm(), 1e-12);
+      EXPECT_LT((after[2] - before[2]).norm(), 1e-12);
+    } else {
+      EXPECT_GT((after[2] - before[2]).norm(), 1e-4);  // projected onto the two pads left
+      ExpectInternal(legs, after, 1e-8);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace climbsim::reflex

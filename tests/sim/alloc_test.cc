@@ -62,5 +62,26 @@ TEST(SimulationAllocation, ClimbingReflexesAllocateNothing) {
   EXPECT_EQ(counts.mallocs, 0);
 }
 
+// The directional gait (examples/gecko_wall_directional.yaml): force tracking of each pad's
+// gripping shear, the landing's settle and drag, and the release's contact delay, over two
+// seconds (releases and landings of two legs): nothing allocated per step.
+TEST(SimulationAllocation, DirectionalGaitAllocatesNothing) {
+  const Scenario s = LoadScenario(
+      climbsim::testing::Source("examples/gecko_wall_directional.yaml"));
+  ASSERT_TRUE(s.reflex.has_value());
+  ASSERT_EQ(s.reflex->gto.share.mode_name, "force_tracking");
+  ASSERT_GT(s.reflex->landing.settle_s, 0.0);
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  ASSERT_TRUE(sim.Step());
+  bool ok = true;
+  const auto counts = climbsim::testing::CountAllocations([&] {
+    for (int i = 0; i < 2000; ++i) ok &= sim.Step();
+  });
+  EXPECT_TRUE(ok);
+  EXPECT_EQ(counts.news, 0);
+  EXPECT_EQ(counts.mallocs, 0);
+}
+
 }  // namespace
 }  // namespace climbsim::sim
