@@ -15,6 +15,7 @@
 #include "sim/cpg_effect.h"
 #include "sim/reflex_effect.h"
 #include "sim/sim.h"
+#include "tests/common/scenario_error.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
@@ -62,14 +63,7 @@ TEST(FrictionalSim, GeckoHangsOnPadsGrippingDownTheWallAndNotOnPadsGrippingUp) {
 }
 
 std::string ErrorOf(const std::string& name, const std::string& text) {
-  try {
-    const Scenario s = LoadScenario(WriteFile(name, text));
-    auto model = CompileScenario(s);
-    Simulation sim(s, *model);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return climbsim::testing::ScenarioErrorOf(name, text);
 }
 
 TEST(FrictionalSim, BadKeysAreNamedWithTheirPlace) {

@@ -9,6 +9,7 @@
 
 #include "sim/adhesion_effect.h"
 #include "sim/sim.h"
+#include "tests/common/scenario_error.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
@@ -22,17 +23,7 @@ Scenario Load(const std::string& name, const std::string& text) {
 }
 
 std::string ErrorOf(const std::string& name, const std::string& text) {
-  try {
-    const Scenario s = Load(name, text);
-    auto model = CompileScenario(s);
-    Simulation sim(s, *model);
-  } catch (const InputError& e) {
-    // Without the temporary folder, so that the messages compare across runs.
-    std::string m = e.what();
-    const size_t slash = m.rfind('/', m.find(".yaml"));
-    return slash == std::string::npos ? m : m.substr(slash + 1);
-  }
-  return "";
+  return climbsim::testing::ScenarioErrorOf(name, text);
 }
 
 const char* kGeckoWall =

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sim/sim.h"
+#include "tests/common/scenario_error.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
@@ -78,14 +79,7 @@ TEST(DirectionalClimb, EachPieceOfTheDirectionalGaitIsNeeded) {
 }
 
 std::string ErrorOf(const std::string& name, const std::string& text) {
-  try {
-    const Scenario s = LoadScenario(WriteFile(name, text));
-    auto model = CompileScenario(s);
-    Simulation sim(s, *model);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return climbsim::testing::ScenarioErrorOf(name, text);
 }
 
 // Force tracking and the landing's drag steer directional pads: on von Mises pads they are an

@@ -11,6 +11,7 @@
 
 #include "sim/adhesion_effect.h"
 #include "sim/sim.h"
+#include "tests/common/scenario_error.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
@@ -24,16 +25,7 @@ Scenario Load(const std::string& name, const std::string& text) {
 }
 
 std::string ErrorOf(const std::string& name, const std::string& text) {
-  try {
-    Scenario s = Load(name, text);
-    auto model = CompileScenario(s);
-    Simulation sim(s, *model);
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    const std::string prefix = TempDir() + "/";
-    return msg.rfind(prefix, 0) == 0 ? msg.substr(prefix.size()) : msg;
-  }
-  return "";
+  return climbsim::testing::ScenarioErrorOf(name, text);
 }
 
 // The gecko on the wall as in examples/gecko_wall.yaml, short.

@@ -5,6 +5,7 @@
 
 #include "cpg/cpg.h"
 #include "sim/sim.h"
+#include "tests/common/scenario_error.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
@@ -14,18 +15,7 @@ using climbsim::testing::WriteFile;
 
 // The error message LoadScenario gives for `text`, or "" when it loads.
 std::string ErrorOf(const std::string& name, const std::string& text) {
-  const std::string path = WriteFile(name, text);
-  try {
-    Scenario s = LoadScenario(path);
-    auto model = CompileScenario(s);
-    Simulation sim(s, *model);
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    // Strip the temporary folder so the expectations read like the user sees them.
-    const std::string prefix = climbsim::testing::TempDir() + "/";
-    return msg.rfind(prefix, 0) == 0 ? msg.substr(prefix.size()) : msg;
-  }
-  return "";
+  return climbsim::testing::ScenarioErrorOf(name, text);
 }
 
 const char* kGood = "robot: gecko\nscene: floor\nduration_s: 0.01\n";
