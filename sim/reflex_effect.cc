@@ -229,7 +229,8 @@ void ReflexEffect::TrackingErrors(const World& world) {
       // holds), gripping shear down to its need (up to kReleaseShearN if reversed), no lateral.
       const double mu = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)))
                             .frictional_law().params().friction_mu;
-      const double pull_target = t.shear < 0.0 ? 1.5 * t.shear / std::max(mu, 1e-3) : 0.0;
+      const double pull_target =
+          t.shear < 0.0 ? kReleasePressFactor * t.shear / std::max(mu, 1e-3) : 0.0;
       const double shear_target =
           std::max(std::min(t.shear, t.need), t.shear < 0.0 ? kReleaseShearN : -1e9);
       in.force_error_n = (pull_target - t.pull) * t.normal + (shear_target - t.shear) * t.grip -

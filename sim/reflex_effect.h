@@ -79,6 +79,9 @@ class ReflexEffect final : public Effect {
     double shear = 0.0, pull = 0.0, need = 0.0;  // N: along grip, along normal, least shear
   };
   static constexpr double kReleaseShearN = 0.02;  // gripping shear a pad being let go keeps
+  // A pad being let go with reversed shear F_t < 0 stays pressed by this times |F_t|/μ, half
+  // again what friction needs, until its shear is turned round.
+  static constexpr double kReleasePressFactor = 1.5;
   std::vector<TrackedPad> tracking_;
   void TrackingErrors(const World& world);
 
