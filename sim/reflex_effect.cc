@@ -185,6 +185,13 @@ void ReflexEffect::ShareLoad(World& world, std::vector<LegSignals>& signals) {
   }
 }
 
+Eigen::Vector3d ReflexEffect::GripDirectionWorld(const World& world, int leg) const {
+  const adhesion::FrictionalLaw& law = adhesion_->pad(adhesion_->pad_of_leg(leg)).frictional_law();
+  const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
+      world.data()->site_xmat + 9 * world.robot().legs[leg].pad_face_site);
+  return rot * Eigen::Vector3d(law.grip_x(), law.grip_y(), 0.0);
+}
+
 void ReflexEffect::TrackingErrors(const World& world) {
   // Each directional pad's force (what its leg puts on it) in the world: its gripping
   // direction g, its normal n (+ off the surface), its gripping shear F_t = f·g and pull F_n,
@@ -201,13 +208,13 @@ void ReflexEffect::TrackingErrors(const World& world) {
     const adhesion::StickyPad& pad = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)));
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
         d->site_xmat + 9 * world.robot().legs[i].pad_face_site);
-    const adhesion::FrictionalLaw& law = pad.frictional_law();
-    t.grip = rot * Eigen::Vector3d(law.grip_x(), law.grip_y(), 0.0);
+    t.grip = GripDirectionWorld(world, static_cast<int>(i));
     t.normal = rot.col(2);
+    t.mu = pad.frictional_law().params().friction_mu;
     t.force = rot * Eigen::Vector3d(pad.load().fx_n, pad.load().fy_n, pad.load().fn_n);
     t.shear = t.force.dot(t.grip);
     t.pull = pad.load().fn_n;
-    t.need = law.LeastGripShear(t.pull, credit);
+    t.need = pad.frictional_law().LeastGripShear(t.pull, credit);
     total += t.shear;
     if (in.bias != 0.0) {
       // A pad being let go keeps only what its pull needs (plus kReleaseShearN) and gives the
@@ -227,12 +234,10 @@ void ReflexEffect::TrackingErrors(const World& world) {
     if (in.bias != 0.0) {
       // To no load: no pull (but kept pressed while its shear is reversed, which only friction
       // holds), gripping shear down to its need (up to kReleaseShearN if reversed), no lateral.
-      const double mu = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)))
-                            .frictional_law().params().friction_mu;
+      const bool reversed = t.shear < 0.0;
       const double pull_target =
-          t.shear < 0.0 ? kReleasePressFactor * t.shear / std::max(mu, 1e-3) : 0.0;
-      const double shear_target =
-          std::max(std::min(t.shear, t.need), t.shear < 0.0 ? kReleaseShearN : -1e9);
+          reversed ? kReleasePressFactor * t.shear / std::max(t.mu, 1e-3) : 0.0;
+      const double shear_target = reversed ? kReleaseShearN : std::min(t.shear, t.need);
       in.force_error_n = (pull_target - t.pull) * t.normal + (shear_target - t.shear) * t.grip -
                          lateral;
     } else if (sharing > 0) {
@@ -259,11 +264,7 @@ void ReflexEffect::Land(World& world, std::vector<LegSignals>& signals) {
       // gripping direction through the servos' stiffness, Δq = Kp⁻¹·Jᵀ·f.
       Eigen::Vector3d f = Eigen::Vector3d::Zero();
       if (p.drag_n > 0.0) {
-        const adhesion::FrictionalLaw& law =
-            adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i))).frictional_law();
-        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
-            d->site_xmat + 9 * info.pad_face_site);
-        f = p.drag_n * (rot * Eigen::Vector3d(law.grip_x(), law.grip_y(), 0.0));
+        f = p.drag_n * GripDirectionWorld(world, static_cast<int>(i));
         mj_jacSite(m, d, jacp_.data(), nullptr, info.ankle_site);
       }
       for (int k = 0; k < 3; ++k) {

@@ -77,6 +77,7 @@ class ReflexEffect final : public Effect {
   struct TrackedPad {
     Eigen::Vector3d grip, normal, force;  // world; force: what the leg puts on the pad
     double shear = 0.0, pull = 0.0, need = 0.0;  // N: along grip, along normal, least shear
+    double mu = 0.0;                             // the pad's friction coefficient
   };
   static constexpr double kReleaseShearN = 0.02;  // gripping shear a pad being let go keeps
   // A pad being let go with reversed shear F_t < 0 stays pressed by this times |F_t|/μ, half
@@ -93,6 +94,8 @@ class ReflexEffect final : public Effect {
   };
   std::vector<LandingState> landing_;
   void Land(World& world, std::vector<LegSignals>& signals);
+  // Leg i's pad's gripping direction (unit), world frame; its pad is frictional.
+  Eigen::Vector3d GripDirectionWorld(const World& world, int leg) const;
   void RequireFrictionalPads(const Scenario& scenario, const std::string& key,
                              const std::string& why) const;
 };

@@ -9,6 +9,21 @@
 namespace climbsim::sim {
 namespace {
 
+// Builds the scenario's simulation, takes a first step (which may size lazily-sized buffers),
+// then steps `steps` times counting every allocation; each step must succeed.
+void ExpectStepsAllocateNothing(const Scenario& s, int steps) {
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  ASSERT_TRUE(sim.Step());
+  bool ok = true;
+  const auto counts = climbsim::testing::CountAllocations([&] {
+    for (int i = 0; i < steps; ++i) ok &= sim.Step();
+  });
+  EXPECT_TRUE(ok);
+  EXPECT_EQ(counts.news, 0);
+  EXPECT_EQ(counts.mallocs, 0);
+}
+
 TEST(SimulationAllocation, CounterIsLive) {
   const auto counts = climbsim::testing::CountAllocations([] {
     auto* v = new std::vector<double>(16);
@@ -24,16 +39,7 @@ TEST(SimulationAllocation, StepLoopAllocatesNothing) {
                           "robot: spider\nscene: floor\nduration_s: 2\n"
                           "cpg:\n  gait: tripod\n  stepper: dopri5\n"
                           "outputs:\n  trajectory_rate_hz: 200\n"));
-  auto model = CompileScenario(s);
-  Simulation sim(s, *model);
-  ASSERT_TRUE(sim.Step());  // the first call may size lazily-sized buffers
-  bool ok = true;
-  const auto counts = climbsim::testing::CountAllocations([&] {
-    for (int i = 0; i < 1500; ++i) ok &= sim.Step();
-  });
-  EXPECT_TRUE(ok);
-  EXPECT_EQ(counts.news, 0);
-  EXPECT_EQ(counts.mallocs, 0);
+  ExpectStepsAllocateNothing(s, 1500);
 }
 
 // The climbing example with every reflex on (spindle, GTO with its utilisation channels and
@@ -50,16 +56,7 @@ TEST(SimulationAllocation, ClimbingReflexesAllocateNothing) {
   ASSERT_TRUE(s.reflex.has_value());
   ASSERT_TRUE(s.reflex->spindle.enabled && s.reflex->gto.enabled && s.reflex->compliance.enabled);
   ASSERT_GT(s.reflex->gto.share.gain_per_s, 0.0);
-  auto model = CompileScenario(s);
-  Simulation sim(s, *model);
-  ASSERT_TRUE(sim.Step());
-  bool ok = true;
-  const auto counts = climbsim::testing::CountAllocations([&] {
-    for (int i = 0; i < 2000; ++i) ok &= sim.Step();  // a peel, a swing and a landing
-  });
-  EXPECT_TRUE(ok);
-  EXPECT_EQ(counts.news, 0);
-  EXPECT_EQ(counts.mallocs, 0);
+  ExpectStepsAllocateNothing(s, 2000);  // a peel, a swing and a landing
 }
 
 // The directional gait (examples/gecko_wall_directional.yaml): force tracking of each pad's
@@ -71,16 +68,7 @@ TEST(SimulationAllocation, DirectionalGaitAllocatesNothing) {
   ASSERT_TRUE(s.reflex.has_value());
   ASSERT_EQ(s.reflex->gto.share.mode_name, "force_tracking");
   ASSERT_GT(s.reflex->landing.settle_s, 0.0);
-  auto model = CompileScenario(s);
-  Simulation sim(s, *model);
-  ASSERT_TRUE(sim.Step());
-  bool ok = true;
-  const auto counts = climbsim::testing::CountAllocations([&] {
-    for (int i = 0; i < 2000; ++i) ok &= sim.Step();
-  });
-  EXPECT_TRUE(ok);
-  EXPECT_EQ(counts.news, 0);
-  EXPECT_EQ(counts.mallocs, 0);
+  ExpectStepsAllocateNothing(s, 2000);
 }
 
 }  // namespace
