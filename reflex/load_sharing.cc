@@ -167,4 +167,31 @@ void LoadSharing::CapLambda(int count) {
   }
 }
 
+int GripShearTargets(const GripShare* pads, int count, bool common_direction, double* target_n) {
+  // The scalar sum in the order the wall gait was measured with (outputs bit-identical).
+  double total = 0.0, keep_sum = 0.0;
+  Eigen::Vector3d surplus = Eigen::Vector3d::Zero();
+  int sharing = 0;
+  for (int i = 0; i < count; ++i) {
+    const GripShare& p = pads[i];
+    if (!p.active) continue;
+    total += p.shear_n;
+    if (p.shares) {
+      keep_sum += p.keep_n;
+      ++sharing;
+    } else {
+      total -= p.keep_n;
+    }
+    if (!common_direction) surplus += (p.shear_n - p.keep_n) * p.grip;
+  }
+  if (sharing == 0) return 0;
+  for (int i = 0; i < count; ++i) {
+    const GripShare& p = pads[i];
+    if (!p.active || !p.shares) continue;
+    const double rest = common_direction ? total - keep_sum : surplus.dot(p.grip);
+    target_n[i] = p.keep_n + rest / sharing;
+  }
+  return sharing;
+}
+
 }  // namespace climbsim::reflex

@@ -378,6 +378,29 @@ class LoadSharing {
   double soft_max_ = 0.0;
 };
 
+// The gripping-shear targets of force tracking. Each directional pad i has a unit gripping
+// direction g_i (world), its gripping shear F_t,i = f_i·g_i and a shear it keeps, k_i: a
+// sharing pad's least need (its pull over tan α*, or a set least grasp), a pad being let go
+// what it keeps of its shear. What the pads carry beyond that is shared equally among the
+// n sharing pads, whose targets are
+//   common direction (every g_i the same in its pad's frame: a wall):
+//     F*_t,i = k_i + Σ_j (F_t,j − k_j) / n                 a scalar along that direction;
+//   different directions (pads opposed in pairs under a ceiling):
+//     F*_t,i = k_i + g_i·Σ_j (F_t,j − k_j)·g_j / n          the net force's vector.
+// With opposed pads the gripping shears are mostly internal forces, which the scalar sum
+// would count as load to share: two pads squeezing each other at any force would be on
+// target. The vector sum sees only the net force, so they are driven to k_i each.
+struct GripShare {
+  bool active = false;   // attached and tracked
+  bool shares = false;   // takes a share (false: being let go)
+  Eigen::Vector3d grip = Eigen::Vector3d::Zero();  // g_i, unit, world
+  double shear_n = 0.0;  // F_t,i
+  double keep_n = 0.0;   // k_i
+};
+// Writes target_n[i] for every active sharing pad of pads[0, count) (others untouched);
+// returns n. Pure, allocation-free.
+int GripShearTargets(const GripShare* pads, int count, bool common_direction, double* target_n);
+
 // GTO load reflexes (Ekeberg and Pearson 2005's load rule; Geyer and Herr 2010's positive
 // force feedback), four channels on the pad:
 //  hold:    F̃ = the adhesive load normal_load_n (or, with count_compression, the larger of

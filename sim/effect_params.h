@@ -518,6 +518,7 @@ struct RegripKeys : reflex::RegripParams {
 struct LoadSharingKeys : reflex::LoadSharingParams {
   std::string mode_name = "utilisation";
   double friction_credit = 0.5;
+  double min_grip_n = 0.0;
 
   // The reflex module's parameters, the mode's name resolved.
   reflex::LoadSharingParams Params() const {
@@ -532,8 +533,9 @@ struct LoadSharingKeys : reflex::LoadSharingParams {
     a->Choice({"mode", "",
                "utilisation: drive down the worst pad's utilisation (bond stress); "
                "force_tracking (adhesion.law frictional): move each directional pad's gripping "
-               "shear towards the least its pull needs plus an equal share of the rest, and a pad "
-               "being let go towards no load (reflex/reflex.h)"},
+               "shear towards the least its pull needs plus an equal share of the rest (of the "
+               "net force, when the pads grip in different directions), and a pad being let go "
+               "towards no load (reflex/reflex.h)"},
               &mode_name, {"utilisation", "force_tracking"});
     a->Visit({"gain_per_s", "1/s",
               "K. utilisation: while the soft maximum S of the attached pads' utilisations is "
@@ -548,6 +550,11 @@ struct LoadSharingKeys : reflex::LoadSharingParams {
               "spent on reversed shear",
               Range::Closed(0, 1)},
              &friction_credit);
+    a->Visit({"min_grip_n", "N",
+              "force_tracking: every gripping pad's target shear is at least this; pads opposed "
+              "in pairs (under a ceiling) then hold a grasp before their pull arrives; 0 = off",
+              Range::NonNegative()},
+             &min_grip_n);
     a->Visit({"threshold", "", "U_S: the soft maximum of the utilisations above which load is shared"},
              &threshold);
     a->Visit({"leak_s", "s", "time constant with which an internal force no longer needed fades",

@@ -92,7 +92,25 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
       RequireFrictionalPads(scenario, "reflex.gto.share.mode",
                             "force_tracking steers directional pads");
       tracking_.resize(legs_.size());
+      grip_share_.resize(legs_.size());
+      grip_target_.assign(legs_.size(), 0.0);
+      // Whether every pad grips along one direction in its own frame (TrackingErrors).
+      const auto law = [&](int leg) -> const adhesion::FrictionalLaw& {
+        return adhesion_->pad(adhesion_->pad_of_leg(leg)).frictional_law();
+      };
+      for (size_t i = 1; i < legs_.size(); ++i) {
+        const adhesion::FrictionalLaw& other = law(static_cast<int>(i));
+        common_grip_ = common_grip_ && other.grip_x() == law(0).grip_x() &&
+                       other.grip_y() == law(0).grip_y();
+      }
     }
+  }
+  // Checked on the keys, not on whether tracking runs: with spindle and GTO off (bench
+  // robustness's second column) the same file must still load.
+  if (params.gto.share.min_grip_n > 0.0 &&
+      params.gto.share.Params().mode != reflex::SharingMode::kForceTracking) {
+    throw ScenarioError(scenario, "reflex.gto.share.min_grip_n",
+                        "acts only with reflex.gto.share.mode: force_tracking");
   }
   const LandingKeys& landing = params.landing;
   if (landing.settle_s > 0.0) {
@@ -197,13 +215,13 @@ void ReflexEffect::TrackingErrors(const World& world) {
   // direction g, its normal n (+ off the surface), its gripping shear F_t = f·g and pull F_n,
   // and the least gripping shear that holds that pull (FrictionalLaw::LeastGripShear).
   const mjData* d = world.data();
-  const double credit = params_.gto.share.friction_credit;
-  double total = 0.0, need_sum = 0.0;
-  int sharing = 0;
+  const LoadSharingKeys& share = params_.gto.share;
   for (size_t i = 0; i < legs_.size(); ++i) {
     reflex::SharingLeg& in = sharing_in_[i];
     TrackedPad& t = tracking_[i];
+    reflex::GripShare& g = grip_share_[i];
     in.force_error_n.setZero();
+    g.active = in.active;
     if (!in.active) continue;
     const adhesion::StickyPad& pad = adhesion_->pad(adhesion_->pad_of_leg(static_cast<int>(i)));
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
@@ -214,37 +232,39 @@ void ReflexEffect::TrackingErrors(const World& world) {
     t.force = rot * Eigen::Vector3d(pad.load().fx_n, pad.load().fy_n, pad.load().fn_n);
     t.shear = t.force.dot(t.grip);
     t.pull = pad.load().fn_n;
-    t.need = pad.frictional_law().LeastGripShear(t.pull, credit);
-    total += t.shear;
-    if (in.bias != 0.0) {
-      // A pad being let go keeps only what its pull needs (plus kReleaseShearN) and gives the
-      // rest away.
-      t.need = std::max(t.need, 0.0) + kReleaseShearN;
-      total -= std::min(t.shear, t.need);
-    } else {
-      need_sum += t.need;
-      ++sharing;
-    }
+    t.need = pad.frictional_law().LeastGripShear(t.pull, share.friction_credit);
+    // min_grip_n: the least grasp, also of a pad being let go until it goes (its opposed
+    // partners' shear leans on it).
+    if (share.min_grip_n > 0.0) t.need = std::max(t.need, share.min_grip_n);
+    g.shares = in.bias == 0.0;
+    g.grip = t.grip;
+    g.shear_n = t.shear;
+    // A pad being let go keeps only what its pull needs (plus kReleaseShearN) and gives the
+    // rest away.
+    if (!g.shares) t.need = std::max(t.need, 0.0) + kReleaseShearN;
+    g.keep_n = g.shares ? t.need : std::min(t.shear, t.need);
   }
+  // Each sharing pad's target: its need plus an equal share of the rest (reflex.h).
+  reflex::GripShearTargets(grip_share_.data(), static_cast<int>(legs_.size()), common_grip_,
+                           grip_target_.data());
   for (size_t i = 0; i < legs_.size(); ++i) {
     reflex::SharingLeg& in = sharing_in_[i];
     const TrackedPad& t = tracking_[i];
     if (!in.active) continue;
-    const Eigen::Vector3d lateral = t.force - t.pull * t.normal - t.shear * t.grip;
     if (in.bias != 0.0) {
       // To no load: no pull (but kept pressed while its shear is reversed, which only friction
       // holds), gripping shear down to its need (up to kReleaseShearN if reversed), no lateral.
+      const Eigen::Vector3d lateral = t.force - t.pull * t.normal - t.shear * t.grip;
       const bool reversed = t.shear < 0.0;
       const double pull_target =
           reversed ? kReleasePressFactor * t.shear / std::max(t.mu, 1e-3) : 0.0;
       const double shear_target = reversed ? kReleaseShearN : std::min(t.shear, t.need);
       in.force_error_n = (pull_target - t.pull) * t.normal + (shear_target - t.shear) * t.grip -
                          lateral;
-    } else if (sharing > 0) {
-      // Its need plus an equal share of the rest; lateral shear left free (moving down-wall
-      // shear between the left and right pads takes a yaw couple of lateral forces).
-      const double target = t.need + (total - need_sum) / sharing;
-      in.force_error_n = (target - t.shear) * t.grip;
+    } else {
+      // Lateral shear left free (moving down-wall shear between the left and right pads takes
+      // a yaw couple of lateral forces).
+      in.force_error_n = (grip_target_[i] - t.shear) * t.grip;
     }
   }
 }

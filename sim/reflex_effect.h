@@ -84,6 +84,9 @@ class ReflexEffect final : public Effect {
   // again what friction needs, until its shear is turned round.
   static constexpr double kReleasePressFactor = 1.5;
   std::vector<TrackedPad> tracking_;
+  std::vector<reflex::GripShare> grip_share_;
+  std::vector<double> grip_target_;
+  bool common_grip_ = true;  // every pad grips along one direction in its own frame
   void TrackingErrors(const World& world);
 
   // The landing channel (reflex.landing): per leg, whether its pad was attached at the last

@@ -284,5 +284,69 @@ TEST(ReflexLoadSharing, ForceTrackingKeepsTheOthersRequestsWhenAPadLetsGo) {
   }
 }
 
+// GripShearTargets, common direction (a wall): each sharing pad's target is its need plus an
+// equal share of what all the tracked pads carry beyond their needs; a pad being let go keeps
+// its keep and gives the rest away; the targets' sum over the sharing pads plus what the pad
+// being let go keeps is the total carried (nothing lost or made).
+TEST(ReflexGripShearTargets, CommonDirectionSharesTheScalarSurplusEqually) {
+  std::array<GripShare, 4> pads{};
+  const double shear[4] = {1.2, 0.3, 0.9, 0.5}, keep[4] = {0.4, 0.1, 0.2, 0.25};
+  for (int i = 0; i < 4; ++i) {
+    pads[i] = {true, i != 3, Eigen::Vector3d(-1, 0, 0), shear[i], keep[i]};
+  }
+  std::array<double, 4> target{-7, -7, -7, -7};
+  ASSERT_EQ(GripShearTargets(pads.data(), 4, /*common_direction=*/true, target.data()), 3);
+  const double rest = (1.2 + 0.3 + 0.9 + 0.5) - (0.4 + 0.1 + 0.2) - 0.25;  // 1.95
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(target[i], keep[i] + rest / 3, 1e-15) << i;
+  EXPECT_EQ(target[3], -7);  // being let go: untouched
+  EXPECT_NEAR(target[0] + target[1] + target[2] + keep[3], 1.2 + 0.3 + 0.9 + 0.5, 1e-14);
+}
+
+// Different directions (pads opposed in pairs under a ceiling): two pads squeezing each other
+// carry no net force, so each is driven to its own keep, whatever the squeeze; the scalar sum
+// would call the squeeze load and leave them on target. A net force F is shared as g_i·F/n.
+TEST(ReflexGripShearTargets, OpposedPadsShareOnlyTheNetForce) {
+  const Eigen::Vector3d gx(1, 0, 0);
+  for (double squeeze : {0.5, 2.0, 6.0}) {
+    std::array<GripShare, 2> pads{};
+    pads[0] = {true, true, gx, squeeze, 0.3};
+    pads[1] = {true, true, -gx, squeeze, 0.7};
+    std::array<double, 2> target{};
+    ASSERT_EQ(GripShearTargets(pads.data(), 2, false, target.data()), 2);
+    // Written out: Σ(F_t,j − k_j)·g_j = (squeeze − 0.3)·x − (squeeze − 0.7)·x = 0.4·x.
+    EXPECT_NEAR(target[0], 0.3 + 0.4 / 2, 1e-12) << squeeze;
+    EXPECT_NEAR(target[1], 0.7 - 0.4 / 2, 1e-12) << squeeze;
+    // The scalar sum: the squeeze counts as load.
+    ASSERT_EQ(GripShearTargets(pads.data(), 2, true, target.data()), 2);
+    EXPECT_NEAR(target[0], 0.3 + (2 * squeeze - 1.0) / 2, 1e-12);
+  }
+  // Three pads at 120 degrees with a net force along one of them.
+  std::array<GripShare, 3> pads{};
+  const Eigen::Vector3d g[3] = {{1, 0, 0}, {-0.5, std::sqrt(0.75), 0}, {-0.5, -std::sqrt(0.75), 0}};
+  for (int i = 0; i < 3; ++i) pads[i] = {true, true, g[i], 1.0 + (i == 0 ? 0.9 : 0.0), 0.1};
+  std::array<double, 3> target{};
+  ASSERT_EQ(GripShearTargets(pads.data(), 3, false, target.data()), 3);
+  // Σ(F_t − k)·g = 0.9·g_0 + 0.9·(g_0 + g_1 + g_2) = 0.9·g_0: pad 0 takes 0.3, the others
+  // −0.15 each, about their keep.
+  EXPECT_NEAR(target[0], 0.1 + 0.9 / 3, 1e-12);
+  EXPECT_NEAR(target[1], 0.1 - 0.45 / 3, 1e-12);
+  EXPECT_NEAR(target[2], 0.1 - 0.45 / 3, 1e-12);
+}
+
+// Inactive pads count for nothing; with no sharing pad nothing is written.
+TEST(ReflexGripShearTargets, InactivePadsAndNoSharingPad) {
+  std::array<GripShare, 3> pads{};
+  pads[0] = {false, true, Eigen::Vector3d(-1, 0, 0), 5.0, 0.0};
+  pads[1] = {true, false, Eigen::Vector3d(-1, 0, 0), 1.0, 0.2};
+  pads[2] = {true, false, Eigen::Vector3d(-1, 0, 0), 1.0, 0.2};
+  std::array<double, 3> target{-1, -1, -1};
+  EXPECT_EQ(GripShearTargets(pads.data(), 3, true, target.data()), 0);
+  EXPECT_EQ(target, (std::array<double, 3>{-1, -1, -1}));
+  pads[2].shares = true;
+  ASSERT_EQ(GripShearTargets(pads.data(), 3, true, target.data()), 1);
+  EXPECT_NEAR(target[2], 0.2 + (1.0 + 1.0 - 0.2 - 0.2), 1e-15);  // pad 0's 5 N not counted
+  EXPECT_EQ(target[0], -1);
+}
+
 }  // namespace
 }  // namespace climbsim::reflex
