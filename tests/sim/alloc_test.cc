@@ -71,5 +71,16 @@ TEST(SimulationAllocation, DirectionalGaitAllocatesNothing) {
   ExpectStepsAllocateNothing(s, 2000);
 }
 
+// Under the ceiling the pads grip in different directions: the targets' vector sum and the
+// least grasp run on every tick (2 s: the first release and landing).
+TEST(SimulationAllocation, DirectionalCeilingGaitAllocatesNothing) {
+  const Scenario s = LoadScenario(
+      climbsim::testing::Source("examples/gecko_ceiling_directional.yaml"));
+  ASSERT_TRUE(s.reflex.has_value());
+  ASSERT_EQ(s.reflex->gto.share.mode_name, "force_tracking");
+  ASSERT_GT(s.reflex->gto.share.min_grip_n, 0.0);
+  ExpectStepsAllocateNothing(s, 2000);
+}
+
 }  // namespace
 }  // namespace climbsim::sim
