@@ -275,7 +275,9 @@ Eigen::Vector3d LegReflex::Search(const Sensed& in, LegReflexOutput* out) {
       StartSearchRelease();
     }
   }
-  if (p.enabled && in.stance_onset && !sensing.touching && !sensing.attached) {
+  const bool start = in.stance_onset || st.search_after_replace;
+  st.search_after_replace = false;
+  if (p.enabled && start && in.stance && !sensing.touching && !sensing.attached) {
     st.searching = true;
     st.search_samples = 0;
     st.search_holding = false;
@@ -388,6 +390,9 @@ Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
   // The shift moves with the lift: r(s) = 3s² − 2s³ from the last shift to the new one.
   const double r = s * s * (3.0 - 2.0 * s);
   --st.replace_left;
+  // Put down where the surface is not (the body moved while the pad was gone): the foot
+  // searches for it as after a swing that ended short.
+  if (st.replace_left == 0 && !in.raw->touching) st.search_after_replace = true;
   Fire(out, Reflex::kRegrip);
   return {st.replace_shift_from + r * (st.replace_shift - st.replace_shift_from), lift, lift};
 }

@@ -614,6 +614,7 @@ struct LegReflexState {
   Eigen::Vector3d search_offset_rad = Eigen::Vector3d::Zero();
   bool search_holding = false;
   int search_release_left = 0;
+  bool search_after_replace = false;  // a re-place put the foot down on nothing: search next
   bool peeling = false;
   bool released = false;  // an active release let the pad go in this swing
   int peel_samples = 0;                              // periods since the swing onset
@@ -652,8 +653,8 @@ struct LegReflexState {
 //            |                                 | hold_stance          | preload_n >= limit
 //            |                                 |                      | (force_limit), time
 //            |                                 |                      | (time_limit), swing
-//  search    | swing → stance, ¬touching,      | reach + lift,        | touching ∨ attached
-//            | ¬attached                       | hold_stance          | (found), N attempts
+//  search    | (swing → stance, or a re-place  | reach + lift,        | touching ∨ attached
+//            | ends) ¬touching ∧ ¬attached     | hold_stance          | (found), N attempts
 //            |                                 |                      | (attempts_exhausted),
 //            |                                 |                      | swing (swing_started)
 //  peel      | stance → swing ∧ attached       | pull back and lift,  | detached (detached),

@@ -497,6 +497,41 @@ TEST(ReflexRegrip, PadThatLetGoIsRePlacedThenPressedAtTheNewTouchdown) {
                                   At(9, E::kPreloadEnd, R::kAttached)}));
 }
 
+// A re-place that puts the foot down on nothing (the body moved while the pad was gone) hands
+// it to the search: search_start in the period after the re-place's last, the search's reach
+// from there on.
+TEST(ReflexRegrip, ARePlaceThatFindsNoSurfaceStartsASearch) {
+  LegReflexParams p = RegripOnly();
+  p.search.enabled = true;
+  p.search.reach_pitch_rad = 0.2;
+  p.search.attempt_duration_s = 0.05;  // 5 periods
+  p.search.max_attempts = 2;
+  p.search.lift_rad = 0.0;  // the reach alone: -0.2 rad times the share of the search done
+  p.regrip.lift_rad = 0.2;
+  p.regrip.replace_s = 0.08;  // 8 periods
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  rec.Repeat(Attached(Stance()), 2);  // #0, #1
+  LegSensing off = Stance();
+  off.bonds_lost = true;
+  rec.Step(off);            // #2: let go, in the air at once
+  rec.Repeat(Stance(), 9);  // #3..#11: the re-place ends at #9 (8 periods), touching nothing
+  EXPECT_TRUE(rec.output(9).Fired(Reflex::kRegrip));
+  EXPECT_FALSE(rec.output(10).Fired(Reflex::kRegrip));
+  EXPECT_TRUE(rec.output(10).Fired(Reflex::kSearch));
+  EXPECT_TRUE(rec.output(10).hold_stance);
+  EXPECT_NEAR(rec.output(11).target_offset_rad[kHipPitch], -0.2 * 1 / 10.0, 1e-15);  // reaching
+  EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(10, E::kSearchStart)}));
+  // A re-place that touches down does not search.
+  LegReflex touched(p, kDt);
+  Recorder quiet(&touched);
+  quiet.Repeat(Attached(Stance()), 2);
+  quiet.Step(off);
+  quiet.Repeat(Stance(), 6);             // up to s = 7/8
+  quiet.Repeat(Touching(Stance()), 4);  // down on the surface as it ends
+  EXPECT_EQ(quiet.events(), (Events{At(2, E::kRegrip)}));
+}
+
 // A foot that touched down in stance and has not attached replace_after_s later (a rejected
 // landing; its contact may chatter meanwhile) is re-placed: regrip(touchdown), the preload
 // ends, the lift runs.

@@ -265,5 +265,28 @@ TEST(Climb, FloorToWallPastVerticalIsATurnOverAtTheDefaultAngle) {
   EXPECT_GE(r.distance_at_end_m, 0.5);  // and it went on climbing
 }
 
+// Under the ceiling a re-placed foot can come down on nothing (the body sags while a pad is
+// gone): it then searches, as after a short swing, and the walk goes on. Without that search
+// RF hung in the air from 12.9 s and the gait stood to the end (0.074 m).
+TEST(Climb, UnderTheCeilingARePlacedFootThatFindsNothingSearchesAndTheWalkGoesOn) {
+  std::string events;
+  const RunResult r = RunScenario(LoadScenario(Source("examples/gecko_ceiling.yaml")), &events);
+  ASSERT_TRUE(r.stable) << r.failure;
+  EXPECT_FALSE(r.fell);
+  EXPECT_GE(r.distance_m, 0.08);
+  const std::vector<Row> rows = ParseEvents(events);
+  int searched_after_replace = 0;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].event != "regrip" || rows[i].cause != "touchdown") continue;
+    // The re-place lasts regrip.replace_s (0.25 s); its search starts at the next tick.
+    const Row* search = Next(rows, i, rows[i].pad, "search_start");
+    if (search == nullptr || search->t - rows[i].t > 0.25 + 0.002) continue;
+    ++searched_after_replace;
+    const Row* attach = Next(rows, i, rows[i].pad, "attach");
+    ASSERT_NE(attach, nullptr) << rows[i].pad << " " << rows[i].t;  // found the ceiling again
+  }
+  EXPECT_GE(searched_after_replace, 1);
+}
+
 }  // namespace
 }  // namespace climbsim::sim
