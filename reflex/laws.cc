@@ -11,6 +11,7 @@ namespace {
 
 using internal::CheckFinite;
 using internal::CheckNonNegative;
+using internal::CheckPositive;
 using internal::FieldPath;
 
 // D(x, x0) = sign(x)·[|x| − x0]₊ for x0 >= 0.
@@ -84,11 +85,9 @@ void Validate(const GtoParams& params, double dt_s, std::string_view name) {
 }
 
 namespace {
-const SpindleParams& Validated(const SpindleParams& params, double dt_s) {
-  Validate(params, dt_s);
-  return params;
-}
-const GtoParams& Validated(const GtoParams& params, double dt_s) {
+// The parameters, validated (throws), for a constructor's initialiser list.
+template <class Params>
+const Params& Validated(const Params& params, double dt_s) {
   Validate(params, dt_s);
   return params;
 }
@@ -134,6 +133,32 @@ void GtoReflex::Reset() {
   loaded_ = false;
   delayed_load_ = 0.0;
   nonfinite_inputs_ = 0;
+}
+
+void Validate(const PostureParams& params, double dt_s, std::string_view name) {
+  Validate(params.pull, dt_s, FieldPath(name, "pull"));
+  CheckNonNegative(FieldPath(name, "pull.gain"), params.pull.gain);
+  CheckNonNegative(FieldPath(name, "max_crouch_m"), params.max_crouch_m);
+  CheckPositive(FieldPath(name, "time_constant_s"), params.time_constant_s);
+}
+
+PostureReflex::PostureReflex(const PostureParams& params, double dt_s)
+    : params_(Validated(params, dt_s)),
+      law_(params.pull, dt_s),
+      keep_(std::exp(-dt_s / params.time_constant_s)) {}
+
+// c* = min(c_max, K_P·[P̃(t−Δ) − P0]₊); c ← c* + (c − c*)·e^(−dt/τ), the exact step of the
+// first-order lag for a c* held over the period.
+double PostureReflex::Update(double pull_over_weight) {
+  const double target = std::min(params_.max_crouch_m, law_.Update(pull_over_weight));
+  if (!params_.enabled) return crouch_m_ = 0.0;
+  crouch_m_ = target + (crouch_m_ - target) * keep_;
+  return crouch_m_;
+}
+
+void PostureReflex::Reset() {
+  law_.Reset();
+  crouch_m_ = 0.0;
 }
 
 }  // namespace climbsim::reflex

@@ -378,6 +378,50 @@ class LoadSharing {
   double soft_max_ = 0.0;
 };
 
+// GTO posture channel (robot level): the pads' pull lowers the body. A climber's weight acts
+// at its centre of mass, a standoff h above the surface, and its moment about the hind feet
+// (m·g·h on a wall) is held by the front feet pulling off the surface (climbing geckos, frogs
+// and primates: a pulling forelimb, a pushing hindlimb): every millimetre of h is pull on the
+// pads that tear first. Animals on slopes lower their body (cats, rats, squirrels, tree frogs,
+// iguanas, stick insects and desert ants; J Exp Biol 224:jeb242677, 2021, "a geometric
+// strategy against toppling"). The load signal is P = Σ [F_n,i]₊ / (m·g), the pull of the
+// attached pads that carry the robot (not of one its own leg peels) over its own weight (0 on
+// a floor, ~0.4 on a wall, 1 under a ceiling), and
+//   c*(t) = min(c_max, K_P·[P̃(t−Δ) − P0]₊),   dc/dt = (c* − c)/τ
+// is the crouch the simulator gives the CPG's stance and swing feet (cpg.crouch_m plus c):
+// all feet at once, so on welded feet it moves the body, not the pads against each other.
+// Off by default: it changes a gait's geometry, and a gait tuned upright can lose its footing
+// (spider_wall_fast.yaml climbs 0.007 m/s with it instead of 0.17); the wall examples switch
+// it on (docs/climbing.md, "Posture").
+struct PostureParams {
+  bool enabled = false;
+  GtoParams pull{.gain = 0.05, .threshold = 0.1, .delay_s = 0.01};  // m, -, s; gain >= 0
+  double max_crouch_m = 0.0125;   // c_max >= 0
+  double time_constant_s = 0.3;   // τ > 0: the body lowers over about a second
+};
+
+// Throws std::invalid_argument naming the field unless every field is finite and in range.
+void Validate(const PostureParams& params, double dt_s, std::string_view name = "posture");
+
+class PostureReflex {
+ public:
+  // Throws std::invalid_argument via Validate().
+  PostureReflex(const PostureParams& params, double dt_s);
+
+  // One control period: the pull over weight P; returns the crouch c (m). Never allocates.
+  double Update(double pull_over_weight);
+  void Reset();
+
+  const PostureParams& params() const { return params_; }
+  double crouch_m() const { return crouch_m_; }
+
+ private:
+  PostureParams params_;
+  GtoReflex law_;
+  double keep_;  // exp(−dt/τ)
+  double crouch_m_ = 0.0;
+};
+
 // The gripping-shear targets of force tracking. Each directional pad i has a unit gripping
 // direction g_i (world), its gripping shear F_t,i = f_i·g_i and a shear it keeps, k_i: a
 // sharing pad's least need (its pull over tan α*, or a set least grasp), a pad being let go

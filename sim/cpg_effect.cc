@@ -81,8 +81,15 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     shape_.lift_rad = {0, 0, 0};
     // The table covers the stride, the swing and a margin into the surface for the press.
     const double reach_x = 0.5 * *p.stride_m * std::max(1.0, p.amplitude) + 0.005;
-    ik_.emplace(world.model(), world.robot(), reach_x, p.press_m + 0.01,
-                p.crouch_m + p.lift_m + 0.01);
+    // The GTO posture's crouch comes on top of the scenario's (ReflexEffect).
+    const bool posture = scenario.reflex && scenario.reflex->gto.enabled &&
+                         scenario.reflex->gto.posture.enabled;
+    const double posture_m = posture ? scenario.reflex->gto.posture.max_crouch_m : 0.0;
+    // As many cells more as the posture widens the range: its grid is no coarser than
+    // without it (the table's interpolation error stays what it was).
+    const double below = p.press_m + 0.01, above = p.crouch_m + p.lift_m + 0.01;
+    const int cells = static_cast<int>(std::ceil(40.0 * (below + above + posture_m) / (below + above)));
+    ik_.emplace(world.model(), world.robot(), reach_x, below, above + posture_m, cells);
   } else {
     if (params_.stride_rad.empty()) params_.stride_rad = {0.35, 0.0, 0.0};
     if (params_.lift_rad.empty()) params_.lift_rad = {0.0, 0.5, 0.5};
@@ -193,6 +200,7 @@ void CpgEffect::InitialPose(World& world, RunContext& ctx) {
 
 void CpgEffect::Reset(World& world, RunContext& ctx) {
   blend_left_ = 0;
+  posture_crouch_m_ = 0.0;
   hold_since_s_ = -1.0;
   hold_ = Hold{};
   WriteTargets(world, ctx);
@@ -278,7 +286,8 @@ std::array<double, 3> CpgEffect::Targets(size_t i, LegSignals* s) const {
       const double u = std::min(1.0, c.progress / 0.1);
       dx -= squeeze_sign_[i] * params_.squeeze_m * u * u * (3.0 - 2.0 * u);
     }
-    const double dz = params_.crouch_m + c.lift * params_.lift_m - params_.press_m;
+    const double dz =
+        params_.crouch_m + posture_crouch_m_ + c.lift * params_.lift_m - params_.press_m;
     q = ik_->Solve(static_cast<int>(i), dx, dz);
   }
   s->cpg_target_rad = q;
@@ -289,7 +298,7 @@ bool CpgEffect::FootAt(int i, double theta_rad, double* dx, double* dz) const {
   const double amp = network_->amplitude()[i];
   const cpg::LegCommand c = cpg::ShapeLeg(shape_, theta_rad, amp);
   *dx = params_.stride_m ? amp * c.stride * 0.5 * *params_.stride_m : 0.0;
-  *dz = params_.crouch_m + c.lift * params_.lift_m - params_.press_m;
+  *dz = params_.crouch_m + posture_crouch_m_ + c.lift * params_.lift_m - params_.press_m;
   return c.stance;
 }
 
@@ -333,6 +342,7 @@ void CpgEffect::Resume(std::span<const double> theta, const World& world) {
 }
 
 void CpgEffect::WriteTargets(World& world, RunContext& ctx) {
+  posture_crouch_m_ = ik_ ? ctx.crouch_m : 0.0;
   const auto& legs = world.robot().legs;
   double* ctrl = world.data()->ctrl;
   // After a Resume: from where the other controller left the servos into the gait.

@@ -83,6 +83,7 @@ class CpgEffect final : public Effect {
   std::unique_ptr<cpg::OscillatorNetwork> network_;
   cpg::LegShape shape_;
   std::optional<LegIk> ik_;
+  double posture_crouch_m_ = 0.0;  // RunContext::crouch_m at the last WriteTargets (foot space)
   std::vector<std::vector<int>> support_;
   int period_steps_ = 1;
   double period_s_ = 0.0;

@@ -53,6 +53,7 @@ struct RunContext {
   std::vector<LegSignals>* legs = nullptr;
   EventLog* events = nullptr;
   bool hold_all_stance = false;  // a re-grip asks every leg to stay in stance
+  double crouch_m = 0.0;          // the GTO posture's crouch, added to the CPG's (reflexes → CPG)
 };
 
 class Effect {

@@ -575,8 +575,33 @@ struct LoadSharingKeys : reflex::LoadSharingParams {
              &period_s);
   }
 };
+// The GTO's posture channel (reflex::PostureReflex), robot level like the load sharing.
+struct PostureKeys : reflex::PostureParams {
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "",
+              "lower the body as the pads are pulled off the surface (foot-space gaits, "
+              "cpg.stride_m): the crouch c = min(max_crouch_m, gain_m [P(t-D) - threshold]+), "
+              "lagged by time_constant_s, is added to cpg.crouch_m; P is the attached pads' pull "
+              "over the robot's own weight, payload not counted (0 on a floor, about 0.4 on a "
+              "wall, 1 under a ceiling)"},
+             &enabled);
+    a->Visit({"gain_m", "m", "K_P: crouch per unit of pull over weight", Range::NonNegative()},
+             &pull.gain);
+    a->Visit({"threshold", "", "P_0: pull over weight below which the body stands"},
+             &pull.threshold);
+    a->Visit({"delay_s", "s", "transmission delay of the pull", Range::NonNegative()},
+             &pull.delay_s);
+    a->Visit({"max_crouch_m", "m", "the largest crouch", Range::Closed(0, 0.03)}, &max_crouch_m);
+    a->Visit({"time_constant_s", "s", "time constant with which the body follows the crouch",
+              Range::Positive()},
+             &time_constant_s);
+  }
+};
+
 struct GtoKeys : reflex::GtoHoldParams {
   LoadSharingKeys share;
+  PostureKeys posture;
   template <class A>
   void Serialize(A* a) {
     a->Visit({"enabled", "",
@@ -645,6 +670,9 @@ struct GtoKeys : reflex::GtoHoldParams {
               "load sharing among the attached pads: internal forces that drive down the worst "
               "pad's utilisation (reflex/README.md)"},
              &share);
+    a->Visit({"posture", "",
+              "posture: the pads' pull off the surface lowers the body (reflex/README.md)"},
+             &posture);
   }
 };
 // One spindle law for the three joints of every leg.

@@ -112,6 +112,24 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     throw ScenarioError(scenario, "reflex.gto.share.min_grip_n",
                         "acts only with reflex.gto.share.mode: force_tracking");
   }
+  if (leg.gto.enabled && params.gto.posture.enabled) {
+    if (adhesion_ == nullptr) {
+      throw ScenarioError(scenario, "reflex.gto.posture.enabled",
+                          "needs the adhesion block (the pull of the attached pads)");
+    }
+    if (!cpg.foot_space()) {
+      throw ScenarioError(scenario, "reflex.gto.posture.enabled",
+                          "needs a foot-space gait (cpg.stride_m): the crouch moves the feet "
+                          "along the body's normal");
+    }
+    try {
+      posture_.emplace(params.gto.posture, dt);
+    } catch (const std::invalid_argument& e) {
+      const std::string msg = e.what();
+      throw ScenarioError(scenario, "reflex.gto.posture", msg.substr(msg.find(' ') + 1));
+    }
+    weight_n_ = world.robot().mass_kg * world.gravity().norm();
+  }
   const LandingKeys& landing = params.landing;
   if (landing.settle_s > 0.0) {
     if (adhesion_ == nullptr) {
@@ -317,6 +335,8 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
   }
   for (auto& c : counts_) c.fill(0);
   std::fill(landing_.begin(), landing_.end(), LandingState{});
+  if (posture_) posture_->Reset();
+  ctx.crouch_m = 0.0;
   for (LegSignals& s : *ctx.legs) {
     s.offset_rad = {0, 0, 0};
     s.kp_fraction = {1, 1, 1};
@@ -336,6 +356,9 @@ void ReflexEffect::Suspend(World& world, RunContext& ctx) {
     s.hold_stance = s.hold_phase = false;
   }
   ctx.hold_all_stance = false;
+  // Stands up again: the other controller places the feet from the body it finds.
+  if (posture_) posture_->Reset();
+  ctx.crouch_m = 0.0;
 }
 
 void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
@@ -416,6 +439,15 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     }
   }
   if (!landing_.empty()) Land(world, signals);
+  if (posture_) {
+    // The pull of the pads that carry the robot: not of one its own leg peels.
+    double pull_n = 0.0;
+    for (size_t i = 0; i < legs_.size(); ++i) {
+      const LegSignals& s = signals[i];
+      if (s.attached && !legs_[i].state().peeling) pull_n += std::max(0.0, s.normal_load_n);
+    }
+    ctx.crouch_m = posture_->Update(pull_n / weight_n_);
+  }
   ctx.hold_all_stance = hold_all;
 }
 

@@ -65,6 +65,10 @@ class ReflexEffect final : public Effect {
   int share_every_ = 1;       // control periods between sharing runs
   std::vector<bool> unload_;  // per leg: its active-release peel asks the others to take its load
   std::vector<double> jacp_;
+  // The GTO's posture channel (reflex.gto.posture): the crouch it gives the CPG, from the
+  // attached pads' pull over the robot's own weight (weight_n_).
+  std::optional<reflex::PostureReflex> posture_;
+  double weight_n_ = 0.0;
 
   // The gradient of leg i's pad utilisation with respect to the force the leg puts on the pad
   // at its ankle, world frame; false when the pad is not attached or it is not defined.

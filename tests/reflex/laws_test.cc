@@ -2,6 +2,9 @@
 // thresholds are exact in binary, so the expected outputs are exact too: EXPECT_EQ throughout.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string>
+
 #include <cmath>
 
 #include "reflex/reflex.h"
@@ -151,6 +154,60 @@ TEST(ReflexGto, NegativeGainIsNegativeForceFeedback) {
   GtoReflex gto(Gto(-0.5, 1.0, 0), kDt);
   EXPECT_EQ(gto.Update(3.0), -1.0);
   EXPECT_TRUE(gto.loaded());
+}
+
+// Posture: a step of pull over weight P reaches the law after exactly the delay, and the crouch
+// then follows the first-order lag to min(c_max, K_P (P - P0)) in closed form.
+TEST(ReflexPosture, StepOfPullLowersTheBodyAlongTheLag) {
+  PostureParams p;
+  p.enabled = true;
+  p.pull = {.gain = 0.05, .threshold = 0.1, .delay_s = 0.003};  // 3 periods at 1 ms
+  p.max_crouch_m = 0.0125;
+  p.time_constant_s = 0.2;
+  constexpr double kDt1 = 0.001;
+  PostureReflex posture(p, kDt1);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(posture.Update(0.3), 0.0) << k;  // still in the delay
+  const double target = 0.05 * (0.3 - 0.1);                              // 0.01 m < c_max
+  const double keep = std::exp(-kDt1 / 0.2);
+  for (int k = 1; k <= 400; ++k) {
+    EXPECT_NEAR(posture.Update(0.3), target * (1.0 - std::pow(keep, k)), 1e-15) << k;
+  }
+  // A larger pull is capped; a pull under P0 lets the body up again, along the same lag.
+  PostureReflex capped(p, kDt1);
+  for (int k = 0; k < 5000; ++k) capped.Update(2.0);
+  EXPECT_NEAR(capped.crouch_m(), 0.0125, 1e-12);
+  for (int k = 0; k < 3; ++k) capped.Update(0.05);  // the delay still holds the pull
+  const double before = capped.crouch_m();
+  EXPECT_NEAR(before, 0.0125, 1e-10);
+  EXPECT_NEAR(capped.Update(0.05), before * keep, 1e-17);  // now P < P0: the target is 0
+  posture.Reset();
+  EXPECT_EQ(posture.crouch_m(), 0.0);
+  EXPECT_EQ(posture.Update(1.0), 0.0);  // the delay line was cleared too
+}
+
+TEST(ReflexPosture, OffStaysUpAndBadParamsAreRefusedByName) {
+  PostureParams p;
+  p.enabled = false;
+  PostureReflex off(p, 0.001);
+  for (int k = 0; k < 100; ++k) EXPECT_EQ(off.Update(1.0), 0.0);
+  PostureParams bad;
+  bad.time_constant_s = 0.0;
+  EXPECT_THROW(
+      {
+        try {
+          PostureReflex(bad, 0.001);
+        } catch (const std::invalid_argument& e) {
+          EXPECT_NE(std::string(e.what()).find("posture.time_constant_s"), std::string::npos);
+          throw;
+        }
+      },
+      std::invalid_argument);
+  bad = PostureParams{};
+  bad.max_crouch_m = -0.01;
+  EXPECT_THROW(PostureReflex(bad, 0.001), std::invalid_argument);
+  bad = PostureParams{};
+  bad.pull.gain = -1.0;
+  EXPECT_THROW(PostureReflex(bad, 0.001), std::invalid_argument);
 }
 
 }  // namespace

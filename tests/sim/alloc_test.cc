@@ -49,13 +49,13 @@ TEST(SimulationAllocation, StepLoopAllocatesNothing) {
 TEST(SimulationAllocation, ClimbingReflexesAllocateNothing) {
   std::string text =
       climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
-  text.replace(text.find("reflex:\n"), 8,
-               "reflex:\n  compliance: {enabled: true}\n"
-               "  gto: {share: {gain_per_s: 30, threshold: 0.2}}\n");
+  text.replace(text.find("reflex:\n"), 8, "reflex:\n  compliance: {enabled: true}\n");
+  text.replace(text.find("  gto:\n"), 8, "  gto:\n    share: {gain_per_s: 30, threshold: 0.2}\n");
   const Scenario s = LoadScenario(climbsim::testing::WriteFile("alloc_climb.yaml", text));
   ASSERT_TRUE(s.reflex.has_value());
   ASSERT_TRUE(s.reflex->spindle.enabled && s.reflex->gto.enabled && s.reflex->compliance.enabled);
   ASSERT_GT(s.reflex->gto.share.gain_per_s, 0.0);
+  ASSERT_TRUE(s.reflex->gto.posture.enabled);
   ExpectStepsAllocateNothing(s, 2000);  // a peel, a swing and a landing
 }
 

@@ -114,8 +114,8 @@ const char* kPush =
 TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
   const Scenario with = ExampleWith("examples/gecko_wall.yaml", "push_on.yaml", "", "", kPush);
   const Scenario without = ExampleWith(
-      "examples/gecko_wall.yaml", "push_off.yaml", "  preload:",
-      "  regrip: {enabled: false}\n  gto: {enabled: false}\n  preload:", kPush);
+      "examples/gecko_wall.yaml", "push_off.yaml", "    posture: {enabled: true}\n",
+      "    enabled: false\n    posture: {enabled: true}\n  regrip: {enabled: false}\n", kPush);
   std::string events;
   const RunResult on = RunScenario(with, &events);
   const RunResult off = RunScenario(without);

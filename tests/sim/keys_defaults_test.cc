@@ -64,6 +64,7 @@ std::map<std::string, std::string> LibraryDefaults() {
   const cpg::LegShape shape;
   const reflex::LegReflexParams leg;
   const reflex::LoadSharingParams share;
+  const reflex::PostureParams posture;
   return {
       {"adhesion.grid_x", Text(pad.grid_x)},
       {"adhesion.grid_y", Text(pad.grid_y)},
@@ -151,6 +152,12 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.gto.share.max_force_n", Text(share.max_force_n)},
       {"reflex.gto.share.max_rate_n_per_s", Text(share.max_rate_n_per_s)},
       {"reflex.gto.share.period_s", Text(share.period_s)},
+      {"reflex.gto.posture.enabled", Text(posture.enabled)},
+      {"reflex.gto.posture.gain_m", Text(posture.pull.gain)},
+      {"reflex.gto.posture.threshold", Text(posture.pull.threshold)},
+      {"reflex.gto.posture.delay_s", Text(posture.pull.delay_s)},
+      {"reflex.gto.posture.max_crouch_m", Text(posture.max_crouch_m)},
+      {"reflex.gto.posture.time_constant_s", Text(posture.time_constant_s)},
       {"reflex.spindle.enabled", Text(leg.spindle.enabled)},
       {"reflex.spindle.swing_threshold_rad", Text(leg.spindle.swing_threshold_rad)},
       {"reflex.spindle.resist", Text(leg.spindle.resist)},

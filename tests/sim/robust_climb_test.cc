@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim/sim.h"
+#include "tests/common/scenario_error.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
@@ -144,6 +145,76 @@ TEST(RobustClimb, LoadSharingCarriesAPayloadTheSpiderDropsWithoutIt) {
   EXPECT_GE(on.result.distance_m, 0.15);
   const Outcome off = RunExample("examples/spider_wall.yaml", with_payload(0.0));
   EXPECT_TRUE(off.result.fell || off.result.distance_m < 0.05) << off.result.distance_m;
+}
+
+// The GTO's posture channel (reflex.gto.posture, on in gecko_wall.yaml): the pads' pull lowers
+// the body on the wall, by max_crouch_m at the feet (12.5 mm: the pull over weight, ~0.36, asks
+// for more),
+// and with it the moment the front pads hold. On the same 10 s scenario with 0.03 kg on its
+// back (29 % of its mass) the gecko climbs with the posture and falls without it.
+TEST(RobustClimb, PostureLowersTheBodyOnTheWallAndCarriesAPayloadTheUprightGaitDrops) {
+  const std::string example = "examples/gecko_wall.yaml";
+  ASSERT_TRUE(LoadScenario(Source(example)).reflex->gto.posture.enabled);
+  const auto run = [&](bool posture, double payload_kg, double* mean_standoff_m) {
+    Scenario s = LoadScenario(Source(example));
+    s.duration_s = 10.0;
+    s.payload_kg = payload_kg;
+    s.reflex->gto.posture.enabled = posture;
+    auto model = CompileScenario(s);
+    Simulation sim(s, *model);
+    const RunResult r = sim.Run();
+    if (mean_standoff_m != nullptr) {
+      // The base's height over the wall (z = 0) in trajectory.csv, from 3 s on (the crouch's
+      // lag is 0.3 s).
+      std::istringstream csv(sim.TrajectoryCsv());
+      std::string line, cell;
+      std::getline(csv, line);
+      int t_col = -1, z_col = -1, col = 0;
+      for (std::istringstream head(line); std::getline(head, cell, ','); ++col) {
+        if (cell == "time_s") t_col = col;
+        if (cell == "base_z_m") z_col = col;
+      }
+      double sum = 0.0;
+      int n = 0;
+      while (std::getline(csv, line)) {
+        std::vector<double> v;
+        for (std::istringstream row(line); std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+        if (v.at(t_col) >= 3.0) sum += v.at(z_col), ++n;
+      }
+      *mean_standoff_m = n > 0 ? sum / n : 0.0;
+    }
+    return r;
+  };
+  double up = 0.0, down = 0.0;
+  const RunResult upright = run(false, 0.0, &up);
+  const RunResult crouched = run(true, 0.0, &down);
+  ASSERT_FALSE(upright.fell);
+  ASSERT_FALSE(crouched.fell);
+  // 12.5 mm commanded at the feet; the base lowers 8.9 mm (measured), and not at all upright.
+  EXPECT_NEAR(up - down, 0.0089, 0.0015) << up << " " << down;
+  EXPECT_GE(crouched.distance_m, upright.distance_m - 0.005);   // no slower for it
+
+  const RunResult with = run(true, 0.03, nullptr);
+  const RunResult without = run(false, 0.03, nullptr);
+  ASSERT_TRUE(with.stable && without.stable);
+  EXPECT_FALSE(with.fell) << with.fall_time_s;
+  EXPECT_GE(with.distance_m, 0.15);
+  EXPECT_TRUE(without.fell);
+}
+
+// The posture moves the feet along the body's normal: it needs a foot-space gait and pads; a
+// file that asks for it otherwise is refused at the key's line, before anything runs.
+TEST(RobustClimb, PostureNeedsAFootSpaceGaitAndPads) {
+  std::string text = climbsim::testing::ReadFile(Source("examples/gecko_wall.yaml"));
+  const size_t at = text.find("  stride_m: 0.03");
+  ASSERT_NE(at, std::string::npos);
+  std::string joint_space = text;
+  joint_space.replace(at, 16, "  stride_rad: [0.35, 0, 0]");
+  const std::string e = climbsim::testing::ScenarioErrorOf("posture_joint.yaml", joint_space);
+  EXPECT_NE(e.find("posture_joint.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("reflex.gto.posture.enabled"), std::string::npos) << e;
+  EXPECT_NE(e.find("cpg.stride_m"), std::string::npos) << e;
+  EXPECT_EQ(climbsim::testing::ScenarioErrorOf("posture_ok.yaml", text), "");
 }
 
 }  // namespace
