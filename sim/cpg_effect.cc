@@ -88,7 +88,8 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     // As many cells more as the posture widens the range: its grid is no coarser than
     // without it (the table's interpolation error stays what it was).
     const double below = p.press_m + 0.01, above = p.crouch_m + p.lift_m + 0.01;
-    const int cells = static_cast<int>(std::ceil(40.0 * (below + above + posture_m) / (below + above)));
+    const int cells = static_cast<int>(
+        std::ceil(LegIk::kDefaultCells * (below + above + posture_m) / (below + above)));
     ik_.emplace(world.model(), world.robot(), reach_x, below, above + posture_m, cells);
   } else {
     if (params_.stride_rad.empty()) params_.stride_rad = {0.35, 0.0, 0.0};

@@ -24,10 +24,11 @@ namespace climbsim::sim {
 
 class LegIk {
  public:
+  static constexpr int kDefaultCells = 40;
   // Tables for every leg of `robot` over dx ∈ [−reach_x_m, reach_x_m] and dz ∈
   // [−reach_below_m, reach_above_m], with `cells` intervals per axis.
   LegIk(const mjModel* model, const RobotInfo& robot, double reach_x_m, double reach_below_m,
-        double reach_above_m, int cells = 40);
+        double reach_above_m, int cells = kDefaultCells);
 
   // Joint targets for leg `leg` (clamped to the table's box). Allocation-free.
   std::array<double, 3> Solve(int leg, double dx_m, double dz_m) const;
