@@ -138,6 +138,10 @@ void BondGrid::Release() {
   std::fill(row_count_.begin(), row_count_.end(), 0);
   bonded_count_ = 0;
   sums_ = MomentSums{};
+  // A released grid carries no stress: a grid bonded again reads the field of no load until
+  // the next one is applied, as a new grid does (a reset run's first utilisation was the
+  // last run's).
+  ClearField();
 }
 
 void BondGrid::BondFraction(double fraction) {

@@ -181,6 +181,9 @@ std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {
 
 void CpgEffect::InitialPose(World& world, RunContext& ctx) {
   network_ = MakeNetwork();  // fresh stepper state too (Dopri5's step size)
+  // The feet are placed standing: the posture's crouch of an earlier run is not this one's
+  // (InitialPose runs before any effect's Reset).
+  posture_crouch_m_ = 0.0;
   const auto& legs = world.robot().legs;
   if (ik_ && params_.crouch_m > 0.0) {
     // Crouched feet reach the surface only if the body starts that much lower, along its
@@ -201,7 +204,6 @@ void CpgEffect::InitialPose(World& world, RunContext& ctx) {
 
 void CpgEffect::Reset(World& world, RunContext& ctx) {
   blend_left_ = 0;
-  posture_crouch_m_ = 0.0;
   hold_since_s_ = -1.0;
   hold_ = Hold{};
   WriteTargets(world, ctx);

@@ -680,6 +680,26 @@ TEST(PadStress, PeakUtilisationEqualsTheFullScanBitForBit) {
   EXPECT_GT(rows_only, 200);  // most trials compare finite peaks, not two infinities
 }
 
+// A released grid carries no stress: bonded again, it reads the utilisation of no load (0), as
+// a new grid does, until the next load; the load then reads the same as on a new grid.
+TEST(PadStress, AReleasedGridBondedAgainCarriesNoStressUntilTheNextLoad) {
+  PadParams p = Pad(0.025, 0.025, 16, 16);
+  p.sigma_t_pa = 1.0e4;
+  const PadLoad load{.fn_n = 0.5, .fx_n = -0.6, .fy_n = 0.2, .mx_nm = 0.001, .my_nm = -0.002};
+  BondGrid used(p), fresh(p);
+  used.BondAll();
+  used.Update(load);
+  ASSERT_GT(used.PeakUtilisation(), 0.1);
+  used.Release();
+  used.BondAll();
+  fresh.BondAll();
+  EXPECT_EQ(used.PeakUtilisation(), 0.0);
+  EXPECT_EQ(fresh.PeakUtilisation(), 0.0);
+  used.Update(load);
+  fresh.Update(load);
+  EXPECT_EQ(used.PeakUtilisation(), fresh.PeakUtilisation());
+}
+
 TEST(PadParamsValidation, RejectsBadValuesNamingKeyAndValue) {
   const PadParams good = Pad(0.02, 0.02, 8, 8);
   EXPECT_NO_THROW(ValidatePadParams(good));

@@ -202,6 +202,25 @@ TEST(RobustClimb, PostureLowersTheBodyOnTheWallAndCarriesAPayloadTheUprightGaitD
   EXPECT_TRUE(without.fell);
 }
 
+// A run after Simulation::Reset is the fresh run bit for bit, trajectory.csv whole: the feet
+// are placed standing, not at the posture's crouch the previous run ended in (which put them
+// off the wall and the rerun fell), and the first row's utilisations are 0, not the previous
+// run's last (a released bond grid kept its stress field).
+TEST(RobustClimb, ARerunAfterResetIsTheFreshRunBitForBit) {
+  Scenario s = LoadScenario(Source("examples/gecko_wall.yaml"));
+  ASSERT_TRUE(s.reflex->gto.posture.enabled);
+  s.duration_s = 3.0;
+  auto model = CompileScenario(s);
+  Simulation fresh(s, *model);
+  const RunResult first = fresh.Run();
+  const std::string first_csv = fresh.TrajectoryCsv();
+  fresh.Reset();
+  const RunResult again = fresh.Run();
+  EXPECT_FALSE(again.fell);
+  EXPECT_EQ(again.distance_m, first.distance_m);
+  EXPECT_EQ(fresh.TrajectoryCsv(), first_csv);
+}
+
 // The posture moves the feet along the body's normal: it needs a foot-space gait and pads; a
 // file that asks for it otherwise is refused at the key's line, before anything runs.
 TEST(RobustClimb, PostureNeedsAFootSpaceGaitAndPads) {
