@@ -82,9 +82,9 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     // The table covers the stride, the swing and a margin into the surface for the press.
     const double reach_x = 0.5 * *p.stride_m * std::max(1.0, p.amplitude) + 0.005;
     // The GTO posture's crouch comes on top of the scenario's (ReflexEffect).
-    const bool posture = scenario.reflex && scenario.reflex->gto.enabled &&
-                         scenario.reflex->gto.posture.enabled;
-    const double posture_m = posture ? scenario.reflex->gto.posture.max_crouch_m : 0.0;
+    const double posture_m = scenario.reflex && scenario.reflex->PostureOn()
+                                 ? scenario.reflex->gto.posture.max_crouch_m
+                                 : 0.0;
     // As many cells more as the posture widens the range: its grid is no coarser than
     // without it (the table's interpolation error stays what it was).
     const double below = p.press_m + 0.01, above = p.crouch_m + p.lift_m + 0.01;

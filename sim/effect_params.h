@@ -789,6 +789,10 @@ struct ReflexParams {
              &release_failed_peel);
   }
 
+  // Whether the GTO's posture acts: the CPG sizes its leg IK table for it, the reflex effect
+  // runs it.
+  bool PostureOn() const { return gto.enabled && gto.posture.enabled; }
+
   // The reflex module's parameters for one leg.
   reflex::LegReflexParams Leg() const {
     reflex::LegReflexParams p;

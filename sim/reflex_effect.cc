@@ -112,7 +112,7 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     throw ScenarioError(scenario, "reflex.gto.share.min_grip_n",
                         "acts only with reflex.gto.share.mode: force_tracking");
   }
-  if (leg.gto.enabled && params.gto.posture.enabled) {
+  if (params.PostureOn()) {
     if (adhesion_ == nullptr) {
       throw ScenarioError(scenario, "reflex.gto.posture.enabled",
                           "needs the adhesion block (the pull of the attached pads)");
