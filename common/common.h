@@ -6,6 +6,7 @@
 //   TempSiblingPath    a temporary name beside a file, unique across processes and threads
 //   WriteFileAtomic    a file that is either complete or absent
 //   RunGnuplot         plots drawn by gnuplot into files that are complete or absent
+//   ParallelFor        tasks on worker threads; a worker's exception reaches the caller
 //
 // common/README.md is the overview. Nothing here runs inside a step loop.
 #ifndef CLIMBSIM_COMMON_COMMON_H_
@@ -13,6 +14,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -86,6 +88,12 @@ std::string RunGnuplot(const std::string& script, const std::vector<std::string>
 
 // Escapes a string for a gnuplot double-quoted string.
 std::string GnuplotQuote(const std::string& s);
+
+// Runs task(0) .. task(count - 1) on `threads` threads (the caller's among them; at least
+// one, at most `count`). Tasks are handed out in index order. When a task throws, no further
+// task starts, the running ones finish, and the exception of the lowest-index task that threw
+// is rethrown here: the same error whatever the thread count, and never std::terminate.
+void ParallelFor(int count, int threads, const std::function<void(int task)>& task);
 
 }  // namespace climbsim::common
 

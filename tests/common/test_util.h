@@ -3,9 +3,11 @@
 #ifndef CLIMBSIM_TESTS_COMMON_TEST_UTIL_H_
 #define CLIMBSIM_TESTS_COMMON_TEST_UTIL_H_
 
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -108,6 +110,39 @@ inline CliResult RunClimbsim(const std::string& args) {
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(base + ".out"),
           ReadFile(base + ".err")};
+}
+
+// Runs climbsim with an argument vector (no shell: arguments may hold quotes, backticks,
+// `$(...)`, `;` or newlines, and reach climbsim as they are), in `cwd` when given, with
+// stdout and stderr captured. Optional limits for the child: `file_size_limit_bytes` > 0 sets
+// RLIMIT_FSIZE (a write past it fails with EFBIG, as on a full disk; SIGXFSZ is ignored).
+inline CliResult RunClimbsimArgs(const std::vector<std::string>& args, const std::string& cwd = "",
+                                 long file_size_limit_bytes = 0) {
+  static int n = 0;
+  const std::string base = TempDir() + "/cliv_" + std::to_string(n++);
+  const std::string out = base + ".out", err = base + ".err";
+  std::vector<std::string> argv_s{Climbsim()};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_s) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(126);
+    if (std::freopen(out.c_str(), "w", stdout) == nullptr) ::_exit(126);
+    if (std::freopen(err.c_str(), "w", stderr) == nullptr) ::_exit(126);
+    if (file_size_limit_bytes > 0) {
+      std::signal(SIGXFSZ, SIG_IGN);
+      const rlimit lim{static_cast<rlim_t>(file_size_limit_bytes),
+                       static_cast<rlim_t>(file_size_limit_bytes)};
+      ::setrlimit(RLIMIT_FSIZE, &lim);
+    }
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(out), ReadFile(err)};
 }
 
 // A robot that diverges: a 1e9 N·m/rad spring on a 1 g link. Its frequency sqrt(k/I) is
