@@ -1,3 +1,4 @@
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -5,13 +6,37 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <stdexcept>
 
 #include "common/common.h"
 
 namespace climbsim::common {
+namespace {
 
 namespace fs = std::filesystem;
+
+// The message of a failed write: the file the user asked for, and the cause by name
+// ("cannot write runs/x/summary.json: No space left on device").
+std::runtime_error WriteError(const std::string& path, int error) {
+  return std::runtime_error("cannot write " + path + ": " + std::strerror(error));
+}
+
+// Writes all of `content` to `fd` (write may write less than asked); 0 or the errno.
+int WriteAll(int fd, const std::string& content) {
+  const char* p = content.data();
+  size_t left = content.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return errno;
+    if (n == 0) return EIO;
+    p += n;
+    left -= static_cast<size_t>(n);
+  }
+  return 0;
+}
+
+}  // namespace
 
 std::string TempSiblingPath(const std::string& path) {
   static std::atomic<long> counter{0};
@@ -21,23 +46,18 @@ std::string TempSiblingPath(const std::string& path) {
       .string();
 }
 
+// POSIX calls, each checked: a full disk shows at write, fsync or close, and its cause is kept.
 void WriteFileAtomic(const std::string& path, const std::string& content) {
   const std::string tmp = TempSiblingPath(path);
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << content;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("cannot write " + path);
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + path + ": " + why);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) throw WriteError(path, errno);
+  int error = WriteAll(fd, content);
+  if (error == 0 && ::fsync(fd) != 0) error = errno;
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error == 0 && ::rename(tmp.c_str(), path.c_str()) != 0) error = errno;
+  if (error != 0) {
+    ::unlink(tmp.c_str());
+    throw WriteError(path, error);
   }
 }
 
