@@ -2,14 +2,18 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -49,12 +53,147 @@ std::string ReadSmallFile(const fs::path& p) {
   return text;
 }
 
-nlohmann::json ReadMarker(const fs::path& dir) {
-  try {
-    return nlohmann::json::parse(ReadSmallFile(dir / kRunMarker));
-  } catch (const std::exception&) {
-    return nlohmann::json::object();  // a damaged marker still marks the folder as climbsim's
+// One file climbsim wrote, as its marker records it.
+struct Entry {
+  uintmax_t size = 0;
+  std::string hash;
+};
+
+// A folder's marker, read. kOld: schema 1 (names only); kDamaged: empty, `{}`, not JSON, or
+// without the schema; kInProgress: a live run not yet committed.
+struct Marker {
+  enum class Kind { kNone, kDamaged, kOld, kInProgress, kComplete } kind = Kind::kNone;
+  std::string made_by;
+  std::map<std::string, Entry> files;  // relative path → entry
+  std::set<std::string> data;          // relative paths of the run's data
+  nlohmann::json json;
+  bool Usable() const { return kind == Kind::kInProgress || kind == Kind::kComplete; }
+};
+
+// The schema-2 `files` list, or false when it is malformed.
+bool ReadEntries(const nlohmann::json& files, Marker* m) {
+  if (!files.is_array()) return false;
+  for (const auto& f : files) {
+    if (!f.is_object() || !f.contains("path") || !f["path"].is_string() || !f.contains("size") ||
+        !f["size"].is_number_unsigned() || !f.contains("fnv1a64") || !f["fnv1a64"].is_string()) {
+      return false;
+    }
+    m->files[f["path"].get<std::string>()] = {f["size"].get<uintmax_t>(),
+                                              f["fnv1a64"].get<std::string>()};
   }
+  return true;
+}
+
+Marker ReadMarker(const fs::path& dir) {
+  Marker m;
+  std::error_code ec;
+  const auto st = fs::symlink_status(dir / kRunMarker, ec);
+  if (!fs::exists(st)) return m;
+  m.kind = Marker::Kind::kDamaged;
+  if (!fs::is_regular_file(st)) return m;
+  try {
+    m.json = nlohmann::json::parse(ReadSmallFile(dir / kRunMarker));
+  } catch (const std::exception&) {
+    return m;
+  }
+  const auto& j = m.json;
+  if (!j.is_object() || !j.contains("climbsim_run_folder") ||
+      !j["climbsim_run_folder"].is_number_integer() || !j.contains("made_by") ||
+      !j["made_by"].is_string() || j["made_by"].get<std::string>().empty()) {
+    return m;
+  }
+  m.made_by = j["made_by"].get<std::string>();
+  if (j.contains("data_files") && j["data_files"].is_array()) {
+    for (const auto& f : j["data_files"]) {
+      if (f.is_string()) m.data.insert(f.get<std::string>());
+    }
+  }
+  const int version = j["climbsim_run_folder"].get<int>();
+  if (version == 1) m.kind = Marker::Kind::kOld;
+  if (version != 2 || !j.contains("files") || !ReadEntries(j["files"], &m)) return m;
+  m.kind = j.value("in_progress", false) ? Marker::Kind::kInProgress : Marker::Kind::kComplete;
+  return m;
+}
+
+// `name` without the `.tmp.<pid>_<n>` that common::TempSiblingPath puts before the extension.
+std::string WithoutTempTag(const std::string& name) {
+  const size_t at = name.find(".tmp.");
+  if (at == std::string::npos) return name;
+  size_t end = at + 5;
+  while (end < name.size() &&
+         (std::isdigit(static_cast<unsigned char>(name[end])) || name[end] == '_')) {
+    ++end;
+  }
+  return name.substr(0, at) + name.substr(end);
+}
+
+// `.<name>.climbsim-lock`: the lock file of a folder (left in place by design).
+bool IsLockName(const std::string& name) {
+  const std::string tail = ".climbsim-lock";
+  return name.size() > tail.size() + 1 && name[0] == '.' &&
+         name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// Whether `e` (a regular file in a folder at `key` below the marker `m`) is climbsim's.
+bool Ours(const fs::directory_entry& e, const Marker& m, const std::string& key) {
+  std::error_code ec;
+  if (!fs::is_regular_file(e.symlink_status(ec))) return false;
+  const std::string name = e.path().filename().string();
+  const uintmax_t size = fs::file_size(e.path(), ec);
+  if (ec) return false;
+  if (key.empty() && name == kRunMarker) return true;
+  if (IsLockName(name) && size == 0) return true;
+  if (m.kind == Marker::Kind::kInProgress && key.empty() && KnownOutputName(WithoutTempTag(name))) {
+    return true;  // a killed live run: its files were never listed
+  }
+  const auto it = m.files.find(key + name);
+  return it != m.files.end() && it->second.size == size && FileHash(e.path()) == it->second.hash;
+}
+
+// Walks `dir` (shown as `shown`, at `key` below the marker `m`): files that are not climbsim's
+// are added to `others`; a subfolder with a marker of its own (best_run/) is judged by it; an
+// empty subfolder is the user's. With `remove`, climbsim's files are unlinked one by one and
+// the folders this emptied removed (rmdir: a folder that still holds anything stays).
+void Walk(const fs::path& dir, const Marker& m, const std::string& shown, const std::string& key,
+          bool remove, std::vector<std::string>* others) {
+  std::error_code ec;
+  std::vector<fs::directory_entry> entries;
+  for (const auto& e : fs::directory_iterator(dir, ec)) entries.push_back(e);
+  std::sort(entries.begin(), entries.end());
+  for (const auto& e : entries) {
+    const std::string name = e.path().filename().string();
+    if (fs::is_directory(e.symlink_status(ec))) {
+      if (fs::is_empty(e.path(), ec)) {
+        others->push_back(shown + name + "/");
+        continue;
+      }
+      const Marker nested = ReadMarker(e.path());
+      if (nested.Usable()) {
+        Walk(e.path(), nested, shown + name + "/", "", remove, others);
+      } else {
+        Walk(e.path(), m, shown + name + "/", key + name + "/", remove, others);
+      }
+      if (remove) ::rmdir(e.path().c_str());
+    } else if (!Ours(e, m, key)) {
+      others->push_back(shown + name);
+    } else if (remove) {
+      ::unlink(e.path().c_str());
+    }
+  }
+}
+
+std::vector<std::string> OthersIn(const fs::path& dir) {
+  std::vector<std::string> others;
+  Walk(dir, ReadMarker(dir), "", "", false, &others);
+  return others;
+}
+
+// The first few of `names`, for a message.
+std::string List(const std::vector<std::string>& names) {
+  std::string s;
+  for (size_t k = 0; k < names.size() && k < 8; ++k) s += (k ? ", " : "") + names[k];
+  if (names.size() > 8) s += " and " + std::to_string(names.size() - 8) + " more";
+  return s;
 }
 
 bool IsEmptyFolder(const fs::path& p) {
@@ -109,10 +248,29 @@ fs::path CheckPath(const std::string& dir, const RunFolderOptions& o) {
     }
     if (p == p.root_path()) break;
   }
+  // A link that leads nowhere: a rename would replace the link, not make its target.
+  if (fs::is_symlink(fs::symlink_status(abs, ec))) {
+    throw Refuse(o, Quoted(dir) + " is a link to nothing (a dangling symlink): give a folder");
+  }
   if (fs::exists(abs, ec) && !fs::is_directory(abs, ec)) {
     throw Refuse(o, Quoted(dir) + " is a file, not a folder");
   }
   return abs;
+}
+
+void CheckResume(const std::string& dir, const fs::path& abs, const RunFolderOptions& o) {
+  std::error_code ec;
+  const Marker m = ReadMarker(abs);
+  if (m.kind == Marker::Kind::kNone || m.kind == Marker::Kind::kDamaged) {
+    throw Refuse(o,
+                 Quoted(dir) +
+                     (fs::exists(abs, ec) ? " is not a climbsim run folder" : " does not exist") +
+                     ": nothing to resume (drop --resume to start a new run)");
+  }
+  if (m.made_by != o.made_by) {
+    throw Refuse(o, Quoted(dir) + " was made by climbsim " + m.made_by + ", not " + o.made_by +
+                        ": nothing to resume");
+  }
 }
 
 // Checks of the folder's content; under the lock when called from RunFolder.
@@ -127,73 +285,128 @@ void CheckContent(const std::string& dir, const fs::path& abs, const RunFolderOp
                           ": climbsim never writes where its inputs are; give another folder");
     }
   }
-  const bool exists = fs::exists(abs, ec);
-  const bool marked = exists && fs::is_regular_file(abs / kRunMarker, ec);
-  if (resume) {
-    if (!marked) {
-      throw Refuse(o, Quoted(dir) + (exists ? " is not a climbsim run folder" : " does not exist") +
-                          ": nothing to resume (drop --resume to start a new run)");
-    }
-    const std::string by = ReadMarker(abs).value("made_by", "");
-    if (by != o.made_by) {
-      throw Refuse(o, Quoted(dir) + " was made by climbsim " + (by.empty() ? "?" : by) + ", not " +
-                          o.made_by + ": nothing to resume");
-    }
-    return;
+  if (resume) return CheckResume(dir, abs, o);
+  if (!fs::exists(abs, ec) || IsEmptyFolder(abs)) return;
+  const Marker m = ReadMarker(abs);
+  switch (m.kind) {
+    case Marker::Kind::kNone:
+      throw Refuse(o, Quoted(dir) + " holds files climbsim did not make (no " + kRunMarker +
+                          " marker): give a new or empty folder; climbsim never writes among a "
+                          "user's files");
+    case Marker::Kind::kDamaged:
+      throw Refuse(o, Quoted(dir) + " is not a climbsim run folder: its " + kRunMarker +
+                          " is empty, damaged or without climbsim's schema; climbsim deletes "
+                          "nothing there: give a new folder");
+    case Marker::Kind::kOld:
+      throw Refuse(o, Quoted(dir) + " holds a run of an earlier climbsim, whose " + kRunMarker +
+                          " lists no file sizes: climbsim cannot tell its files from yours "
+                          "there; remove the folder yourself, or give a new folder");
+    default:
+      break;
   }
-  if (!exists || IsEmptyFolder(abs)) return;
-  if (marked) {
-    if (o.force) return;
-    const std::string by = ReadMarker(abs).value("made_by", "");
-    throw Refuse(o, Quoted(dir) + " holds a previous climbsim run (made by climbsim " +
-                        (by.empty() ? "?" : by) +
-                        "); --force replaces it whole, or give a new folder");
+  if (!o.force) {
+    throw Refuse(o, Quoted(dir) + " holds a previous climbsim run (made by climbsim " + m.made_by +
+                        "); --force replaces it (deleting only climbsim's own files), or give "
+                        "a new folder");
   }
-  throw Refuse(o, Quoted(dir) + " holds files climbsim did not make (no " + kRunMarker +
-                      " marker): give a new or empty folder; climbsim never writes among a "
-                      "user's files");
+  const std::vector<std::string> others = OthersIn(abs);
+  if (!others.empty() && !o.keep_other_files) {
+    throw Refuse(o, Quoted(dir) +
+                        " holds files climbsim did not write there, or that changed "
+                        "since: " +
+                        List(others) +
+                        "; --force deletes only climbsim's own files: move these away, or add "
+                        "--keep-other-files to carry them into the new run");
+  }
 }
 
-std::string UtcNow() {
+std::string UtcNow(const char* format = "%Y-%m-%dT%H:%M:%SZ") {
   const std::time_t t = std::time(nullptr);
   std::tm tm{};
   gmtime_r(&t, &tm);
   char buf[32];
-  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  std::strftime(buf, sizeof(buf), format, &tm);
   return buf;
 }
 
-// Removes leftovers of killed writers of `abs` (the caller holds the lock).
+// A visible name beside `dir` that no one has: DIR.<what>-<UTC>-<pid>.
+std::string AsideName(const std::string& dir, const std::string& what) {
+  return dir + "." + what + "-" + UtcNow("%Y%m%dT%H%M%SZ") + "-" + std::to_string(::getpid());
+}
+
+// Removes leftovers of killed writers of `abs` (the caller holds the lock): a staging folder
+// whole (only climbsim writes there; its marker says "staging"), of a swapped-out folder only
+// climbsim's files; what is left of one is kept under a visible name.
 void RemoveStaleSiblings(const fs::path& abs) {
   const std::string prefix = "." + abs.filename().string() + ".climbsim-";
   std::error_code ec;
+  std::vector<fs::path> stale;
   for (const auto& e : fs::directory_iterator(abs.parent_path(), ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind(prefix + "new.", 0) == 0 || name.rfind(prefix + "old.", 0) == 0) {
-      if (e.is_directory(ec)) fs::remove_all(e.path(), ec);
+    if ((name.rfind(prefix + "new.", 0) == 0 || name.rfind(prefix + "old.", 0) == 0) &&
+        fs::is_directory(e.symlink_status(ec))) {
+      stale.push_back(e.path());
+    }
+  }
+  for (const fs::path& p : stale) {
+    const Marker m = ReadMarker(p);
+    if (m.Usable() && m.json.value("staging", false)) {
+      fs::remove_all(p, ec);
+      continue;
+    }
+    std::vector<std::string> others;
+    if (m.Usable()) Walk(p, m, "", "", /*remove=*/true, &others);
+    if (::rmdir(p.c_str()) != 0) {
+      ::renameat2(AT_FDCWD, p.c_str(), AT_FDCWD, AsideName(abs.string(), "previous").c_str(),
+                  RENAME_NOREPLACE);
     }
   }
 }
 
-// Puts `from` (a folder) at `to`: a rename when `to` is absent or an empty folder, else an
-// atomic exchange (the old folder ends up at `from`, then removed). Where the file system
-// cannot exchange, two renames: `to` is absent for a moment, but never a mix.
-void SwapIn(const fs::path& from, const fs::path& to) {
+// Opens and flocks `.<name>.climbsim-lock` beside `dir`: the fd, or -1 when another holds it.
+// Throws `refuse(message)` when the lock file cannot be made.
+template <class Refusal>
+int TakeLock(const fs::path& dir, std::string* lock_path, Refusal refuse) {
+  *lock_path = (dir.parent_path() / ("." + dir.filename().string() + ".climbsim-lock")).string();
+  const int fd = ::open(lock_path->c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw refuse(Quoted(dir.string()) + " cannot be written: " + *lock_path + ": " +
+                 std::strerror(errno));
+  }
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd);
+    throw refuse(Quoted(dir.string()) + " is being written by another climbsim right now (lock " +
+                 *lock_path + "); wait for it or give another folder");
+  }
+  return fd;
+}
+
+nlohmann::json FileEntry(const fs::path& file, const std::string& rel) {
   std::error_code ec;
-  if (!fs::exists(to, ec) || IsEmptyFolder(to)) {
-    if (::rename(from.c_str(), to.c_str()) == 0) return;
+  return {{"path", rel},
+          {"size", static_cast<uintmax_t>(fs::file_size(file, ec))},
+          {"fnv1a64", FileHash(file.string())}};
+}
+
+// Every regular file below `root` (not the marker) by relative path; `top_known_only`: only
+// the top-level files with the names the verbs write (a live folder a user could add to).
+void ListFiles(const fs::path& root, bool top_known_only, nlohmann::json* files,
+               nlohmann::json* data) {
+  std::error_code ec;
+  std::vector<std::string> rels;
+  for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::end(it);
+       it.increment(ec)) {
+    if (!fs::is_regular_file(it->symlink_status(ec))) continue;
+    const std::string rel = it->path().lexically_relative(root).string();
+    if (rel == kRunMarker) continue;
+    if (top_known_only && (it.depth() > 0 || !KnownOutputName(rel))) continue;
+    rels.push_back(rel);
   }
-  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_EXCHANGE) == 0) {
-    fs::remove_all(from, ec);
-    return;
+  std::sort(rels.begin(), rels.end());
+  for (const auto& rel : rels) {
+    files->push_back(FileEntry(root / rel, rel));
+    data->push_back(rel);
   }
-  const fs::path old = to.parent_path() / ("." + to.filename().string() + ".climbsim-old." +
-                                           std::to_string(::getpid()));
-  if (::rename(to.c_str(), old.c_str()) != 0 || ::rename(from.c_str(), to.c_str()) != 0) {
-    throw std::runtime_error("cannot put the new run at " + to.string() + ": " +
-                             std::strerror(errno));
-  }
-  fs::remove_all(old, ec);
 }
 
 }  // namespace
@@ -205,7 +418,31 @@ bool IsRunFolder(const std::string& dir) {
 
 std::string RunFolderMadeBy(const std::string& dir) {
   if (!IsRunFolder(dir)) return "";
-  return ReadMarker(dir).value("made_by", "unknown");
+  const Marker m = ReadMarker(dir);
+  return m.made_by.empty() ? "unknown" : m.made_by;
+}
+
+bool KnownOutputName(const std::string& name) {
+  static const std::set<std::string> k{"convergence.png", "sweep.png",      "pulloff.png",
+                                       "accuracy.png",    "robustness.csv", "robustness.dat",
+                                       "robustness.png"};
+  return (StandardDataFiles().count(name) > 0 && name != kRunMarker) || k.count(name) > 0;
+}
+
+std::string FileHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  uint64_t h = 14695981039346656037ull;  // FNV-1a 64 offset basis
+  char buf[1 << 16];
+  while (in) {
+    in.read(buf, sizeof(buf));
+    for (std::streamsize k = 0; k < in.gcount(); ++k) {
+      h = (h ^ static_cast<unsigned char>(buf[k])) * 1099511628211ull;
+    }
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
+  return hex;
 }
 
 void CheckOutputFolder(const std::string& dir, const RunFolderOptions& options) {
@@ -222,6 +459,7 @@ RunFolder::RunFolder(const std::string& dir, RunFolderOptions options) {
   Lock();
   try {
     CheckContent(dir, abs, options_, false);
+    Remember();
     RemoveStaleSiblings(abs);
     const std::string staging =
         (abs.parent_path() /
@@ -232,8 +470,11 @@ RunFolder::RunFolder(const std::string& dir, RunFolderOptions options) {
                                  (ec ? ec.message() : "the staging folder exists"));
     }
     staging_ = staging;
+    WriteMarker(staging_, /*in_progress=*/true);  // says "staging" until the commit
   } catch (...) {
-    ::close(lock_fd_);  // no destructor runs for a constructor that throws
+    // No destructor runs for a constructor that throws.
+    if (!staging_.empty()) fs::remove_all(staging_, ec);
+    ::close(lock_fd_);
     throw;
   }
   write_path_ = staging_;
@@ -242,11 +483,11 @@ RunFolder::RunFolder(const std::string& dir, RunFolderOptions options) {
 RunFolder RunFolder::Live(const std::string& dir, RunFolderOptions options, bool resume) {
   if (!resume) {
     RunFolder f(dir, std::move(options));
-    f.WriteMarker(f.staging_);
-    SwapIn(f.staging_, f.dir_);
+    f.live_ = true;
+    f.WriteMarker(f.staging_, /*in_progress=*/true);
+    f.Place();
     f.staging_.clear();
     f.write_path_ = f.dir_;
-    f.live_ = true;
     return f;
   }
   RunFolder f;
@@ -269,7 +510,10 @@ RunFolder::RunFolder(RunFolder&& o) noexcept
       options_(std::move(o.options_)),
       lock_fd_(o.lock_fd_),
       live_(o.live_),
-      committed_(o.committed_) {
+      committed_(o.committed_),
+      existed_(o.existed_),
+      dev_(o.dev_),
+      ino_(o.ino_) {
   o.lock_fd_ = -1;
   o.staging_.clear();
 }
@@ -277,58 +521,173 @@ RunFolder::RunFolder(RunFolder&& o) noexcept
 RunFolder::~RunFolder() {
   if (!staging_.empty() && !committed_) {
     std::error_code ec;
-    fs::remove_all(staging_, ec);
+    fs::remove_all(staging_, ec);  // only climbsim wrote there
   }
   if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the flock
 }
 
 void RunFolder::Lock() {
-  const fs::path abs(dir_);
-  lock_path_ = (abs.parent_path() / ("." + abs.filename().string() + ".climbsim-lock")).string();
-  lock_fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd_ < 0) {
-    throw Refuse(options_,
-                 Quoted(dir_) + " cannot be written: " + lock_path_ + ": " + std::strerror(errno));
-  }
-  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-    throw Refuse(options_, Quoted(dir_) + " is being written by another climbsim right now (lock " +
-                               lock_path_ + "); wait for it or give another folder");
-  }
+  lock_fd_ = TakeLock(fs::path(dir_), &lock_path_,
+                      [&](const std::string& m) { return Refuse(options_, m); });
 }
 
-void RunFolder::WriteMarker(const std::string& folder) const {
-  nlohmann::json files = nlohmann::json::array();
-  std::error_code ec;
-  std::set<std::string> names;
-  for (const auto& e : fs::directory_iterator(folder, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name != kRunMarker && e.is_regular_file(ec)) names.insert(name);
-  }
-  for (const auto& n : names) files.push_back(n);
+// The identity of the folder that was checked, for Commit to swap out only that one.
+void RunFolder::Remember() {
+  struct stat st {};
+  existed_ = ::lstat(dir_.c_str(), &st) == 0;
+  dev_ = existed_ ? st.st_dev : 0;
+  ino_ = existed_ ? st.st_ino : 0;
+}
+
+void RunFolder::WriteMarker(const std::string& folder, bool in_progress) const {
+  nlohmann::json files = nlohmann::json::array(), data = nlohmann::json::array();
+  if (!in_progress) ListFiles(folder, live_, &files, &data);
   nlohmann::json inputs = nlohmann::json::array();
+  std::error_code ec;
   for (const auto& i : options_.inputs) {
     if (!i.empty()) inputs.push_back(fs::absolute(i, ec).lexically_normal().string());
   }
-  const nlohmann::json marker{
-      {"climbsim_run_folder", 1},
+  nlohmann::json marker{
+      {"climbsim_run_folder", 2},
       {"made_by", options_.made_by},
       {"climbsim_version", CLIMBSIM_VERSION},
       {"written_utc", UtcNow()},
       {"inputs", inputs},
-      {"data_files", files},
+      {"files", files},
+      {"data_files", data},
       {"note",
-       "made by climbsim; climbsim replaces this folder whole only when given --force "
-       "(docs/run-folders.md)"}};
+       "made by climbsim; with --force climbsim deletes only the files listed here, when their "
+       "size and FNV-1a 64 hash still match (docs/run-folders.md)"}};
+  if (in_progress) marker["in_progress"] = true;
+  if (in_progress && !live_) marker["staging"] = true;  // a staging folder: all climbsim's
   common::WriteFileAtomic(folder + "/" + kRunMarker, marker.dump(2) + "\n");
+}
+
+void RunFolder::KeepNewRunAside(const std::string& why) {
+  const std::string aside = AsideName(dir_, "new-run");
+  const std::string kept =
+      ::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, aside.c_str(), RENAME_NOREPLACE) == 0
+          ? aside
+          : staging_;
+  staging_.clear();  // never removed: it is the user's result now
+  throw std::runtime_error("the new run was not put at " + dir_ + ": " + why +
+                           "; nothing was deleted; the new run is kept at " + kept);
+}
+
+// A folder that did not exist when checked: it must still not exist.
+void RunFolder::Place() {
+  if (existed_) return PlaceOverExisting();
+  if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, dir_.c_str(), RENAME_NOREPLACE) == 0) {
+    return;
+  }
+  int error = errno;
+  if (error == EINVAL) {  // a file system without RENAME_NOREPLACE: check, then rename
+    struct stat st {};
+    if (::lstat(dir_.c_str(), &st) == 0) {
+      error = EEXIST;
+    } else if (::rename(staging_.c_str(), dir_.c_str()) == 0) {
+      return;
+    } else {
+      error = errno;
+    }
+  }
+  if (error == EEXIST || error == ENOTEMPTY) {
+    KeepNewRunAside("something appeared there while the run was in progress");
+  }
+  throw std::runtime_error("cannot put the new run at " + dir_ + ": " + std::strerror(error));
+}
+
+// The folder checked goes out, the new run in; returns where the old folder now is. Anything
+// else found at dir_ stays there, and the new run is kept aside.
+std::string RunFolder::SwapOut() {
+  const std::string swapped = staging_;
+  if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, dir_.c_str(), RENAME_EXCHANGE) == 0) {
+    struct stat st {};
+    if (::lstat(swapped.c_str(), &st) == 0 && st.st_dev == dev_ && st.st_ino == ino_) {
+      staging_.clear();
+      return swapped;
+    }
+    // Replaced between the last look and the exchange: swap back, delete nothing.
+    if (::renameat2(AT_FDCWD, swapped.c_str(), AT_FDCWD, dir_.c_str(), RENAME_EXCHANGE) != 0) {
+      staging_ = dir_;  // the new run stays at dir_: say so rather than guess
+    }
+    KeepNewRunAside("the folder there was replaced while the run was in progress");
+  }
+  if (errno != EINVAL) {
+    throw std::runtime_error("cannot put the new run at " + dir_ + ": " + std::strerror(errno));
+  }
+  // A file system that cannot exchange: two renames (dir_ is absent for a moment).
+  const std::string old =
+      (fs::path(dir_).parent_path() /
+       ("." + fs::path(dir_).filename().string() + ".climbsim-old." + std::to_string(::getpid())))
+          .string();
+  struct stat st {};
+  if (::rename(dir_.c_str(), old.c_str()) != 0) {
+    throw std::runtime_error("cannot put the new run at " + dir_ + ": " + std::strerror(errno));
+  }
+  if (::lstat(old.c_str(), &st) != 0 || st.st_dev != dev_ || st.st_ino != ino_ ||
+      ::rename(staging_.c_str(), dir_.c_str()) != 0) {
+    ::rename(old.c_str(), dir_.c_str());
+    KeepNewRunAside("the folder there was replaced while the run was in progress");
+  }
+  staging_.clear();
+  return old;
+}
+
+// A folder that existed when checked: only that folder is swapped out; of its content the
+// files that are not climbsim's are carried into the new run (keep_other_files) or kept, and
+// only climbsim's own files are deleted.
+void RunFolder::PlaceOverExisting() {
+  struct stat st {};
+  if (::lstat(dir_.c_str(), &st) != 0 || st.st_dev != dev_ || st.st_ino != ino_) {
+    KeepNewRunAside("the folder there was removed or replaced while the run was in progress");
+  }
+  const std::vector<std::string> others = OthersIn(dir_);
+  if (!others.empty() && !options_.keep_other_files) {
+    KeepNewRunAside("files climbsim did not write appeared there during the run: " + List(others));
+  }
+  CarryAndRemove(SwapOut());
+}
+
+void RunFolder::CarryAndRemove(const std::string& old) {
+  const Marker m = ReadMarker(old);
+  std::vector<std::string> others;
+  Walk(old, m, "", "", false, &others);
+  std::set<std::string> tops;
+  for (const auto& o : others) tops.insert(o.substr(0, o.find('/')));
+  std::vector<std::string> carried;
+  for (const auto& t : tops) {
+    // A live run would write over a file with one of its names: never carry one.
+    if (!options_.keep_other_files || (live_ && KnownOutputName(t))) continue;
+    const std::string from = old + "/" + t, to = dir_ + "/" + t;
+    if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) {
+      carried.push_back(t);
+    }
+  }
+  if (!carried.empty()) {
+    std::fprintf(stderr, "climbsim: carried into the new run at %s: %s\n", dir_.c_str(),
+                 List(carried).c_str());
+  }
+  others.clear();
+  Walk(old, m, "", "", /*remove=*/true, &others);
+  if (::rmdir(old.c_str()) == 0) return;
+  const std::string aside = AsideName(dir_, "previous");
+  const std::string kept =
+      ::renameat2(AT_FDCWD, old.c_str(), AT_FDCWD, aside.c_str(), RENAME_NOREPLACE) == 0 ? aside
+                                                                                         : old;
+  std::fprintf(stderr,
+               "climbsim: files of the previous folder that are not climbsim's (%s) share a name "
+               "with the new run's or appeared during it; they are kept in %s\n",
+               List(others).c_str(), kept.c_str());
 }
 
 void RunFolder::Commit() {
   if (committed_) return;
   if (live_) {
-    WriteMarker(dir_);
+    WriteMarker(dir_, /*in_progress=*/false);
   } else {
-    WriteMarker(staging_);
-    SwapIn(staging_, dir_);
+    WriteMarker(staging_, /*in_progress=*/false);
+    Place();
     staging_.clear();
     write_path_ = dir_;
   }
@@ -339,28 +698,33 @@ void CheckFileOutput(const std::string& path, const std::string& flag) {
   const auto refuse = [&](const std::string& m) { return InputError(path, 0, 0, flag, m); };
   if (path.empty()) throw InputError("climbsim", 0, 0, flag, "must not be empty");
   std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(path, ec))) throw refuse("is a link; give a file name");
   const fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
   if (ec) throw refuse("cannot be used: " + ec.message());
   if (fs::is_directory(p, ec)) throw refuse("is a folder; give a file name");
   const std::string name = p.filename().string();
   const fs::path folder = p.parent_path();
   if (name == kRunMarker) throw refuse("is the marker of a climbsim run folder");
-  const bool run_folder = IsRunFolder(folder.string());
+  const Marker m = ReadMarker(folder);
   const bool old_run =
       fs::exists(folder / "summary.json", ec) || fs::exists(folder / "best.yaml", ec);
-  if (run_folder || old_run) {
+  if (m.kind != Marker::Kind::kNone || old_run) {
     std::set<std::string> data = StandardDataFiles();
-    if (run_folder) {
-      const nlohmann::json m = ReadMarker(folder);
-      if (m.contains("data_files") && m["data_files"].is_array()) {
-        for (const auto& f : m["data_files"]) {
-          if (f.is_string()) data.insert(f.get<std::string>());
-        }
-      }
-    }
+    data.insert(m.data.begin(), m.data.end());
     if (data.count(name) > 0) {
       throw refuse("is a data file of the climbsim run in " + Quoted(folder.string()) +
                    "; climbsim never overwrites a run's data: give another name");
+    }
+  }
+  if (fs::exists(fs::symlink_status(p, ec))) {
+    const auto it = m.files.find(name);
+    const bool ours = m.Usable() && it != m.files.end() &&
+                      it->second.size == fs::file_size(p, ec) && !ec &&
+                      it->second.hash == FileHash(p.string());
+    if (!ours) {
+      throw refuse(
+          "exists, and no climbsim run folder records it as climbsim's: climbsim never "
+          "overwrites a file it did not make; remove it or give another name");
     }
   }
   for (fs::path a = folder; !a.empty(); a = a.parent_path()) {
@@ -373,6 +737,46 @@ void CheckFileOutput(const std::string& path, const std::string& flag) {
     }
     if (a == a.root_path()) break;
   }
+}
+
+RunFolderAdditions::RunFolderAdditions(std::vector<std::string> files, const std::string& flag) {
+  std::error_code ec;
+  for (const auto& f : files) {
+    CheckFileOutput(f, flag);
+    files_.push_back(fs::weakly_canonical(fs::absolute(f, ec), ec).string());
+  }
+  if (files_.empty()) return;
+  const fs::path folder = fs::path(files_.front()).parent_path();
+  for (const auto& f : files_) {
+    if (fs::path(f).parent_path() != folder) return;  // not one run folder: nothing to record
+  }
+  if (!ReadMarker(folder).Usable()) return;
+  std::string lock_path;
+  lock_fd_ = TakeLock(folder, &lock_path, [&](const std::string& m) {
+    return InputError(files.front(), 0, 0, flag, m);
+  });
+  folder_ = folder.string();
+}
+
+RunFolderAdditions::~RunFolderAdditions() {
+  if (lock_fd_ >= 0) ::close(lock_fd_);
+}
+
+void RunFolderAdditions::Commit() {
+  if (folder_.empty()) return;
+  Marker m = ReadMarker(folder_);
+  if (!m.Usable()) return;
+  nlohmann::json& list = m.json["files"];
+  for (const auto& f : files_) {
+    std::error_code ec;
+    if (!fs::is_regular_file(fs::symlink_status(f, ec))) continue;
+    const std::string rel = fs::path(f).filename().string();
+    for (auto it = list.begin(); it != list.end();) {
+      it = (*it)["path"] == rel ? list.erase(it) : it + 1;
+    }
+    list.push_back(FileEntry(f, rel));
+  }
+  common::WriteFileAtomic(folder_ + "/" + kRunMarker, m.json.dump(2) + "\n");
 }
 
 }  // namespace climbsim::sim
