@@ -257,7 +257,8 @@ struct Options {
   std::string out_dir;
   int threads = 0;                // per process; 0: the cores / the processes on this machine
   bool resume = false;
-  bool force = false;             // replace an earlier climbsim folder at out_dir whole
+  bool force = false;             // replace an earlier climbsim folder at out_dir
+  bool keep_other_files = false;  // with force: carry a user's files along (sim/run_folder.h)
   int max_evaluations = 0;        // 0: the file's
   bool quiet = false;
 };
@@ -307,6 +308,7 @@ struct PulloffExperimentOptions {
   double azimuth_deg = 0.0;        // rig.azimuth_rad in degrees
   bool quiet = false;
   bool force = false;
+  bool keep_other_files = false;  // with force: carry a user's files along (sim/run_folder.h)
   std::string law = "von_mises";  // frictional: RunPulloffLaws
   adhesion::FrictionalParams frictional;
   double grip_deg = 0.0;
@@ -320,6 +322,7 @@ bool RunPulloffExperiment(PulloffExperimentOptions options);
 struct PulloffLawOptions {
   std::string out_dir;
   bool force = false;
+  bool keep_other_files = false;
   bool quiet = false;
   adhesion::PadParams pad;             // the von Mises law's pad (σ_T, μ) and the grid
   adhesion::FrictionalParams law;      // the frictional law (grip direction in the pad frame)

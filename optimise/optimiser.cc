@@ -846,10 +846,12 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   std::string refused;
   if (comm.root()) {
     try {
-      folder.emplace(sim::RunFolder::Live(
-          options.out_dir,
-          {.made_by = "optimise", .force = options.force, .inputs = {scenario_file}},
-          options.resume));
+      folder.emplace(sim::RunFolder::Live(options.out_dir,
+                                          {.made_by = "optimise",
+                                           .force = options.force,
+                                           .keep_other_files = options.keep_other_files,
+                                           .inputs = {scenario_file}},
+                                          options.resume));
     } catch (const InputError& e) {
       if (comm.size() == 1) throw;
       refused = e.what();

@@ -124,6 +124,7 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
           "must be <= grid_x * grid_y");
     PulloffLawOptions l;
     l.out_dir = o.out_dir, l.force = o.force, l.quiet = o.quiet;
+    l.keep_other_files = o.keep_other_files;
     l.pad = p.pad;
     l.law = o.frictional;
     l.law.grip_x = std::cos(o.grip_deg * kDeg);
@@ -147,7 +148,8 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
   }
 
   // The output folder: checked and locked before anything runs; it appears whole.
-  sim::RunFolder folder(o.out_dir, {.made_by = "pulloff", .force = o.force});
+  sim::RunFolder folder(
+      o.out_dir, {.made_by = "pulloff", .force = o.force, .keep_other_files = o.keep_other_files});
   const std::string dir = folder.path();
 
   std::vector<Row> rows(angles_deg.size());
@@ -310,7 +312,8 @@ std::string Script(const PulloffLawOptions& o, const std::string& data, const st
 bool RunPulloffLaws(const PulloffLawOptions& o) {
   adhesion::ValidatePadParams(o.pad);
   const adhesion::FrictionalLaw law(o.law);
-  sim::RunFolder folder(o.out_dir, {.made_by = "pulloff", .force = o.force});
+  sim::RunFolder folder(
+      o.out_dir, {.made_by = "pulloff", .force = o.force, .keep_other_files = o.keep_other_files});
   const std::string dir = folder.path();
 
   const double area = o.pad.width_m * o.pad.length_m;

@@ -198,17 +198,15 @@ void OptimiseSpeed(const std::string& file, int evaluations, const std::string& 
 // The largest disturbance of each family the robot survives, reflexes on and spindle + GTO off.
 void Robustness(const std::string& file, const optimise::RobustnessOptions& options,
                 const std::string& out) {
-  // A user's folder is sacred: refuse one that holds anything, before anything runs.
-  std::error_code error;
-  if (std::filesystem::exists(out, error) &&
-      (!std::filesystem::is_directory(out, error) || !std::filesystem::is_empty(out, error))) {
-    throw InputError("climbsim bench robustness", 0, 0, "--out",
-                     out + " exists and is not empty: choose a new folder");
-  }
+  // A run folder (docs/run-folders.md), checked and locked before the runs; an earlier
+  // bench's replaced.
+  sim::RunFolder folder(
+      out, {.made_by = "bench", .force = sim::RunFolderMadeBy(out) == "bench", .inputs = {file}});
   Progress bar("robustness");
   const optimise::RobustnessReport r =
       optimise::BenchRobustness(file, options, [&](double f) { bar.Update(f); });
-  const std::string warning = optimise::WriteRobustness(out, r);
+  const std::string warning = optimise::WriteRobustness(folder.path(), r);
+  folder.Commit();
   std::fputs(optimise::RobustnessTable(r).c_str(), stdout);
   std::printf("  outputs %s/{robustness.csv,robustness.png}%s%s\n", out.c_str(),
               warning.empty() ? "" : "  plot: ", warning.c_str());
@@ -286,7 +284,8 @@ void AddBenchCommand(CLI::App& app) {
       "largest disturbance of each family survived, reflexes on and spindle + GTO off");
   rob->add_option("scenario", file, "scenario file")->required();
   rob->add_option("--out", robust_out,
-                  "new (or empty) folder for robustness.csv and robustness.png")
+                  "folder for robustness.csv and robustness.png: new, empty, or an earlier "
+                  "bench folder (docs/run-folders.md)")
       ->required();
   rob->add_option("--duration", robust.duration_s, "simulated seconds per run (0: the scenario's)")
       ->check(CLI::NonNegativeNumber)

@@ -77,16 +77,17 @@ void AddInspectCommand(CLI::App& app) {
                  stdout);
     }
     if (plots) {
-      // The plots go beside the run's data and never over it.
-      std::vector<std::string> names{"gait", "path"};
+      // The plots go beside the run's data, never over it nor over a user's file, under the
+      // run folder's lock, and are recorded in its marker as climbsim's.
+      std::vector<std::string> names{"gait", "path"}, paths;
       for (const auto& l : run.legs) names.push_back("pad_" + l);
       for (const auto& n : names) {
-        for (const char* ext : {".png", ".svg"}) {
-          sim::CheckFileOutput(run.dir + "/" + n + ext, "--plots");
-        }
+        for (const char* ext : {".png", ".svg"}) paths.push_back(run.dir + "/" + n + ext);
       }
+      sim::RunFolderAdditions added(paths, "--plots");
       std::vector<std::string> notes;
       const auto files = inspect::WritePlots(run, report, run.dir, &notes);
+      added.Commit();
       FILE* out = json ? stderr : stdout;
       std::fprintf(out, "\nplots:");
       for (const auto& f : files) std::fprintf(out, " %s", f.c_str());

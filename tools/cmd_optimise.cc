@@ -13,13 +13,17 @@ void AddOptimiseCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("optimise", "Tune CPG and reflex parameters offline with NLopt");
   static std::string scenario_path, out_dir;
   static int threads = 0, max_evaluations = 0;
-  static bool resume = false, quiet = false, force = false;
+  static bool resume = false, quiet = false, force = false, keep = false;
   cmd->add_option("scenario", scenario_path, "scenario file with an optimise: block")->required();
   cmd->add_option("--out", out_dir,
                   "results folder: new, empty, or (with --force) an earlier climbsim folder "
                   "(docs/run-folders.md)")
       ->required();
-  cmd->add_flag("--force", force, "replace the earlier climbsim folder at --out whole");
+  cmd->add_flag("--force", force,
+                "replace the earlier climbsim folder at --out (deleting only its own files)");
+  cmd->add_flag("--keep-other-files", keep,
+                "with --force: carry files climbsim did not write (notes, added folders) into "
+                "the new run folder instead of refusing (docs/run-folders.md)");
   cmd->add_option("--threads", threads,
                   "worker threads per process (default: the cores, shared by the MPI ranks on "
                   "the machine); the result does not depend on it")
@@ -42,6 +46,7 @@ void AddOptimiseCommand(CLI::App& app) {
     o.threads = threads;
     o.resume = resume;
     o.force = force;
+    o.keep_other_files = keep;
     if (resume && force) {
       throw InputError("climbsim optimise", 0, 0, "--force",
                        "cannot go with --resume (--force starts over, --resume continues)");

@@ -18,7 +18,11 @@ void AddPulloffCommand(CLI::App& app) {
                   "folder for pulloff.csv, pulloff.gp and pulloff.png: new, empty, or (with "
                   "--force) an earlier climbsim folder (docs/run-folders.md)")
       ->required();
-  cmd->add_flag("--force", o.force, "replace the earlier climbsim folder at --out whole");
+  cmd->add_flag("--force", o.force,
+                "replace the earlier climbsim folder at --out (deleting only its own files)");
+  cmd->add_flag("--keep-other-files", o.keep_other_files,
+                "with --force: carry files climbsim did not write (notes, added folders) into "
+                "the new run folder instead of refusing (docs/run-folders.md)");
   cmd->add_option("--model", o.model, "which model to run: both, bonds or mujoco")
       ->check(CLI::IsMember({"both", "bonds", "mujoco"}))
       ->capture_default_str();

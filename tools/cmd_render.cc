@@ -5,14 +5,33 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <optional>
+#include <vector>
 
-#include "inspect/inspect.h"
 #include "common/common.h"
+#include "inspect/inspect.h"
 #include "sim/run_folder.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 
 namespace climbsim::tools {
+namespace {
+
+// The folder of --frames: new, empty, or one an earlier render made (replaced); never another
+// run folder, nor one that holds the run.
+sim::RunFolder FramesFolder(const std::string& frames, const std::string& run_dir) {
+  const std::string by = sim::RunFolderMadeBy(frames);
+  if ((!by.empty() && by != "render") || std::filesystem::exists(frames + "/summary.json")) {
+    throw InputError(
+        frames, 0, 0, "--frames",
+        "is a run folder; give a folder of its own for the frames (e.g. " + frames + "/frames)");
+  }
+  return sim::RunFolder(
+      frames,
+      {.made_by = "render", .force = by == "render", .inputs = {run_dir}, .flag = "--frames"});
+}
+
+}  // namespace
 
 void AddRenderCommand(CLI::App& app) {
   auto* cmd =
@@ -68,16 +87,13 @@ void AddRenderCommand(CLI::App& app) {
                          "the video is MP4 (H.264): give a name ending in .mp4, or --at T for a "
                          "still");
       }
-      sim::CheckFileOutput(out, "--out");
     }
-    if (!frames.empty()) {
-      if (sim::IsRunFolder(frames) || std::filesystem::exists(frames + "/summary.json")) {
-        throw InputError(frames, 0, 0, "--frames",
-                         "is a run folder; give a folder of its own for the frames (e.g. " +
-                             frames + "/frames)");
-      }
-      sim::CheckFileOutput(frames + "/frame_00000.png", "--frames");
-    }
+    // Checked and locked before the work: --out never replaces a file climbsim did not make
+    // and is recorded in its run folder's marker; --frames is a run folder of its own.
+    std::optional<sim::RunFolderAdditions> added;
+    std::optional<sim::RunFolder> frames_folder;
+    if (!out.empty()) added.emplace(std::vector<std::string>{out}, "--out");
+    if (!frames.empty()) frames_folder.emplace(FramesFolder(frames, dir));
     const inspect::RunKind kind = inspect::DetectRunKind(dir);
     if (kind == inspect::RunKind::kPulloff) {
       throw InputError(dir, 0, 0, "", "a pulloff folder holds no trajectory to render");
@@ -100,9 +116,11 @@ void AddRenderCommand(CLI::App& app) {
       stats = inspect::RenderVideo(run, o, out, report);
       written = out;
     } else {
-      stats = inspect::RenderFrames(run, o, frames, report);
+      stats = inspect::RenderFrames(run, o, frames_folder->path(), report);
+      frames_folder->Commit();
       written = frames + "/frame_*.png";
     }
+    if (added) added->Commit();
     if (quiet) return;
     for (const auto& n : stats.notes) std::printf("note: %s\n", n.c_str());
     std::printf(

@@ -60,21 +60,27 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
 void AddSimulateCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("simulate", "Simulate a gait from a scenario file");
   static std::string scenario_path, out_dir;
-  static bool quiet = false, force = false;
+  static bool quiet = false, force = false, keep = false;
   cmd->add_option("scenario", scenario_path, "scenario file (YAML; keys in docs/scenario.md)")
       ->required();
   cmd->add_option("--out", out_dir,
                   "run folder to write: new, empty, or (with --force) an earlier climbsim run "
                   "folder (docs/run-folders.md)")
       ->required();
-  cmd->add_flag("--force", force, "replace the earlier climbsim run folder at --out whole");
+  cmd->add_flag("--force", force,
+                "replace the earlier climbsim run folder at --out (deleting only its own files)");
+  cmd->add_flag("--keep-other-files", keep,
+                "with --force: carry files climbsim did not write (notes, added folders) into "
+                "the new run folder instead of refusing (docs/run-folders.md)");
   cmd->add_flag("--quiet", quiet, "no progress and no summary on the terminal");
   cmd->footer("Example:\n  climbsim simulate examples/gecko_floor.yaml --out runs/gecko_floor");
   cmd->callback([] {
     const sim::Scenario scenario = sim::LoadScenario(scenario_path);
     // The folder is checked and locked before anything runs; the run appears there whole.
-    sim::RunFolder folder(
-        out_dir, {.made_by = "simulate", .force = force, .inputs = sim::ScenarioInputs(scenario)});
+    sim::RunFolder folder(out_dir, {.made_by = "simulate",
+                                    .force = force,
+                                    .keep_other_files = keep,
+                                    .inputs = sim::ScenarioInputs(scenario)});
     const auto model = sim::CompileScenario(scenario);
     sim::Simulation run(scenario, *model);
     Progress progress("simulate", !quiet);

@@ -20,7 +20,7 @@ void AddSweepCommand(CLI::App& app) {
   static std::vector<std::string> files;
   static optimise::SweepOptions o;
   static std::string out_dir;
-  static bool force = false;
+  static bool force = false, keep = false;
   cmd->add_option("scenarios", files, "scenario files (one curve each)")->required();
   cmd->add_option("--key", o.key, "dotted key to sweep, e.g. scene.incline_deg")->required();
   cmd->add_option("--from", o.from, "first value")->required();
@@ -32,7 +32,11 @@ void AddSweepCommand(CLI::App& app) {
                   "folder for sweep.csv and sweep.png: new, empty, or (with --force) an earlier "
                   "climbsim folder (docs/run-folders.md)")
       ->required();
-  cmd->add_flag("--force", force, "replace the earlier climbsim folder at --out whole");
+  cmd->add_flag("--force", force,
+                "replace the earlier climbsim folder at --out (deleting only its own files)");
+  cmd->add_flag("--keep-other-files", keep,
+                "with --force: carry files climbsim did not write (notes, added folders) into "
+                "the new run folder instead of refusing (docs/run-folders.md)");
   cmd->footer(
       "Example:\n  climbsim sweep examples/gecko_incline.yaml examples/spider_incline.yaml "
       "--key scene.incline_deg --from 0 --to 180 --step 15 --out runs/incline");
@@ -55,8 +59,10 @@ void AddSweepCommand(CLI::App& app) {
     std::vector<std::string> inputs = files;
     std::optional<sim::RunFolder> folder;
     if (optimise::ProcessRank() == 0) {
-      folder.emplace(out_dir,
-                     sim::RunFolderOptions{.made_by = "sweep", .force = force, .inputs = inputs});
+      folder.emplace(
+          out_dir,
+          sim::RunFolderOptions{
+              .made_by = "sweep", .force = force, .keep_other_files = keep, .inputs = inputs});
     }
     const auto rows = optimise::Sweep(files, o);
     if (optimise::ProcessRank() != 0) return;  // under mpirun rank 0 writes and prints
