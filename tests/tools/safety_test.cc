@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 using climbsim::testing::CliResult;
 using climbsim::testing::ReadFile;
 using climbsim::testing::RunClimbsim;
+using climbsim::testing::RunClimbsimArgs;
 using climbsim::testing::Source;
 using climbsim::testing::TempDir;
 using climbsim::testing::WriteFile;
@@ -154,6 +155,80 @@ TEST(OutputFolder, RenderAndPlotsNeverReplaceARunsData) {
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(Has(r.err, "--at: must be a finite time")) << r.err;
   EXPECT_FALSE(fs::exists(TempDir() + "/nan.png"));
+}
+
+// --force deletes only what climbsim made: a marker that is empty or `{}` marks nothing.
+TEST(OutputFolder, ForceRefusesAForgedMarkerAndKeepsTheThesis) {
+  int k = 0;
+  for (const char* marker : {"", "{}"}) {
+    const std::string dir = TempDir() + "/forged_" + std::to_string(k++);
+    WriteFile(dir + "/.climbsim-run", marker);
+    WriteFile(dir + "/thesis.tex", "mine\n");
+    const CliResult r =
+        RunClimbsimArgs({"simulate", Walk("forged.yaml"), "--out", dir, "--force", "--quiet"});
+    EXPECT_EQ(r.code, 2) << marker << ": " << r.err;
+    EXPECT_TRUE(Has(r.err, "is not a climbsim run folder")) << r.err;
+    EXPECT_EQ(ReadFile(dir + "/thesis.tex"), "mine\n");
+  }
+}
+
+TEST(OutputFolder, ForceRefusesAUsersNotesAndFolderUnlessToldToKeepThem) {
+  const std::string dir = SimulatedRun("notes_run");
+  WriteFile(dir + "/notes.txt", "mine\n");
+  WriteFile(dir + "/analysis/fit.py", "print(1)\n");
+  const std::string scenario = Walk("notes_run.yaml");
+  CliResult r = RunClimbsimArgs({"simulate", scenario, "--out", dir, "--force", "--quiet"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(Has(r.err, "analysis/fit.py, notes.txt; --force deletes only climbsim's own"))
+      << r.err;
+  EXPECT_TRUE(Has(r.err, "--keep-other-files")) << r.err;
+  EXPECT_EQ(ReadFile(dir + "/notes.txt"), "mine\n");
+  r = RunClimbsimArgs(
+      {"simulate", scenario, "--out", dir, "--force", "--keep-other-files", "--quiet"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(ReadFile(dir + "/notes.txt"), "mine\n");
+  EXPECT_EQ(ReadFile(dir + "/analysis/fit.py"), "print(1)\n");
+  EXPECT_TRUE(fs::exists(dir + "/summary.json"));
+}
+
+TEST(OutputFolder, ADanglingLinkIsRefusedNotReplaced) {
+  const std::string link = TempDir() + "/dangling_out";
+  fs::create_symlink(TempDir() + "/nowhere", link);
+  const CliResult r = RunClimbsimArgs({"simulate", Walk("dangling.yaml"), "--out", link});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(Has(r.err, "dangling symlink")) << r.err;
+  EXPECT_TRUE(fs::is_symlink(link));
+}
+
+// README's flow: simulate, plots into the run folder, simulate --force again. The plots are
+// recorded as climbsim's, so the second run replaces them without a refusal.
+TEST(OutputFolder, PlotsAddedToARunAreRecordedAndReplacedByTheNextForce) {
+  const std::string dir = SimulatedRun("plots_then_force");
+  CliResult r = RunClimbsimArgs({"inspect", dir, "--plots"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto marker = nlohmann::json::parse(ReadFile(dir + "/.climbsim-run"));
+  EXPECT_TRUE(Has(marker["files"].dump(), "\"gait.png\"")) << marker.dump();
+  r = RunClimbsimArgs({"inspect", dir, "--plots"});
+  EXPECT_EQ(r.code, 0) << "plots are redrawn: " << r.err;
+  r = RunClimbsimArgs(
+      {"simulate", Walk("plots_then_force.yaml"), "--out", dir, "--force", "--quiet"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/gait.png"));
+}
+
+TEST(OutputFolder, RenderNeverOverwritesAUsersFileNorWritesFramesAmongAUsersFiles) {
+  const std::string dir = SimulatedRun("render_users");
+  const std::string png = WriteFile("users_still.png", "mine\n");
+  CliResult r = RunClimbsimArgs({"render", dir, "--at", "0.1", "--out", png});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(Has(r.err, "climbsim never overwrites a file it did not make")) << r.err;
+  EXPECT_EQ(ReadFile(png), "mine\n");
+  const std::string frames = TempDir() + "/users_frames";
+  WriteFile(frames + "/holiday.jpg", "mine\n");
+  r = RunClimbsimArgs({"render", dir, "--frames", frames});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(Has(r.err, "holds files climbsim did not make")) << r.err;
+  EXPECT_FALSE(fs::exists(frames + "/frame_00000.png"));
 }
 
 // ---- optimise --resume -----------------------------------------------------------------------
