@@ -142,7 +142,10 @@ TEST(Render, FramesFolderHoldsOnePngPerFrame) {
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename());
   std::sort(names.begin(), names.end());
-  ASSERT_EQ(names.size(), 6u);
+  // The frames folder is a run folder: its marker first (docs/run-folders.md), then the frames.
+  ASSERT_EQ(names.size(), 7u);
+  EXPECT_EQ(names.front(), ".climbsim-run");
+  names.erase(names.begin());
   EXPECT_EQ(names.front(), "frame_00000.png");
   EXPECT_EQ(names.back(), "frame_00005.png");
   EXPECT_EQ(PngSize(ReadFile(dir + "/frame_00003.png")), std::make_pair(160, 120));

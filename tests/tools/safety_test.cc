@@ -200,9 +200,9 @@ TEST(OutputFolder, ADanglingLinkIsRefusedNotReplaced) {
   EXPECT_TRUE(fs::is_symlink(link));
 }
 
-// README's flow: simulate, plots into the run folder, simulate --force again. The plots are
-// recorded as climbsim's, so the second run replaces them without a refusal.
-TEST(OutputFolder, PlotsAddedToARunAreRecordedAndReplacedByTheNextForce) {
+// README's flow: simulate, plots and a still into the run folder, simulate --force again. They
+// are recorded as climbsim's, so the second run replaces them without a refusal.
+TEST(OutputFolder, PlotsAndStillsAddedToARunAreRecordedAndReplacedByTheNextForce) {
   const std::string dir = SimulatedRun("plots_then_force");
   CliResult r = RunClimbsimArgs({"inspect", dir, "--plots"});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -210,10 +210,17 @@ TEST(OutputFolder, PlotsAddedToARunAreRecordedAndReplacedByTheNextForce) {
   EXPECT_TRUE(Has(marker["files"].dump(), "\"gait.png\"")) << marker.dump();
   r = RunClimbsimArgs({"inspect", dir, "--plots"});
   EXPECT_EQ(r.code, 0) << "plots are redrawn: " << r.err;
+  for (int k = 0; k < 2; ++k) {  // a still, then the same still again over climbsim's own
+    r = RunClimbsimArgs({"render", dir, "--at", "0.1", "--out", dir + "/still.png", "--width",
+                         "64", "--height", "48", "--quality", "reduced", "--quiet"});
+    EXPECT_EQ(r.code, 0) << r.err;
+  }
+  EXPECT_TRUE(Has(ReadFile(dir + "/.climbsim-run"), "\"still.png\""));
   r = RunClimbsimArgs(
       {"simulate", Walk("plots_then_force.yaml"), "--out", dir, "--force", "--quiet"});
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_FALSE(fs::exists(dir + "/gait.png"));
+  EXPECT_FALSE(fs::exists(dir + "/still.png"));
 }
 
 TEST(OutputFolder, RenderNeverOverwritesAUsersFileNorWritesFramesAmongAUsersFiles) {
@@ -222,7 +229,7 @@ TEST(OutputFolder, RenderNeverOverwritesAUsersFileNorWritesFramesAmongAUsersFile
   CliResult r = RunClimbsimArgs({"render", dir, "--at", "0.1", "--out", png});
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_TRUE(Has(r.err, "climbsim never overwrites a file it did not make")) << r.err;
-  EXPECT_EQ(ReadFile(png), "mine\n");
+  EXPECT_TRUE(ReadFile(png) == "mine\n") << "the user's file must survive";
   const std::string frames = TempDir() + "/users_frames";
   WriteFile(frames + "/holiday.jpg", "mine\n");
   r = RunClimbsimArgs({"render", dir, "--frames", frames});
