@@ -652,13 +652,13 @@ void RunFolder::PlaceOverExisting() {
 void RunFolder::CarryAndRemove(const std::string& old) {
   const Marker m = ReadMarker(old);
   std::vector<std::string> others;
-  Walk(old, m, "", "", false, &others);
+  if (options_.keep_other_files) Walk(old, m, "", "", false, &others);
   std::set<std::string> tops;
   for (const auto& o : others) tops.insert(o.substr(0, o.find('/')));
   std::vector<std::string> carried;
   for (const auto& t : tops) {
     // A live run would write over a file with one of its names: never carry one.
-    if (!options_.keep_other_files || (live_ && KnownOutputName(t))) continue;
+    if (live_ && KnownOutputName(t)) continue;
     const std::string from = old + "/" + t, to = dir_ + "/" + t;
     if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) {
       carried.push_back(t);

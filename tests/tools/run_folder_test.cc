@@ -397,6 +397,25 @@ TEST(RunFolder, AKilledLiveRunIsClimbsimsButNotTheUsersFileInIt) {
   EXPECT_FALSE(fs::exists(dir + "/checkpoint.json"));
 }
 
+// An optimisation writes in place: its marker lists only the names the verb writes, never a
+// file a user put there meanwhile (which the next force then refuses).
+TEST(RunFolder, ALiveRunListsItsOwnFilesNotOneAUserAddedMeanwhile) {
+  const std::string dir = TempDir() + "/rf_live_notes";
+  {
+    RunFolder f = RunFolder::Live(dir, {.made_by = "optimise"}, /*resume=*/false);
+    common::WriteFileAtomic(f.File("history.csv"), "h\n");
+    WriteFile(dir + "/notes.txt", "mine\n");
+    f.Commit();
+  }
+  const auto marker = nlohmann::json::parse(ReadFile(dir + "/" + kRunMarker));
+  EXPECT_EQ(marker["data_files"], nlohmann::json::array({"history.csv"}));
+  EXPECT_FALSE(marker.contains("in_progress"));
+  const std::string refused = Refusal(
+      [&] { RunFolder::Live(dir, {.made_by = "optimise", .force = true}, /*resume=*/false); });
+  EXPECT_NE(refused.find("changed since: notes.txt;"), std::string::npos) << refused;
+  EXPECT_EQ(ReadFile(dir + "/notes.txt"), "mine\n");
+}
+
 // render and inspect --plots: a file added to a run folder is recorded (then force deletes it);
 // an existing file that no marker records is never overwritten.
 TEST(RunFolderAdditions, RecordedFilesAreClimbsimsAndAUsersFileIsNeverOverwritten) {
