@@ -107,9 +107,9 @@ class ModelCache {
   std::map<std::string, std::unique_ptr<sim::CompiledModel>> models_;
 };
 
-// The one rollout pool of sweep, bench --accuracy, bench --robustness and optimise:
-// task(i, cache) for i in [0, count) on common::ParallelFor's threads (`threads` clamped to
-// [1, count]). Each running task holds a cache no other running task holds; caches are kept
+// The rollout pool of sweep, bench accuracy and bench robustness (and of optimise's recheck
+// of a resumed best; its queue's workers run on common::ParallelFor too): task(i, cache) for
+// i in [0, count) on common::ParallelFor's threads (`threads` clamped to [1, count]). Each running task holds a cache no other running task holds; caches are kept
 // across tasks (at most one per thread), so a model compiles about once per thread. A task's
 // exception reaches the caller (the lowest failing i's) after the running tasks finish.
 void ParallelRollouts(int count, int threads,
