@@ -328,7 +328,7 @@ class Evaluator {
     }
     if (b.pending == 0) Complete(b);
     changed_.notify_all();
-    changed_.wait(lock, [&] { return b.done; });
+    changed_.wait(lock, [&] { return b.done || abandoned_; });
     if (stop_) throw Stopped();
     return std::move(b.out);
   }
@@ -352,16 +352,14 @@ class Evaluator {
 
   // Rank 0: runs this process's workers and serves the other ranks until every start has
   // finished, then stops them. Task 0 waits for the starts (or serves the other ranks), then
-  // closes the queue, whether it ends or throws; tasks 1.. are the workers. One thread per
-  // task, all at once.
+  // closes the queue; tasks 1.. are the workers. One thread per task, all at once. If serving
+  // the ranks fails, the run stops: the workers drain the queue, and once none is left the
+  // starts still waiting (for rollouts away on other ranks) are released.
   void Serve() {
-    const auto close = [&] {
-      std::lock_guard<std::mutex> lock(mutex_);
-      closing_ = true;
-      changed_.notify_all();
-    };
+    bool failed = false;
     common::ParallelFor(threads_ + 1, threads_ + 1, [&](int task) {
       if (task > 0) return Worker();
+      std::exception_ptr error;
       try {
         if (comm_.size() == 1) {
           std::unique_lock<std::mutex> lock(mutex_);
@@ -370,14 +368,27 @@ class Evaluator {
           ServeRanks();
         }
       } catch (...) {
-        close();
-        throw;
+        error = std::current_exception();
       }
-      close();
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (error) Stop(error);
+      failed = error != nullptr;
+      closing_ = true;
+      changed_.notify_all();
     });
+    if (!failed) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    abandoned_ = true;
+    changed_.notify_all();
   }
 
  private:
+  // Under mutex_: the run stops (no more rollouts or writes); the first error is kept.
+  void Stop(std::exception_ptr error) {
+    stop_ = true;
+    if (!stop_error_) stop_error_ = error;
+  }
+
   void Worker() {
     ModelCache cache;  // compiled models kept across this worker's rollouts
     std::unique_lock<std::mutex> lock(mutex_);
@@ -528,8 +539,7 @@ class Evaluator {
         if (failures) WriteFailures(shared_);
         if (computed_any) WriteCheckpoint(shared_);
       } catch (...) {
-        stop_ = true;
-        stop_error_ = std::current_exception();
+        Stop(std::current_exception());
       }
     }
     if (shared_.progress && *shared_.progress && !stop_) {
@@ -551,6 +561,7 @@ class Evaluator {
   bool closing_ = false;
   bool stop_ = false;  // a checkpoint write failed: no more rollouts, no more writes
   std::exception_ptr stop_error_;
+  bool abandoned_ = false;  // serving failed: batches with rollouts away are never completed
   bool bound_known_ = false;
   double bound_ = std::numeric_limits<double>::infinity();
   std::vector<int> batches_;
