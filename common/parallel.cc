@@ -16,8 +16,14 @@ void ParallelFor(int count, int threads, const std::function<void(int task)>& ta
   std::mutex mutex;  // guards the first error only; never taken by a task that succeeds
   int error_task = count;
   std::exception_ptr error;
+  // The failure flag is read before an index is taken, never after: every index taken runs.
+  // Indices are taken in order, so the tasks that ran are 0..k for some k, and the lowest
+  // task that throws among them is the lowest that throws at all (the same error for any
+  // thread count, when tasks are deterministic).
   auto worker = [&] {
-    for (int t = next++; t < count && !failed.load(); t = next++) {
+    while (!failed.load()) {
+      const int t = next++;
+      if (t >= count) return;
       try {
         task(t);
       } catch (...) {

@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -119,20 +118,10 @@ AccuracyReport BenchAccuracy(const std::string& file, double duration_s, int thr
     scenarios.push_back(sim::ParseScenario(tree, file));
   }
   std::vector<AccuracyRun> runs(settings.size());
-  std::atomic<int> next{0};
   // Slowest first (the reference), so two threads finish together.
-  auto worker = [&] {
-    ModelCache cache;
-    for (int t = next++; t < static_cast<int>(runs.size()); t = next++) {
-      runs[t] = Measure(scenarios[t], &cache);
-    }
-  };
-  const int n = std::max(1, threads > 0 ? threads
-                                        : static_cast<int>(std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int k = 1; k < n; ++k) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
+  const int n = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
+  ParallelRollouts(static_cast<int>(runs.size()), n,
+                   [&](int t, ModelCache& cache) { runs[t] = Measure(scenarios[t], &cache); });
 
   AccuracyReport report;
   report.duration_s = duration_s;

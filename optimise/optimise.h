@@ -107,6 +107,14 @@ class ModelCache {
   std::map<std::string, std::unique_ptr<sim::CompiledModel>> models_;
 };
 
+// The rollout pool of sweep, bench accuracy and bench robustness (and of optimise's recheck
+// of a resumed best; its queue's workers run on common::ParallelFor too): task(i, cache) for
+// i in [0, count) on common::ParallelFor's threads (`threads` clamped to [1, count]). Each running task holds a cache no other running task holds; caches are kept
+// across tasks (at most one per thread), so a model compiles about once per thread. A task's
+// exception reaches the caller (the lowest failing i's) after the running tasks finish.
+void ParallelRollouts(int count, int threads,
+                      const std::function<void(int task, ModelCache& cache)>& task);
+
 // ---- Parameter sweeps ------------------------------------------------------------------
 // `climbsim sweep`: each scenario run with one numeric key set to each value of a range
 // (e.g. scene.incline_deg from 0 to 180 in steps of 15), runs side by side on threads.

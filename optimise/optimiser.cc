@@ -19,6 +19,7 @@
 #include <mutex>
 #include <optional>
 #include <random>
+#include <set>
 #include <sstream>
 #include <tuple>
 #include <thread>
@@ -127,6 +128,8 @@ struct Shared {
   int rollouts = 0, stalled = 0, bounded = 0;
   double simulated_s = 0.0;
   double best = std::numeric_limits<double>::infinity();
+  double bound = std::numeric_limits<double>::infinity();  // the evaluator's, once known
+  std::set<std::pair<int, int>> replayed;  // (start, evaluation) served from the checkpoint
   std::string error;  // first checkpoint mismatch, reported after the run
   const std::function<void(double, double)>* progress = nullptr;
   // failures.log: what it held before (a resumed run's), then this run's failed rollouts
@@ -159,7 +162,8 @@ void WriteCheckpoint(Shared& s) {
 }
 
 // Reads DIR/checkpoint.json for --resume: every value of the right type, the scenario's
-// fingerprint, and the checksum of the content (an edited number is refused, not trusted).
+// fingerprint, and the checksum of the content (accidental damage is refused; an edit with
+// the checksum recomputed passes here, and RecheckReplayedBest keeps it out of the result).
 std::vector<std::vector<Evaluation>> ReadCheckpoint(const std::string& path,
                                                     const std::string& fingerprint, int starts,
                                                     size_t dimension) {
@@ -268,6 +272,16 @@ Cost Rollout(const Problem& problem, const std::vector<double>& x, int run, doub
   return c;
 }
 
+// An evaluation's J from its runs' costs (costs[0 .. runs - 1]): their mean or their worst.
+double Aggregate(const Cost* costs, const sim::ObjectiveParams& o) {
+  double sum = 0.0, worst = -std::numeric_limits<double>::infinity();
+  for (int run = 0; run < o.runs; ++run) {
+    sum += costs[run].total;
+    worst = std::max(worst, costs[run].total);
+  }
+  return o.aggregate == "worst" ? worst : sum / o.runs;
+}
+
 class Evaluator {
  public:
   Evaluator(const Problem& problem, Shared& shared, int threads, Comm& comm)
@@ -283,6 +297,7 @@ class Evaluator {
     b.start = start;
     b.xs = std::move(xs);
     std::unique_lock<std::mutex> lock(mutex_);
+    if (stop_) throw Stopped();
     b.number = batches_[start]++;
     if (b.number > 0) changed_.wait(lock, [&] { return bound_known_; });
     const double bound = b.number > 0 ? bound_ : std::numeric_limits<double>::infinity();
@@ -313,9 +328,18 @@ class Evaluator {
     }
     if (b.pending == 0) Complete(b);
     changed_.notify_all();
-    changed_.wait(lock, [&] { return b.done; });
+    changed_.wait(lock, [&] { return b.done || abandoned_; });
+    if (stop_) throw Stopped();
     return std::move(b.out);
   }
+
+  // Thrown to a start's driver once the run stops (a checkpoint could not be written).
+  struct Stopped : std::runtime_error {
+    Stopped() : std::runtime_error("the run stopped") {}
+  };
+
+  // What stopped the run (null when nothing did); read after Serve returns.
+  std::exception_ptr stop_error() const { return stop_error_; }
 
   // A start's driver is done (or failed: then the bound is released so no other start waits
   // for it).
@@ -326,26 +350,45 @@ class Evaluator {
     changed_.notify_all();
   }
 
-  // Rank 0's calling thread: runs this process's workers and serves the other ranks until
-  // every start has finished, then stops them.
+  // Rank 0: runs this process's workers and serves the other ranks until every start has
+  // finished, then stops them. Task 0 waits for the starts (or serves the other ranks), then
+  // closes the queue; tasks 1.. are the workers. One thread per task, all at once. If serving
+  // the ranks fails, the run stops: the workers drain the queue, and once none is left the
+  // starts still waiting (for rollouts away on other ranks) are released.
   void Serve() {
-    std::vector<std::thread> pool;
-    for (int k = 0; k < threads_; ++k) pool.emplace_back(&Evaluator::Worker, this);
-    if (comm_.size() == 1) {
-      std::unique_lock<std::mutex> lock(mutex_);
-      changed_.wait(lock, [&] { return active_ == 0; });
-    } else {
-      ServeRanks();
-    }
-    {
+    bool failed = false;
+    common::ParallelFor(threads_ + 1, threads_ + 1, [&](int task) {
+      if (task > 0) return Worker();
+      std::exception_ptr error;
+      try {
+        if (comm_.size() == 1) {
+          std::unique_lock<std::mutex> lock(mutex_);
+          changed_.wait(lock, [&] { return active_ == 0; });
+        } else {
+          ServeRanks();
+        }
+      } catch (...) {
+        error = std::current_exception();
+      }
       std::lock_guard<std::mutex> lock(mutex_);
+      if (error) Stop(error);
+      failed = error != nullptr;
       closing_ = true;
-    }
+      changed_.notify_all();
+    });
+    if (!failed) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    abandoned_ = true;
     changed_.notify_all();
-    for (auto& t : pool) t.join();
   }
 
  private:
+  // Under mutex_: the run stops (no more rollouts or writes); the first error is kept.
+  void Stop(std::exception_ptr error) {
+    stop_ = true;
+    if (!stop_error_) stop_error_ = error;
+  }
+
   void Worker() {
     ModelCache cache;  // compiled models kept across this worker's rollouts
     std::unique_lock<std::mutex> lock(mutex_);
@@ -354,6 +397,13 @@ class Evaluator {
       if (queue_.empty()) return;
       const Task t = queue_.front();
       queue_.pop_front();
+      if (stop_) {  // the run is over: the batch only needs its slots filled
+        Cost stopped;
+        stopped.failed = true;
+        stopped.failure = "the run stopped";
+        Deliver(t, stopped);
+        continue;
+      }
       lock.unlock();
       const Cost c = Rollout(problem_, t.batch->xs[t.k], t.run, t.bound, cache);
       lock.lock();
@@ -446,7 +496,6 @@ class Evaluator {
         computed_any = true;
         e.x = b.xs[k];
         e.nominal = b.costs[k * o.runs];
-        double sum = 0.0, worst = -std::numeric_limits<double>::infinity();
         for (int run = 0; run < o.runs; ++run) {
           const Cost& c = b.costs[k * o.runs + run];
           if (c.failed) {
@@ -454,18 +503,17 @@ class Evaluator {
             failures = true;
             shared_.failure_lines[{b.start, b.index[k], run}] = c.failure;
           }
-          sum += c.total;
-          worst = std::max(worst, c.total);
           e.wall_time_s += c.wall_time_s;
           shared_.rollouts += 1;
           shared_.stalled += c.early_stop == "stalled";
           shared_.bounded += c.early_stop == "bound";
           shared_.simulated_s += c.stop_time_s;
         }
-        e.objective = o.aggregate == "worst" ? worst : sum / o.runs;
+        e.objective = Aggregate(&b.costs[k * o.runs], o);
       }
       e.start = b.start;
       e.index = b.index[k];
+      if (b.replayed[k]) shared_.replayed.insert({b.start, e.index});
       shared_.by_start[b.start].push_back(e);
       shared_.done += 1;
       shared_.computed += !b.replayed[k];
@@ -479,14 +527,22 @@ class Evaluator {
       if (!first.nominal.failed) {
         const double v = first.objective;
         bound_ = o.aggregate == "worst" ? v : o.runs * v + (o.runs - 1) * o.max_speed_mps;
+        shared_.bound = bound_;
       }
       bound_known_ = true;
     }
-    if (comm_.root()) {
-      if (failures) WriteFailures(shared_);
-      if (computed_any) WriteCheckpoint(shared_);
+    if (comm_.root() && !stop_) {
+      // A worker's exception would end the process (std::terminate): a failed write stops the
+      // run instead, the previous checkpoint kept (files are replaced whole), and the caller
+      // gets the error.
+      try {
+        if (failures) WriteFailures(shared_);
+        if (computed_any) WriteCheckpoint(shared_);
+      } catch (...) {
+        Stop(std::current_exception());
+      }
     }
-    if (shared_.progress && *shared_.progress) {
+    if (shared_.progress && *shared_.progress && !stop_) {
       (*shared_.progress)(std::min(1.0, static_cast<double>(shared_.done) / shared_.total_budget),
                           shared_.best);
     }
@@ -503,6 +559,9 @@ class Evaluator {
   std::deque<Task> queue_;
   int active_;
   bool closing_ = false;
+  bool stop_ = false;  // a checkpoint write failed: no more rollouts, no more writes
+  std::exception_ptr stop_error_;
+  bool abandoned_ = false;  // serving failed: batches with rollouts away are never completed
   bool bound_known_ = false;
   double bound_ = std::numeric_limits<double>::infinity();
   std::vector<int> batches_;
@@ -524,69 +583,80 @@ void WorkForRankZero(const Problem& problem, int threads, Comm& comm) {
   nlohmann::json costs = nlohmann::json::array();
   int busy = 0;  // tasks received and not yet computed
   bool closing = false;
-  std::vector<std::thread> pool;
-  for (int k = 0; k < threads; ++k) {
-    pool.emplace_back([&] {
-      ModelCache cache;
-      std::unique_lock<std::mutex> lock(mutex);
-      for (;;) {
-        cv.wait(lock, [&] { return closing || !queue.empty(); });
-        if (queue.empty()) return;
-        const Local t = queue.front();
-        queue.pop_front();
-        lock.unlock();
-        const Cost c = Rollout(problem, t.x, t.run, t.bound, cache);
-        lock.lock();
-        costs.push_back({t.id, CostToJson(c)});
-        --busy;
-      }
-    });
-  }
-  bool asked = false, stopped = false;
-  int from = 0, tag = 0;
-  std::string payload;
-  for (;;) {
-    std::string done;
-    int idle = 0;
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!costs.empty()) {
-        done = costs.dump();
-        costs = nlohmann::json::array();
-      }
-      idle = threads - busy;
+  const auto worker = [&] {
+    ModelCache cache;
+    std::unique_lock<std::mutex> lock(mutex);
+    for (;;) {
+      cv.wait(lock, [&] { return closing || !queue.empty(); });
+      if (queue.empty()) return;
+      const Local t = queue.front();
+      queue.pop_front();
+      lock.unlock();
+      const Cost c = Rollout(problem, t.x, t.run, t.bound, cache);
+      lock.lock();
+      costs.push_back({t.id, CostToJson(c)});
+      --busy;
     }
-    if (!done.empty()) comm.Send(0, kCostsTag, done);
-    if (stopped && idle == threads && done.empty()) break;
-    if (!stopped && !asked && idle > 0) {
-      comm.Send(0, kAskTag, std::to_string(idle));
-      asked = true;
-    }
-    bool got = false;
-    while (comm.Poll(&from, &tag, &payload)) {
-      got = true;
-      if (tag == kStopTag) {
-        stopped = true;
-      } else if (tag == kTasksTag) {
-        asked = false;
+  };
+  // Asks rank 0 for tasks while workers are idle, sends costs back, until told to stop.
+  const auto talk = [&] {
+    bool asked = false, stopped = false;
+    int from = 0, tag = 0;
+    std::string payload;
+    for (;;) {
+      std::string done;
+      int idle = 0;
+      {
         std::lock_guard<std::mutex> lock(mutex);
-        for (const auto& t : nlohmann::json::parse(payload)) {
-          queue.push_back(
-              {t[0].get<long>(), t[1].get<std::vector<double>>(), t[2].get<int>(),
-               t[3].is_null() ? std::numeric_limits<double>::infinity() : t[3].get<double>()});
-          ++busy;
+        if (!costs.empty()) {
+          done = costs.dump();
+          costs = nlohmann::json::array();
         }
-        cv.notify_all();
+        idle = threads - busy;
       }
+      if (!done.empty()) comm.Send(0, kCostsTag, done);
+      if (stopped && idle == threads && done.empty()) break;
+      if (!stopped && !asked && idle > 0) {
+        comm.Send(0, kAskTag, std::to_string(idle));
+        asked = true;
+      }
+      bool got = false;
+      while (comm.Poll(&from, &tag, &payload)) {
+        got = true;
+        if (tag == kStopTag) {
+          stopped = true;
+        } else if (tag == kTasksTag) {
+          asked = false;
+          std::lock_guard<std::mutex> lock(mutex);
+          for (const auto& t : nlohmann::json::parse(payload)) {
+            queue.push_back(
+                {t[0].get<long>(), t[1].get<std::vector<double>>(), t[2].get<int>(),
+                 t[3].is_null() ? std::numeric_limits<double>::infinity() : t[3].get<double>()});
+            ++busy;
+          }
+          cv.notify_all();
+        }
+      }
+      if (!got && done.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    if (!got && done.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  {
+  };
+  const auto close = [&] {
     std::lock_guard<std::mutex> lock(mutex);
     closing = true;
-  }
-  cv.notify_all();
-  for (auto& t : pool) t.join();
+    cv.notify_all();
+  };
+  // Task 0 talks to rank 0, tasks 1.. are the workers: one thread each, all at once. The
+  // workers end once task 0 closes the queue, whether it ends or throws.
+  common::ParallelFor(threads + 1, threads + 1, [&](int task) {
+    if (task > 0) return worker();
+    try {
+      talk();
+    } catch (...) {
+      close();
+      throw;
+    }
+    close();
+  });
   comm.Drain();
 }
 
@@ -769,6 +839,55 @@ class CmaesStart {
   const std::vector<double> lo_, hi_;
 };
 
+// A resumed run's best, when checkpoint.json served it, evaluated again here (its runs with
+// the bound it had), so that the best reported is always a value this process computed. The
+// checksum catches accidental damage only: a checkpoint edited with its checksum recomputed
+// is refused here (InputError at the evaluation), as would one written by another build.
+void RecheckReplayedBest(const Problem& problem, const Shared& shared, const Evaluation& best,
+                         int threads) {
+  if (shared.replayed.count({best.start, best.index}) == 0) return;
+  const sim::ObjectiveParams& o = problem.params().objective;
+  // A start's first batch (its evaluation 0) ran without the bound, later ones with it (Submit).
+  const double bound = best.index == 0 ? std::numeric_limits<double>::infinity() : shared.bound;
+  std::vector<Cost> costs(o.runs);
+  ParallelRollouts(o.runs, threads, [&](int run, ModelCache& cache) {
+    costs[run] = Rollout(problem, best.x, run, bound, cache);
+  });
+  const double j = Aggregate(costs.data(), o);
+  if (j == best.objective) return;
+  throw InputError(
+      shared.checkpoint_path, 0, 0,
+      "starts[" + std::to_string(best.start) + "][" + std::to_string(best.index) + "].objective",
+      "the best evaluation it holds, J = " + sim::ExactNumber(best.objective) +
+          ", computes to J = " + sim::ExactNumber(j) +
+          " here: the checkpoint was edited or written by another build (its checksum guards "
+          "against accidental damage, not edits); drop --resume (and use --force) to start over");
+}
+
+// Rank 0: tasks 0..starts-1 drive the starts (each catches its own error into `errors`, so
+// every one starts), the last serves their rollouts; one thread each, all at once. Returns
+// what stopped the run (a checkpoint not written), null when nothing did.
+std::exception_ptr DriveStarts(const Problem& problem, const std::vector<int>& budget,
+                               Shared& shared, int threads, Comm& comm,
+                               std::vector<std::string>* errors) {
+  const int starts = static_cast<int>(budget.size());
+  Evaluator evaluator(problem, shared, threads, comm);
+  common::ParallelFor(starts + 1, starts + 1, [&](int s) {
+    if (s == starts) return evaluator.Serve();
+    try {
+      if (problem.params().algorithm == "cmaes") {
+        CmaesStart(problem, s, budget[s], evaluator).Run();
+      } else {
+        StartRunner(problem, s, budget[s], evaluator).Run();
+      }
+    } catch (const std::exception& e) {
+      (*errors)[s] = e.what();
+    }
+    evaluator.Finish(s);
+  });
+  return evaluator.stop_error();
+}
+
 std::string HistoryCsv(const Problem& problem, const std::vector<Evaluation>& history) {
   std::string out = "evaluation,start";
   for (const auto& p : problem.params().parameters) out += "," + p.key;
@@ -824,6 +943,33 @@ const sim::CompiledModel& ModelCache::For(const sim::Scenario& s) {
   auto it = models_.find(key);
   if (it == models_.end()) it = models_.emplace(key, sim::CompiledModel::Build(s, add)).first;
   return *it->second;
+}
+
+void ParallelRollouts(int count, int threads,
+                      const std::function<void(int task, ModelCache& cache)>& task) {
+  std::mutex mutex;
+  std::vector<std::unique_ptr<ModelCache>> caches;
+  std::vector<ModelCache*> idle;
+  common::ParallelFor(count, threads, [&](int t) {
+    ModelCache* cache = nullptr;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (idle.empty()) idle.push_back(caches.emplace_back(std::make_unique<ModelCache>()).get());
+      cache = idle.back();
+      idle.pop_back();
+    }
+    const auto give_back = [&] {
+      std::lock_guard<std::mutex> lock(mutex);
+      idle.push_back(cache);
+    };
+    try {
+      task(t, *cache);
+    } catch (...) {
+      give_back();
+      throw;
+    }
+    give_back();
+  });
 }
 
 Result Optimise(const std::string& scenario_file, const Options& options,
@@ -897,25 +1043,16 @@ Result Optimise(const std::string& scenario_file, const Options& options,
   // rollouts to the workers (and to the other ranks). The other ranks only compute rollouts.
   const int threads = std::max(1, options.threads > 0 ? options.threads : DefaultThreads());
   std::vector<std::string> errors(starts);
+  // What stopped the run (a checkpoint not written): rank 0's exception, its text for all.
+  std::exception_ptr stop_error;
+  std::string stopped;
   if (comm.root()) {
-    Evaluator evaluator(problem, shared, threads, comm);
-    std::vector<std::thread> drivers;
-    for (int s = 0; s < starts; ++s) {
-      drivers.emplace_back([&, s] {
-        try {
-          if (params.algorithm == "cmaes") {
-            CmaesStart(problem, s, budget[s], evaluator).Run();
-          } else {
-            StartRunner(problem, s, budget[s], evaluator).Run();
-          }
-        } catch (const std::exception& e) {
-          errors[s] = e.what();
-        }
-        evaluator.Finish(s);
-      });
+    stop_error = DriveStarts(problem, budget, shared, threads, comm, &errors);
+    try {
+      if (stop_error) std::rethrow_exception(stop_error);
+    } catch (const std::exception& e) {
+      stopped = e.what();
     }
-    evaluator.Serve();
-    for (auto& t : drivers) t.join();
   } else {
     WorkForRankZero(problem, threads, comm);
   }
@@ -929,9 +1066,18 @@ Result Optimise(const std::string& scenario_file, const Options& options,
         for (const auto& e : evals) list.push_back(ToJson(e));
         by_start.push_back(list);
       }
-      mine = {{"by_start", by_start},     {"errors", errors},
-              {"computed", shared.computed}, {"rollouts", shared.rollouts},
-              {"stalled", shared.stalled}, {"bounded", shared.bounded},
+      nlohmann::json replayed = nlohmann::json::array();
+      for (const auto& [start, index] : shared.replayed) replayed.push_back({start, index});
+      mine = {{"by_start", by_start},
+              {"errors", errors},
+              {"stopped", stopped},
+              {"replayed", replayed},
+              {"bound", std::isfinite(shared.bound) ? nlohmann::json(shared.bound)
+                                                    : nlohmann::json(nullptr)},
+              {"computed", shared.computed},
+              {"rollouts", shared.rollouts},
+              {"stalled", shared.stalled},
+              {"bounded", shared.bounded},
               {"simulated_s", shared.simulated_s}};
     }
     const nlohmann::json all = nlohmann::json::parse(comm.AllGather(mine.dump())[0]);
@@ -944,6 +1090,11 @@ Result Optimise(const std::string& scenario_file, const Options& options,
         }
       }
       errors = all["errors"].get<std::vector<std::string>>();
+      stopped = all["stopped"].get<std::string>();
+      for (const auto& r : all["replayed"]) {
+        shared.replayed.insert({r[0].get<int>(), r[1].get<int>()});
+      }
+      if (!all["bound"].is_null()) shared.bound = all["bound"].get<double>();
       shared.computed = all["computed"].get<int>();
       shared.rollouts = all["rollouts"].get<int>();
       shared.stalled = all["stalled"].get<int>();
@@ -951,6 +1102,8 @@ Result Optimise(const std::string& scenario_file, const Options& options,
       shared.simulated_s = all["simulated_s"].get<double>();
     }
   }
+  if (stop_error) std::rethrow_exception(stop_error);
+  if (!stopped.empty()) throw std::runtime_error("rank 0 stopped: " + stopped);
   for (int s = 0; s < starts; ++s) {
     if (!errors[s].empty()) {
       throw std::runtime_error("start " + std::to_string(s) + ": " + errors[s]);
@@ -971,6 +1124,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
                                     if (a.start != b.start) return a.start < b.start;
                                     return a.index < b.index;
                                   });
+  RecheckReplayedBest(problem, shared, result.best, threads);
 
   result.rollouts_computed = shared.rollouts;
   result.rollouts_stalled = shared.stalled;

@@ -158,37 +158,13 @@ bool Survives(const sim::Scenario& s, double baseline_m, ModelCache* cache, std:
 
 std::string Num(double v) { return sim::ExactNumber(v); }
 
-// Runs `work(i)` for i in [0, n) on up to `threads` threads. An exception (bad input met
-// only when a case is built) is rethrown after every thread has stopped: the one of the lowest
-// i, whatever the threads.
+// Runs `work(i, cache)` for i in [0, n) on the rollout pool (ParallelRollouts; `threads` 0:
+// one per core). An exception (bad input met only when a case is built) reaches the caller:
+// the one of the lowest i, whatever the threads.
 template <class F>
-void ParallelFor(int n, int threads, F work) {
-  std::atomic<int> next{0};
-  std::mutex mu;
-  int error_at = n;
-  std::exception_ptr error;
-  auto worker = [&] {
-    ModelCache cache;
-    for (int t = next++; t < n; t = next++) {
-      try {
-        work(t, &cache);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mu);
-        if (t < error_at) {
-          error_at = t;
-          error = std::current_exception();
-        }
-      }
-    }
-  };
-  const int k = std::min(
-      n,
-      std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())));
-  std::vector<std::thread> pool;
-  for (int i = 1; i < k; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+void ForEachCase(int n, int threads, F work) {
+  ParallelRollouts(n, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()),
+                   [&](int t, ModelCache& cache) { work(t, &cache); });
 }
 
 }  // namespace
@@ -277,7 +253,7 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
 
   // Undisturbed distances.
   report.baseline_m.assign(2, std::vector<double>(options.seeds, 0.0));
-  ParallelFor(modes * options.seeds, options.threads, [&](int t, ModelCache* cache) {
+  ForEachCase(modes * options.seeds, options.threads, [&](int t, ModelCache* cache) {
     const int mode = t / options.seeds, seed = t % options.seeds;
     const sim::Scenario s = MakeCase(u, "", 0, mode, seed, 0);
     sim::Simulation run(s, cache->For(s));
@@ -289,7 +265,7 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
   // The searches.
   const int searches = static_cast<int>(families.size()) * modes;
   std::vector<RobustnessRow> rows(families.size() * 2);
-  ParallelFor(searches, options.threads, [&](int t, ModelCache* cache) {
+  ForEachCase(searches, options.threads, [&](int t, ModelCache* cache) {
     const RobustnessFamily& f = families[t / modes];
     const int mode = t % modes;
     const bool push = f.name.rfind("push_", 0) == 0;

@@ -1,8 +1,6 @@
 #include <algorithm>
-#include <atomic>
 #include <filesystem>
 #include <cmath>
-#include <thread>
 
 #include "optimise/comm.h"
 #include "optimise/optimise.h"
@@ -31,6 +29,31 @@ sim::RunResult FromJson(const nlohmann::json& j) {
   return r;
 }
 
+// A point's scenario refused, as bad input at the swept key.
+InputError PointError(const std::string& file, const SweepOptions& o, double v,
+                      const InputError& e) {
+  return InputError(file, 0, 0, o.key,
+                    o.key + " = " + sim::ExactNumber(v) + " gives an invalid scenario: " + e.key() +
+                        " " + e.message());
+}
+
+// Builds every point's simulation (and drops it) before any runs: a value the loader takes
+// but the simulation refuses (cpg.control_period_s off the time step) is bad input before
+// any work, the lowest point's, on every rank alike.
+void CheckPointsBuild(const std::vector<std::string>& files, const std::vector<double>& values,
+                      const std::vector<std::vector<sim::Scenario>>& scenarios,
+                      const SweepOptions& o, int threads) {
+  ParallelRollouts(static_cast<int>(values.size() * files.size()), threads,
+                   [&](int t, ModelCache& cache) {
+                     const size_t f = t % files.size(), i = t / files.size();
+                     try {
+                       sim::Simulation run(scenarios[f][i], cache.For(scenarios[f][i]));
+                     } catch (const InputError& e) {
+                       throw PointError(files[f], o, values[i], e);
+                     }
+                   });
+}
+
 }  // namespace
 
 std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOptions& o) {
@@ -53,12 +76,12 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOp
       try {
         scenarios[f].push_back(sim::ParseScenario(tree, files[f]));
       } catch (const InputError& e) {
-        throw InputError(files[f], 0, 0, o.key,
-                         o.key + " = " + sim::ExactNumber(v) + " gives an invalid scenario: " +
-                             e.key() + " " + e.message());
+        throw PointError(files[f], o, v, e);
       }
     }
   }
+  const int threads = o.threads > 0 ? o.threads : DefaultThreads();
+  CheckPointsBuild(files, values, scenarios, o, threads);
 
   std::vector<SweepRow> rows(values.size());
   for (size_t i = 0; i < values.size(); ++i) {
@@ -71,23 +94,12 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOp
   const int all = static_cast<int>(values.size() * files.size());
   std::vector<int> mine;
   for (int t = comm.rank(); t < all; t += comm.size()) mine.push_back(t);
-  const int tasks = static_cast<int>(mine.size());
-  std::atomic<int> next{0};
-  auto worker = [&] {
-    ModelCache cache;
-    for (int m = next++; m < tasks; m = next++) {
-      const int t = mine[m];
-      const size_t f = t % files.size(), i = t / files.size();
-      sim::Simulation run(scenarios[f][i], cache.For(scenarios[f][i]));
-      rows[i].results[f] = run.Run();
-    }
-  };
-  const int threads =
-      std::max(1, std::min(tasks, o.threads > 0 ? o.threads : DefaultThreads()));
-  std::vector<std::thread> pool;
-  for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
+  ParallelRollouts(static_cast<int>(mine.size()), threads, [&](int m, ModelCache& cache) {
+    const int t = mine[m];
+    const size_t f = t % files.size(), i = t / files.size();
+    sim::Simulation run(scenarios[f][i], cache.For(scenarios[f][i]));
+    rows[i].results[f] = run.Run();
+  });
   if (comm.size() > 1) {
     nlohmann::json local = nlohmann::json::array();
     for (int t : mine) {

@@ -79,6 +79,9 @@ InputError ScenarioError(const Scenario& s, const std::string& key, const std::s
 }
 
 Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
+  // A tree from YAML::Load (Python, the fuzzer, tests) gets LoadYamlFile's bounds too: an
+  // alias bomb would otherwise cost every later walk of the tree.
+  CheckYamlShape(root, file);
   Scenario s;
   s.source_file = file;
   YamlReadArchive archive(YamlMap(root, file, ""), &s.places);

@@ -37,12 +37,21 @@ struct Range {
 // or a 58 MB file would take gigabytes of memory before any check.
 inline constexpr size_t kMaxYamlFileBytes = 4u << 20;  // 4 MiB
 inline constexpr size_t kMaxYamlListLength = 10000;    // items of a list, keys of a map
+// Nodes of the tree with every alias expanded: yaml-cpp shares an anchor's node between its
+// aliases, and each walk of the tree (the readers, YAML::Clone's users) visits it again.
+inline constexpr size_t kMaxYamlNodes = 100000;
 
 // Reads a whole file: a regular file (or a pipe) of at most kMaxYamlFileBytes holding one YAML
-// document whose lists and maps are at most kMaxYamlListLength long and 64 deep. A YAML syntax
-// error, a folder, a device, a second document ('---') or a bound exceeded is an InputError at its
-// place.
+// document within the bounds of CheckYamlShape. A YAML syntax error, a folder, a device, a
+// second document ('---') or a bound exceeded is an InputError at its place.
 YAML::Node LoadYamlFile(const std::string& path);
+
+// The bounds above on a tree read by other means (YAML::Load of a text): lists and maps at
+// most kMaxYamlListLength long, 64 deep, kMaxYamlNodes nodes with aliases expanded. Stops at
+// the first excess, so it costs at most kMaxYamlNodes steps; throws InputError at its place
+// (file:line:col of the node, the dotted key with [i] for list items). ParseScenario calls it
+// first, whatever read the tree.
+void CheckYamlShape(const YAML::Node& root, const std::string& file);
 
 // "" when `text` holds no control character (bytes below 0x20, and 0x7f), else what is
 // wrong ("must not contain control characters (0x0d at 15)"). Names and paths never hold
