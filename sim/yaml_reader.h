@@ -43,6 +43,9 @@ inline constexpr size_t kMaxYamlListLength = 10000;    // items of a list, keys 
 // error, a folder, a device, a second document ('---') or a bound exceeded is an InputError at its
 // place.
 YAML::Node LoadYamlFile(const std::string& path);
+// The same checks for YAML text already read (the Python binding's scenario_from_yaml);
+// `path` names it in messages.
+YAML::Node LoadYamlText(const std::string& text, const std::string& path);
 
 // "" when `text` holds no control character (bytes below 0x20, and 0x7f), else what is
 // wrong ("must not contain control characters (0x0d at 15)"). Names and paths never hold
