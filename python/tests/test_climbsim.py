@@ -383,3 +383,53 @@ def test_an_exception_in_a_callback_stops_the_run_until_reset():
     c.fail = False
     sim.reset()
     assert steps_until_false(sim) == 50
+
+
+def climbsim_executable():
+    build = os.environ.get("CLIMBSIM_BINARY_DIR", os.path.join(SOURCE, "build"))
+    exe = os.path.join(build, "climbsim")
+    if not os.access(exe, os.X_OK):
+        pytest.skip("no climbsim executable at " + exe)
+    return exe
+
+
+# The ranges of the binding's optimise and pulloff arguments are those of the CLI's options,
+# kept by CLI11 in tools/cmd_*.cc: a value just outside each bound is refused by both (exit
+# code 2 of the command line, InputError naming the argument in Python).
+CLI_RANGES = [
+    ("pulloff", "angle_deg", "--from-deg", 0.0, 180.0),
+    ("pulloff", "width_m", "--width-m", 1e-4, 1.0),
+    ("pulloff", "length_m", "--length-m", 1e-4, 1.0),
+    ("pulloff", "grid", "--grid", 1, 1024),
+    ("pulloff", "sigma_t_pa", "--sigma-t-pa", 1e-3, 1e12),
+    ("pulloff", "mu", "--mu", 0.0, 1e3),
+    ("pulloff", "arm_m", "--arm-m", 0.0, 1.0),
+    ("pulloff", "ramp_time_s", "--ramp-time-s", 1e-3, 1e3),
+    ("optimise", "threads", "--threads", 0, 1024),
+    ("optimise", "max_evaluations", "--max-evaluations", 1, 100000000),
+]
+
+
+def just_outside(lo, hi):
+    if isinstance(lo, int):
+        return [lo - 1, hi + 1]
+    return [lo - max(abs(lo) * 1e-6, 1e-9), hi * (1 + 1e-6)]
+
+
+@pytest.mark.parametrize("verb, key, flag, lo, hi", CLI_RANGES)
+def test_optimise_and_pulloff_ranges_are_the_cli_ranges(verb, key, flag, lo, hi, tmp_path):
+    exe = climbsim_executable()
+    scenario = os.path.join(SOURCE, "examples", "gecko_wall.yaml")
+    for value in just_outside(lo, hi):
+        out = str(tmp_path / "out")
+        if verb == "pulloff":
+            args = [exe, "pulloff", "--out", out, "--model", "bonds", "--quiet",
+                    flag, repr(value)]
+            call = lambda: climbsim.pulloff(**{"angle_deg": 0.0, key: value})  # noqa: E731
+        else:
+            args = [exe, "optimise", scenario, "--out", out, "--quiet", flag, repr(value)]
+            call = lambda: climbsim.optimise(scenario, out, **{key: value})  # noqa: E731
+        r = subprocess.run(args, capture_output=True, text=True, timeout=60)
+        assert r.returncode == 2 and flag in r.stderr + r.stdout, (value, r.stderr)
+        with pytest.raises(climbsim.InputError, match=key):
+            call()
