@@ -28,7 +28,7 @@ namespace py = pybind11;
 [[noreturn]] inline void Expired(const char* what) {
   const std::string message = std::string(what) +
                               " used after the controller call that received it returned: "
-                              "copy what you keep (obs.joint_angle_rad.copy())";
+                              "keep the arrays you need (they are copies), not the object";
   PyErr_SetString(PyExc_ReferenceError, message.c_str());
   throw py::error_already_set();
 }
