@@ -2,19 +2,29 @@
 // dicts (climbsim/__init__.py), runs with their trajectory, events and summary as NumPy
 // arrays and dicts, a controller written in Python (the C++ interface of sim/controller.h
 // through a trampoline), optimise and pulloff. docs/python.md shows the use.
+//
+// As strict as the command line: every argument and setter is checked by the rule the
+// scenario loader or the CLI applies to the same key, and refused with climbsim.InputError
+// (a ValueError) naming the key and the value. Nothing handed to Python points into a run's
+// buffers (python/tick_objects.h).
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <yaml-cpp/yaml.h>
 
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <filesystem>
+#include <optional>
 
 #include "adhesion/adhesion.h"
 #include "optimise/optimise.h"
+#include "python/tick_objects.h"
 #include "sim/sim.h"
 #include "sim/trajectory.h"
+#include "sim/yaml_reader.h"
 
 namespace py = pybind11;
 
@@ -23,6 +33,7 @@ namespace {
 
 using sim::Command;
 using sim::Controller;
+using sim::ExactNumber;
 using sim::Observation;
 using sim::StartPose;
 
@@ -30,17 +41,61 @@ py::object FromJson(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
-// A NumPy view of memory owned by `owner` (kept alive by the view).
-template <class T>
-py::array View(T* data, size_t n, py::handle owner, bool writable) {
-  py::array_t<std::remove_const_t<T>> a({static_cast<py::ssize_t>(n)}, {sizeof(T)},
-                                        const_cast<std::remove_const_t<T>*>(data), owner);
-  if (!writable) a.attr("setflags")(py::arg("write") = false);
-  return a;  // moved implicitly (C++20)
+// A number argument in [lo, hi], the range the CLI gives the same option.
+void CheckRange(const char* where, const char* key, double v, double lo, double hi) {
+  if (!(v >= lo && v <= hi)) {
+    throw InputError(
+        where, 0, 0, key,
+        "must be in [" + ExactNumber(lo) + ", " + ExactNumber(hi) + "], got " + ExactNumber(v));
+  }
+}
+
+void CheckFinite(const char* where, const char* key, double v) {
+  if (!std::isfinite(v)) {
+    throw InputError(where, 0, 0, key, "must be finite, got " + ExactNumber(v));
+  }
+}
+
+// A controller's period by the rule of the scenario's cpg.control_period_s (a whole multiple
+// of the physics time step), where 0 (every step, the controller API's default) is allowed
+// too. Simulation would otherwise round any value, NaN included, to a number of steps.
+void CheckControlPeriod(const Controller& c, double timestep_s) {
+  const double period_s = c.control_period_s();
+  const double ratio = period_s / timestep_s;
+  const bool multiple = std::isfinite(period_s) && ratio >= 0.5 &&
+                        ratio <= sim::kMaxScenarioSteps &&
+                        std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio;
+  if (period_s != 0.0 && !multiple) {
+    throw InputError(std::string("controller '") + c.name() + "'", 0, 0, "control_period_s()",
+                     "must be 0 (every step) or a whole multiple of the time step (" +
+                         ExactNumber(timestep_s) + " s), at most " +
+                         ExactNumber(sim::kMaxScenarioSteps) + " of them; got " +
+                         ExactNumber(period_s));
+  }
+}
+
+// Sets one top-level key of `s` through the scenario loader: the checks and messages of a
+// file (the key and the value; no line, since the value came from Python). Every other key
+// keeps its value and the place it was read at.
+void SetScenarioKey(sim::Scenario* s, const std::string& key, const YAML::Node& value) {
+  YAML::Node root = sim::ScenarioToYaml(*s);
+  root[key] = value;
+  sim::Scenario next = sim::ParseScenario(root, s->source_file);
+  sim::SourceMap places = s->places;
+  places[key] = sim::SourcePlace{};
+  next.places = std::move(places);
+  *s = std::move(next);
+}
+
+// A double as the resolved scenario writes it (bit for bit), or YAML's .nan / .inf, which the
+// loader then refuses by name.
+YAML::Node YamlNumber(double v) {
+  return std::isfinite(v) ? YAML::Node(ExactNumber(v)) : YAML::Node(v);
 }
 
 // The trampoline: a Python subclass of climbsim.Controller overrides update (and optionally
-// reset, initial_pose, control_period_s, name).
+// reset, initial_pose, control_period_s, name). The callbacks get tick objects
+// (tick_objects.h), expired when they return.
 class PyController : public Controller {
  public:
   using Controller::Controller;
@@ -57,78 +112,176 @@ class PyController : public Controller {
     PYBIND11_OVERRIDE_NAME(double, Controller, "control_period_s", control_period_s);
   }
   void InitialPose(StartPose* pose) override {
-    PYBIND11_OVERRIDE_NAME(void, Controller, "initial_pose", InitialPose, pose);
+    py::gil_scoped_acquire gil;
+    py::function f = py::get_override(static_cast<const Controller*>(this), "initial_pose");
+    if (!f) return;
+    TickScope<TickPose> p(pose);
+    f(p.object());
+    p.tick().Flush();
   }
   void Reset() override { PYBIND11_OVERRIDE_NAME(void, Controller, "reset", Reset); }
   void Update(const Observation& obs, Command* cmd) override {
-    PYBIND11_OVERRIDE_PURE_NAME(void, Controller, "update", Update, &obs, cmd);
+    py::gil_scoped_acquire gil;
+    py::function f = py::get_override(static_cast<const Controller*>(this), "update");
+    if (!f) throw py::type_error("a climbsim.Controller must override update(obs, cmd)");
+    TickScope<TickObservation> o(&obs);
+    TickScope<TickCommand> c(cmd);
+    f(o.object(), c.object());
+    c.tick().Flush();
   }
 
  private:
   mutable std::string name_;
 };
 
-// A Simulation with its compiled model and the Python controller it runs.
+// A Simulation with its compiled model and the controller it runs, stepped from Python. Its
+// result (summary(), write()) is brought up to the steps done, and step() says False once
+// the run has ended, as run() would have ended it: the duration reached, or Step() said stop.
 class PySimulation {
  public:
   PySimulation(const sim::Scenario& scenario, std::shared_ptr<Controller> controller)
-      : model_(sim::CompileScenario(scenario)),
-        sim_(std::make_unique<sim::Simulation>(scenario, *model_, controller)),
-        controller_(std::move(controller)) {}
-
-  sim::Simulation& get() { return *sim_; }
-  const sim::Simulation& get_const() const { return *sim_; }
-
-  py::dict Trajectory() const {
-    py::dict out;
-    const sim::TrajectoryRecorder* t = sim_->trajectory();
-    if (t == nullptr) return out;
-    const size_t cols = t->columns().size();
-    const size_t rows = cols ? t->rows().size() / cols : 0;
-    for (size_t c = 0; c < cols; ++c) {
-      py::array_t<double> a(static_cast<py::ssize_t>(rows));
-      auto v = a.mutable_unchecked<1>();
-      for (size_t r = 0; r < rows; ++r) v(r) = t->rows()[r * cols + c];
-      out[py::str(t->columns()[c])] = a;
+      : model_(sim::CompileScenario(scenario)), controller_(std::move(controller)) {
+    if (controller_) {
+      CheckControlPeriod(*controller_,
+                         scenario.physics.timestep_s.value_or(model_->model()->opt.timestep));
     }
-    return out;
+    sim_ = std::make_unique<sim::Simulation>(scenario, *model_, controller_);
   }
 
-  py::dict Events() const {
-    const auto& rows = sim_->events().rows();
-    const auto& pads = sim_->events().pad_names();
-    const py::ssize_t n = static_cast<py::ssize_t>(rows.size());
-    py::array_t<double> time(n), bonded(n);
-    py::array_t<int> pad(n);
-    py::array_t<double> load({n, static_cast<py::ssize_t>(5)});
-    py::list pad_name, kind, cause;
-    for (py::ssize_t i = 0; i < n; ++i) {
-      const sim::Event& e = rows[i];
-      time.mutable_at(i) = e.time_s;
-      bonded.mutable_at(i) = e.bonded_fraction;
-      pad.mutable_at(i) = e.pad;
-      for (int k = 0; k < 5; ++k) load.mutable_at(i, k) = e.load[k];
-      pad_name.append(e.pad >= 0 && e.pad < static_cast<int>(pads.size()) ? pads[e.pad] : "");
-      kind.append(e.kind);
-      cause.append(e.cause);
-    }
-    py::module_ np = py::module_::import("numpy");
-    py::dict out;
-    out["time_s"] = time;
-    out["pad"] = pad;
-    out["pad_name"] = np.attr("array")(pad_name, "U");
-    out["event"] = np.attr("array")(kind, "U");
-    out["cause"] = np.attr("array")(cause, "U");
-    out["bonded_fraction"] = bonded;
-    out["load"] = load;  // fn_n, fx_n, fy_n, mx_nm, my_nm in the pad frame
-    return out;
+  bool Step() {
+    const Busy busy(this);
+    CheckNotInterrupted();
+    if (done_) return false;
+    const auto start = Clock::now();
+    const bool go_on = steps_ < sim_->steps_total() && sim_->Step();
+    if (go_on) ++steps_;
+    wall_s_ += Seconds(start);
+    if (!go_on || steps_ >= sim_->steps_total()) Finish();
+    return !done_;
   }
+  py::object Run() {
+    const Busy busy(this);
+    CheckNotInterrupted();
+    if (!done_) {
+      const auto start = Clock::now();
+      sim_->Run();  // on from the steps done
+      wall_s_ += Seconds(start);
+      Finish();
+    }
+    return FromJson(sim_->Summary());
+  }
+  void Reset() {
+    const Busy busy(this);
+    sim_->Reset();
+    steps_ = 0;
+    wall_s_ = 0.0;
+    done_ = false;
+    interrupted_ = false;
+  }
+  // The simulation with its result up to the steps done.
+  const sim::Simulation& Current() {
+    if (!done_) sim_->UpdateResult(wall_s_);
+    return *sim_;
+  }
+  const sim::Simulation& get() const { return *sim_; }
+  py::dict Trajectory() const;
+  py::dict Events() const;
 
  private:
+  using Clock = std::chrono::steady_clock;
+  // Marks a step, run or reset in progress: a controller callback that calls one of them on
+  // its own simulation would step or reset the run in the middle of a step. An exception
+  // that leaves one (raised by a callback) leaves the run part way through a step: it is
+  // marked interrupted, and only reset() goes on from there.
+  class Busy {
+   public:
+    explicit Busy(PySimulation* s) : s_(s), exceptions_(std::uncaught_exceptions()) {
+      if (s_->busy_) {
+        throw std::runtime_error(
+            "Simulation.step/run/reset called from a callback of its own controller");
+      }
+      s_->busy_ = true;
+    }
+    ~Busy() {
+      s_->busy_ = false;
+      if (std::uncaught_exceptions() > exceptions_) s_->interrupted_ = true;
+    }
+    Busy(const Busy&) = delete;
+    Busy& operator=(const Busy&) = delete;
+
+   private:
+    PySimulation* s_;
+    int exceptions_;
+  };
+  void CheckNotInterrupted() const {
+    if (interrupted_) {
+      throw std::runtime_error(
+          "this simulation stopped part way through a step (an exception in a controller "
+          "callback): reset() to run it again");
+    }
+  }
+  static double Seconds(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  void Finish() {
+    done_ = true;
+    sim_->UpdateResult(wall_s_);
+  }
+
   std::unique_ptr<sim::CompiledModel> model_;
-  std::unique_ptr<sim::Simulation> sim_;
   std::shared_ptr<Controller> controller_;
+  std::unique_ptr<sim::Simulation> sim_;
+  long steps_ = 0;            // steps done since the last reset
+  double wall_s_ = 0.0;       // the time they took
+  bool done_ = false;         // the run has ended
+  bool busy_ = false;         // see Busy
+  bool interrupted_ = false;  // see Busy
 };
+
+py::dict PySimulation::Trajectory() const {
+  py::dict out;
+  const sim::TrajectoryRecorder* t = sim_->trajectory();
+  if (t == nullptr) return out;
+  const size_t cols = t->columns().size();
+  const size_t rows = cols ? t->rows().size() / cols : 0;
+  for (size_t c = 0; c < cols; ++c) {
+    py::array_t<double> a(static_cast<py::ssize_t>(rows));
+    auto v = a.mutable_unchecked<1>();
+    for (size_t r = 0; r < rows; ++r) v(r) = t->rows()[r * cols + c];
+    out[py::str(t->columns()[c])] = a;
+  }
+  return out;
+}
+
+py::dict PySimulation::Events() const {
+  const auto& rows = sim_->events().rows();
+  const auto& pads = sim_->events().pad_names();
+  const py::ssize_t n = static_cast<py::ssize_t>(rows.size());
+  py::array_t<double> time(n), bonded(n);
+  py::array_t<int> pad(n);
+  py::array_t<double> load({n, static_cast<py::ssize_t>(5)});
+  py::list pad_name, kind, cause;
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const sim::Event& e = rows[i];
+    time.mutable_at(i) = e.time_s;
+    bonded.mutable_at(i) = e.bonded_fraction;
+    pad.mutable_at(i) = e.pad;
+    for (int k = 0; k < 5; ++k) load.mutable_at(i, k) = e.load[k];
+    pad_name.append(e.pad >= 0 && e.pad < static_cast<int>(pads.size()) ? pads[e.pad] : "");
+    kind.append(e.kind);
+    cause.append(e.cause);
+  }
+  py::module_ np = py::module_::import("numpy");
+  py::dict out;
+  out["time_s"] = time;
+  out["pad"] = pad;
+  out["pad_name"] = np.attr("array")(pad_name, "U");
+  out["event"] = np.attr("array")(kind, "U");
+  out["cause"] = np.attr("array")(cause, "U");
+  out["bonded_fraction"] = bonded;
+  out["load"] = load;  // fn_n, fx_n, fy_n, mx_nm, my_nm in the pad frame
+  return out;
+}
 
 // A C++ controller with the same law as bench_controller.py's Python one, for measuring what
 // a Python controller costs: a sine offset on every hip_pitch, on top of whatever runs.
@@ -155,19 +308,18 @@ py::dict CommandDict(const Command& c) {
   return d;
 }
 
-}  // namespace
-}  // namespace climbsim::python
-
-PYBIND11_MODULE(_core, m) {
-  using namespace climbsim;
-  using namespace climbsim::python;
-  m.doc() = "climbsim: climbing robots with adhesive pads in MuJoCo (docs/python.md)";
-
-  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
-
+void BindScenario(py::module_& m) {
   py::class_<sim::Scenario>(m, "Scenario")
-      .def_readwrite("duration_s", &sim::Scenario::duration_s)
-      .def_readwrite("robot", &sim::Scenario::robot)
+      .def_property(
+          "duration_s", [](const sim::Scenario& s) { return s.duration_s; },
+          [](sim::Scenario& s, double v) { SetScenarioKey(&s, "duration_s", YamlNumber(v)); },
+          "Simulated time (s), checked like the file's key.")
+      .def_property(
+          "robot", [](const sim::Scenario& s) { return s.robot; },
+          [](sim::Scenario& s, const std::string& v) {
+            SetScenarioKey(&s, "robot", YAML::Node(v));
+          },
+          "gecko, spider, or an MJCF file (relative to the scenario's folder).")
       .def_readonly("source_file", &sim::Scenario::source_file)
       .def(
           "to_yaml", [](const sim::Scenario& s) { return sim::ScenarioToYamlText(s); },
@@ -178,21 +330,16 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "scenario_from_yaml",
       [](const std::string& text, const std::string& name) {
-        YAML::Node root;
-        try {
-          root = YAML::Load(text);
-        } catch (const YAML::Exception& e) {
-          throw InputError(name, e.mark.line + 1, e.mark.column + 1, "", e.msg);
-        }
         const std::string file = std::filesystem::absolute(name).string();
-        return sim::ParseScenario(root, file);
+        return sim::ParseScenario(sim::LoadYamlText(text, name), file);
       },
       py::arg("text"), py::arg("name") = "scenario.yaml",
-      "A scenario from YAML text; `name` is its file name in messages and the folder that "
-      "relative paths resolve against.");
+      "A scenario from YAML text, checked like a file; `name` is its file name in messages and "
+      "the folder that relative paths resolve against.");
   m.def("mjcf_dir", &sim::MjcfDir, "The folder of the bundled MJCF models.");
+}
 
-  // --- Controller interface ---
+void BindTickObjects(py::module_& m) {
   py::class_<sim::PadSense>(m, "PadSense")
       .def_readonly("touching", &sim::PadSense::touching)
       .def_readonly("attached", &sim::PadSense::attached)
@@ -201,231 +348,229 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("preload_n", &sim::PadSense::preload_n)
       .def_readonly("utilisation", &sim::PadSense::utilisation);
 
-  // NumPy views into the run's buffers: valid for the tick (copy what you keep).
-  py::class_<Observation>(m, "Observation")
-      .def_readonly("step", &Observation::step)
-      .def_readonly("time_s", &Observation::time_s)
-      .def_readonly("legs", &Observation::legs)
-      .def_property_readonly("joint_angle_rad",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.joint_angle_rad.data(), o.joint_angle_rad.size(), self,
-                                           false);
-                             })
-      .def_property_readonly("joint_velocity_rad_s",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.joint_velocity_rad_s.data(),
-                                           o.joint_velocity_rad_s.size(), self, false);
-                             })
-      .def_property_readonly("base_pos_m",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.base_pos_m.data(), 3, self, false);
-                             })
-      .def_property_readonly("base_quat",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.base_quat.data(), 4, self, false);
-                             })
-      .def_property_readonly("base_linvel_m_s",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.base_linvel_m_s.data(), 3, self, false);
-                             })
-      .def_property_readonly("base_angvel_rad_s",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.base_angvel_rad_s.data(), 3, self, false);
-                             })
-      .def_property_readonly("cpg_phase_rad",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.cpg_phase_rad.data(), o.cpg_phase_rad.size(), self,
-                                           false);
-                             })
-      .def_property_readonly("cpg_stance",
-                             [](py::object self) {
-                               auto& o = self.cast<const Observation&>();
-                               return View(o.cpg_stance.data(), o.cpg_stance.size(), self, false);
-                             })
+  using O = TickObservation;
+  auto array = [](auto member) {
+    return [member](const O& o) { return ReadOnlyCopy(o.get().*member); };
+  };
+  py::class_<O>(m, "Observation", "What update() reads; read-only copies, for its call only.")
+      .def_property_readonly("step", [](const O& o) { return o.get().step; })
+      .def_property_readonly("time_s", [](const O& o) { return o.get().time_s; })
+      .def_property_readonly("legs", [](const O& o) { return o.get().legs; })
+      .def_property_readonly("joint_angle_rad", array(&Observation::joint_angle_rad))
+      .def_property_readonly("joint_velocity_rad_s", array(&Observation::joint_velocity_rad_s))
+      .def_property_readonly("base_pos_m", array(&Observation::base_pos_m))
+      .def_property_readonly("base_quat", array(&Observation::base_quat))
+      .def_property_readonly("base_linvel_m_s", array(&Observation::base_linvel_m_s))
+      .def_property_readonly("base_angvel_rad_s", array(&Observation::base_angvel_rad_s))
+      .def_property_readonly("cpg_phase_rad", array(&Observation::cpg_phase_rad))
+      .def_property_readonly("cpg_stance", array(&Observation::cpg_stance))
       .def_property_readonly("pads",
-                             [](const Observation& o) {
-                               return std::vector<sim::PadSense>(o.pads.begin(), o.pads.end());
+                             [](const O& o) {
+                               const auto& pads = o.get().pads;
+                               return std::vector<sim::PadSense>(pads.begin(), pads.end());
                              })
       .def_property_readonly("bonded_fraction",
-                             [](const Observation& o) {
-                               py::array_t<double> a(static_cast<py::ssize_t>(o.pads.size()));
-                               for (size_t i = 0; i < o.pads.size(); ++i)
-                                 a.mutable_at(i) = o.pads[i].bonded_fraction;
+                             [](const O& o) {
+                               const auto& pads = o.get().pads;
+                               py::array_t<double> a(static_cast<py::ssize_t>(pads.size()));
+                               for (size_t i = 0; i < pads.size(); ++i)
+                                 a.mutable_at(i) = pads[i].bonded_fraction;
                                return a;
                              })
-      .def_property_readonly("attached", [](const Observation& o) {
-        py::array_t<bool> a(static_cast<py::ssize_t>(o.pads.size()));
-        for (size_t i = 0; i < o.pads.size(); ++i) a.mutable_at(i) = o.pads[i].attached;
+      .def_property_readonly("attached", [](const O& o) {
+        const auto& pads = o.get().pads;
+        py::array_t<bool> a(static_cast<py::ssize_t>(pads.size()));
+        for (size_t i = 0; i < pads.size(); ++i) a.mutable_at(i) = pads[i].attached;
         return a;
       });
 
-  py::class_<Command>(m, "Command")
-      .def_property_readonly("target_rad",
-                             [](py::object self) {
-                               auto& c = self.cast<Command&>();
-                               return View(c.target_rad.data(), c.target_rad.size(), self, true);
-                             })
-      .def_property_readonly("offset_rad",
-                             [](py::object self) {
-                               auto& c = self.cast<Command&>();
-                               return View(c.offset_rad.data(), c.offset_rad.size(), self, true);
-                             })
-      .def_property_readonly("release", [](py::object self) {
-        auto& c = self.cast<Command&>();
-        return View(c.release.data(), c.release.size(), self, true);
-      });
+  py::class_<TickCommand>(m, "Command", "What update() writes, for its call only.")
+      .def_property_readonly("target_rad", &TickCommand::target)
+      .def_property_readonly("offset_rad", &TickCommand::offset)
+      .def_property_readonly("release", &TickCommand::release);
 
-  py::class_<StartPose>(m, "StartPose")
-      .def_property_readonly("joint_angle_rad",
-                             [](py::object self) {
-                               auto& p = self.cast<StartPose&>();
-                               return View(p.joint_angle_rad.data(), p.joint_angle_rad.size(), self,
-                                           true);
-                             })
-      .def_property_readonly("base_pos_m", [](py::object self) {
-        auto& p = self.cast<StartPose&>();
-        return View(p.base_pos_m.data(), 3, self, true);
-      });
+  py::class_<TickPose>(m, "StartPose", "What initial_pose() writes, for its call only.")
+      .def_property_readonly("joint_angle_rad", &TickPose::joints)
+      .def_property_readonly("base_pos_m", &TickPose::base);
+}
 
+void BindController(py::module_& m) {
   py::class_<Controller, PyController, std::shared_ptr<Controller>>(m, "Controller", R"doc(
 Subclass and override update(self, obs, cmd); optionally reset(self), initial_pose(self, pose),
-control_period_s(self) (used when the scenario has no cpg block; 0 = every step) and
-name(self). cmd arrives holding the built-in CPG's targets when the scenario has a cpg block
-(write cmd.offset_rad to act on top of it, or cmd.target_rad to replace it), else the targets
-held since the last tick.)doc")
+control_period_s(self) (used when the scenario has no cpg block; 0 = every step, else a whole
+multiple of the time step) and name(self). cmd arrives holding the built-in CPG's targets when
+the scenario has a cpg block (write cmd.offset_rad to act on top of it, or cmd.target_rad to
+replace it), else the targets held since the last tick. obs, cmd and pose are valid during the
+call only; their arrays are copies (cmd's and pose's are written back when the call returns).)doc")
       .def(py::init<>())
-      .def("update", &Controller::Update)
+      .def("update", [](Controller& c, const TickObservation& o,
+                        TickCommand& cmd) { c.Update(o.get(), &cmd.Flushed()); })
       .def("reset", &Controller::Reset)
-      .def("initial_pose", &Controller::InitialPose)
+      .def("initial_pose", [](Controller& c, TickPose& p) { c.InitialPose(&p.Flushed()); })
       .def("control_period_s", &Controller::control_period_s)
       .def("name", [](const Controller& c) { return std::string(c.name()); });
 
   py::class_<SineOffsetController, Controller, std::shared_ptr<SineOffsetController>>(
       m, "SineOffsetController",
       "C++ reference controller: offset a·sin(2πft) on every hip_pitch (for benchmarks).")
-      .def(py::init<double, double, double>(), py::arg("amplitude_rad"), py::arg("frequency_hz"),
-           py::arg("period_s") = 0.0);
+      .def(py::init([](double amplitude_rad, double frequency_hz, double period_s) {
+             const char* where = "climbsim.SineOffsetController";
+             CheckFinite(where, "amplitude_rad", amplitude_rad);
+             CheckFinite(where, "frequency_hz", frequency_hz);
+             // period_s: checked with the run's time step (CheckControlPeriod).
+             return std::make_shared<SineOffsetController>(amplitude_rad, frequency_hz, period_s);
+           }),
+           py::arg("amplitude_rad"), py::arg("frequency_hz"), py::arg("period_s") = 0.0);
+}
 
+void BindSimulation(py::module_& m) {
   py::class_<PySimulation>(m, "Simulation")
       .def(py::init<const sim::Scenario&, std::shared_ptr<Controller>>(), py::arg("scenario"),
            py::arg("controller") = nullptr, py::keep_alive<1, 3>())
-      .def("reset", [](PySimulation& s) { s.get().Reset(); })
+      .def("reset", &PySimulation::Reset, "Back to t = 0: a fresh run.")
+      .def("step", &PySimulation::Step,
+           "One physics step. False once the run has ended (the step that reached the duration, "
+           "or a fall with fall.stop, or numerically unstable; then no more steps are taken): "
+           "`while sim.step(): ...` runs what run() runs.")
+      .def("run", &PySimulation::Run,
+           "Steps on to the scenario's duration (or until the run must stop); returns the "
+           "summary.")
       .def(
-          "step", [](PySimulation& s) { return s.get().Step(); },
-          "One physics step; False when the run must stop (unstable, or fallen with stop).")
-      .def(
-          "run",
-          [](PySimulation& s) {
-            s.get().Run();
-            return FromJson(s.get().Summary());
-          },
-          "Steps to the scenario's duration (or until it must stop); returns the summary.")
-      .def("summary", [](const PySimulation& s) { return FromJson(s.get_const().Summary()); })
+          "summary", [](PySimulation& s) { return FromJson(s.Current().Summary()); },
+          "The summary of the steps done (summary.json): after the last step, run()'s.")
       .def("trajectory", &PySimulation::Trajectory,
            "Recorded trajectory: dict column -> 1-D array (the columns of trajectory.csv).")
       .def("events", &PySimulation::Events, "Events: dict column -> 1-D array (events.csv).")
       .def(
           "write",
-          [](const PySimulation& s, const std::string& dir) {
-            sim::WriteRunDirectory(dir, s.get_const());
-          },
+          [](PySimulation& s, const std::string& dir) { sim::WriteRunDirectory(dir, s.Current()); },
           py::arg("dir"), "Writes the run folder (scenario.yaml, model.xml, trajectory.csv, ...).")
-      .def_property_readonly(
-          "time_s", [](const PySimulation& s) { return s.get_const().world().data()->time; })
+      .def_property_readonly("time_s",
+                             [](const PySimulation& s) { return s.get().world().data()->time; })
       .def_property_readonly("steps_total",
-                             [](const PySimulation& s) { return s.get_const().steps_total(); })
+                             [](const PySimulation& s) { return s.get().steps_total(); })
       .def_property_readonly("qpos",
                              [](const PySimulation& s) {
-                               const mjData* d = s.get_const().world().data();
-                               return py::array_t<double>(s.get_const().world().model()->nq,
-                                                          d->qpos);
+                               const mjData* d = s.get().world().data();
+                               return py::array_t<double>(s.get().world().model()->nq, d->qpos);
                              })
       .def_property_readonly("control_period_steps",
                              [](const PySimulation& s) {
-                               const auto* c = s.get_const().controller();
+                               const auto* c = s.get().controller();
                                return c ? c->period_steps() : 0;
                              })
       .def_property_readonly("control_ticks",
                              [](const PySimulation& s) {
-                               const auto* c = s.get_const().controller();
+                               const auto* c = s.get().controller();
                                return c ? c->ticks() : 0L;
                              })
       .def(
           "command",
           [](const PySimulation& s) -> py::object {
-            const auto* c = s.get_const().controller();
+            const auto* c = s.get().controller();
             if (c == nullptr) return py::none();
             return CommandDict(c->command());
           },
           "The last command applied (copies): target_rad, offset_rad, release.");
+}
 
-  m.def(
-      "optimise",
-      [](const std::string& scenario_file, const std::string& out_dir, int threads,
-         int max_evaluations) {
-        optimise::Options o;
-        o.out_dir = out_dir;
-        o.threads = threads;
-        o.max_evaluations = max_evaluations;
-        o.quiet = true;
-        optimise::Result r;
-        {
-          py::gil_scoped_release release;
-          r = optimise::Optimise(scenario_file, o);
-        }
-        py::dict d;
-        d["best_objective"] = r.best.objective;
-        d["best_x"] = py::array_t<double>(r.best.x.size(), r.best.x.data());
-        d["start_objective"] = r.start_objective;
-        d["evaluations"] = r.history.size();
-        py::array_t<double> history(static_cast<py::ssize_t>(r.history.size()));
-        for (size_t i = 0; i < r.history.size(); ++i)
-          history.mutable_at(i) = r.history[i].objective;
-        d["history_objective"] = history;
-        d["wall_time_s"] = r.wall_time_s;
-        return d;
-      },
-      py::arg("scenario_file"), py::arg("out_dir"), py::arg("threads") = 0,
-      py::arg("max_evaluations") = 0,
-      "`climbsim optimise`: writes out_dir like the command does and returns the best.");
+py::dict Optimise(const std::string& scenario_file, const std::string& out_dir, long long threads,
+                  std::optional<long long> max_evaluations) {
+  // The ranges of `climbsim optimise --threads / --max-evaluations` (None: the file's).
+  CheckRange("climbsim.optimise", "threads", threads, 0, 1024);
+  if (max_evaluations) {
+    CheckRange("climbsim.optimise", "max_evaluations", *max_evaluations, 1, 100000000);
+  }
+  optimise::Options o;
+  o.out_dir = out_dir;
+  o.threads = static_cast<int>(threads);
+  o.max_evaluations = static_cast<int>(max_evaluations.value_or(0));
+  o.quiet = true;
+  optimise::Result r;
+  {
+    py::gil_scoped_release release;
+    r = optimise::Optimise(scenario_file, o);
+  }
+  py::dict d;
+  d["best_objective"] = r.best.objective;
+  d["best_x"] = py::array_t<double>(r.best.x.size(), r.best.x.data());
+  d["start_objective"] = r.start_objective;
+  d["evaluations"] = r.history.size();
+  py::array_t<double> history(static_cast<py::ssize_t>(r.history.size()));
+  for (size_t i = 0; i < r.history.size(); ++i) history.mutable_at(i) = r.history[i].objective;
+  d["history_objective"] = history;
+  d["wall_time_s"] = r.wall_time_s;
+  return d;
+}
 
-  m.def(
-      "pulloff",
-      [](double angle_deg, const std::string& model, double width_m, double length_m, int grid,
-         double sigma_t_pa, double mu, double arm_m, double ramp_time_s) {
-        adhesion::PulloffRigParams p;
-        p.pad.width_m = width_m;
-        p.pad.length_m = length_m > 0 ? length_m : width_m;
-        p.pad.grid_x = p.pad.grid_y = grid;
-        p.pad.sigma_t_pa = sigma_t_pa;
-        p.pad.mu = mu;
-        p.arm_m = arm_m;
-        p.ramp_time_s = ramp_time_s;
-        if (model != "bonds" && model != "mujoco") {
-          throw std::invalid_argument("model must be bonds or mujoco, got " + model);
-        }
-        adhesion::PulloffRig rig(
-            model == "bonds" ? adhesion::AdhesionModel::kBonds : adhesion::AdhesionModel::kMujoco,
-            p);
-        const adhesion::PulloffRun r = rig.Run(angle_deg * M_PI / 180.0);
-        py::dict d;
-        d["detached"] = r.detached;
-        d["force_n"] = r.force_n;
-        d["time_s"] = r.time_s;
-        d["cause"] = std::string(r.cause);
-        d["capacity_n"] = sigma_t_pa * p.pad.width_m * p.pad.length_m;
-        return d;
-      },
-      py::arg("angle_deg"), py::arg("model") = "bonds", py::arg("width_m") = 0.025,
-      py::arg("length_m") = 0.0, py::arg("grid") = 16, py::arg("sigma_t_pa") = 10e3,
-      py::arg("mu") = 0.0, py::arg("arm_m") = 0.0, py::arg("ramp_time_s") = 2.0,
-      "One pull of `climbsim pulloff`'s rig at angle_deg from the surface: the pull-off "
-      "force, the cause and σ_T·A.");
+// The rig of one pull, each argument in the range of its `climbsim pulloff` option; the rig
+// then checks the rest (adhesion::ValidatePulloffRigParams).
+adhesion::PulloffRigParams PulloffParams(double width_m, std::optional<double> length_m,
+                                         long long grid, double sigma_t_pa, double mu, double arm_m,
+                                         double ramp_time_s) {
+  const char* where = "climbsim.pulloff";
+  CheckRange(where, "width_m", width_m, 1e-4, 1.0);
+  if (length_m) CheckRange(where, "length_m", *length_m, 1e-4, 1.0);
+  CheckRange(where, "grid", grid, 1, 1024);
+  CheckRange(where, "sigma_t_pa", sigma_t_pa, 1e-3, 1e12);
+  CheckRange(where, "mu", mu, 0.0, 1e3);
+  CheckRange(where, "arm_m", arm_m, 0.0, 1.0);
+  CheckRange(where, "ramp_time_s", ramp_time_s, 1e-3, 1e3);
+  adhesion::PulloffRigParams p;
+  p.pad.width_m = width_m;
+  p.pad.length_m = length_m.value_or(width_m);
+  p.pad.grid_x = p.pad.grid_y = static_cast<int>(grid);
+  p.pad.sigma_t_pa = sigma_t_pa;
+  p.pad.mu = mu;
+  p.arm_m = arm_m;
+  p.ramp_time_s = ramp_time_s;
+  return p;
+}
+
+py::dict Pulloff(double angle_deg, const std::string& model, double width_m,
+                 std::optional<double> length_m, long long grid, double sigma_t_pa, double mu,
+                 double arm_m, double ramp_time_s) {
+  CheckRange("climbsim.pulloff", "angle_deg", angle_deg, 0.0, 180.0);  // --from-deg, --to-deg
+  if (model != "bonds" && model != "mujoco") {
+    throw InputError("climbsim.pulloff", 0, 0, "model", "must be bonds or mujoco, got " + model);
+  }
+  const adhesion::PulloffRigParams p =
+      PulloffParams(width_m, length_m, grid, sigma_t_pa, mu, arm_m, ramp_time_s);
+  adhesion::PulloffRig rig(
+      model == "bonds" ? adhesion::AdhesionModel::kBonds : adhesion::AdhesionModel::kMujoco, p);
+  const adhesion::PulloffRun r = rig.Run(angle_deg * M_PI / 180.0);
+  py::dict d;
+  d["detached"] = r.detached;
+  d["force_n"] = r.force_n;
+  d["time_s"] = r.time_s;
+  d["cause"] = std::string(r.cause);
+  d["capacity_n"] = rig.capacity_n();
+  return d;
+}
+
+void BindTools(py::module_& m) {
+  m.def("optimise", &Optimise, py::arg("scenario_file"), py::arg("out_dir"), py::arg("threads") = 0,
+        py::arg("max_evaluations") = py::none(),
+        "`climbsim optimise`: writes out_dir like the command does and returns the best. "
+        "threads 0: the cores; max_evaluations None: the file's optimise.max_evaluations.");
+  m.def("pulloff", &Pulloff, py::arg("angle_deg"), py::arg("model") = "bonds",
+        py::arg("width_m") = 0.025, py::arg("length_m") = py::none(), py::arg("grid") = 16,
+        py::arg("sigma_t_pa") = 10e3, py::arg("mu") = 0.0, py::arg("arm_m") = 0.0,
+        py::arg("ramp_time_s") = 2.0,
+        "One pull of `climbsim pulloff`'s rig at angle_deg from the surface normal (0..180): "
+        "the pull-off force, the cause and σ_T·A. length_m None: the width.");
+}
+
+}  // namespace
+}  // namespace climbsim::python
+
+PYBIND11_MODULE(_core, m) {
+  using namespace climbsim::python;
+  m.doc() = "climbsim: climbing robots with adhesive pads in MuJoCo (docs/python.md)";
+  py::register_exception<climbsim::InputError>(m, "InputError", PyExc_ValueError);
+  BindScenario(m);
+  BindTickObjects(m);
+  BindController(m);
+  BindSimulation(m);
+  BindTools(m);
 }

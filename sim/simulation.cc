@@ -351,11 +351,17 @@ RunResult Simulation::Run(const std::function<void(double)>& progress) {
     }
   }
   const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - start;
+  UpdateResult(wall.count());
+  if (progress) progress(1.0);
+  return result_;
+}
+
+void Simulation::UpdateResult(double wall_time_s) {
   const mjData* d = world_.data();
   const RobotInfo& r = world_.robot();
   result_.steps = ctx_.step;
   result_.sim_time_s = ctx_.step * world_.model()->opt.timestep;
-  result_.wall_time_s = wall.count();
+  result_.wall_time_s = wall_time_s;
   if (result_.stable) {
     const Eigen::Vector3d& travel = world_.scene().travel;
     result_.distance_at_end_m = travel.dot(BasePos(d, r) - start_pos_);
@@ -363,8 +369,6 @@ RunResult Simulation::Run(const std::function<void(double)>& progress) {
         result_.fell ? travel.dot(fall_pos_ - start_pos_) : result_.distance_at_end_m;
     result_.heading_deg = result_.fell ? fall_heading_deg_ : Heading();
   }
-  if (progress) progress(1.0);
-  return result_;
 }
 
 nlohmann::json Simulation::Summary() const {

@@ -81,6 +81,10 @@ class Simulation {
   // Steps to the scenario's duration or until Step() says stop. `progress` (may be empty)
   // is called with the simulated fraction done, now and then.
   RunResult Run(const std::function<void(double)>& progress = {});
+  // Brings result() (and so Summary()) up to the steps done so far, as Run() does at its end:
+  // steps, time, distance and heading (to the fall when the robot fell). For a caller that
+  // drives Step() itself; wall_time_s is the time its steps took.
+  void UpdateResult(double wall_time_s);
 
   const RunResult& result() const { return result_; }
   long steps_total() const { return steps_total_; }

@@ -120,6 +120,10 @@ YAML::Node LoadYamlFile(const std::string& path) {
     in.read(buf, sizeof(buf));
     text.append(buf, static_cast<size_t>(in.gcount()));
   }
+  return LoadYamlText(text, path);
+}
+
+YAML::Node LoadYamlText(const std::string& text, const std::string& path) {
   if (text.size() > kMaxYamlFileBytes) {
     throw InputError(path, 0, 0, "",
                      "larger than " + std::to_string(kMaxYamlFileBytes / (1 << 20)) +

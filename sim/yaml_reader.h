@@ -45,6 +45,9 @@ inline constexpr size_t kMaxYamlNodes = 100000;
 // document within the bounds of CheckYamlShape. A YAML syntax error, a folder, a device, a
 // second document ('---') or a bound exceeded is an InputError at its place.
 YAML::Node LoadYamlFile(const std::string& path);
+// The same checks for YAML text already read (the Python binding's scenario_from_yaml);
+// `path` names it in messages.
+YAML::Node LoadYamlText(const std::string& text, const std::string& path);
 
 // The bounds above on a tree read by other means (YAML::Load of a text): lists and maps at
 // most kMaxYamlListLength long, 64 deep, kMaxYamlNodes nodes with aliases expanded. Stops at

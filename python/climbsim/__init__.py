@@ -8,7 +8,8 @@
     e = sim.events()                                              # dict: column -> numpy array
 
 A controller subclasses climbsim.Controller and overrides update(obs, cmd): obs holds numpy
-views of what the robot senses, cmd numpy views of what it commands (docs/python.md).
+copies of what the robot senses, cmd numpy arrays of what it commands, written back when
+update returns; both raise ReferenceError when used after the call (docs/python.md).
 """
 import json as _json
 
