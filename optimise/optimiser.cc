@@ -808,9 +808,9 @@ void WriteConvergence(const std::string& dir, const Problem& problem,
       "set datafile separator ','\nset key top right\nset grid\n"
       "set title 'climbsim optimise: best cost so far (lower is better)'\n"
       "set xlabel 'evaluation (within its start)'\nset ylabel 'J [m/s] = -speed + penalties'\n"
-      "data = " + common::GnuplotQuote(dir + "/convergence.csv") + "\n"
+      "data = 'convergence.csv'\n"  // gnuplot runs in `dir`
       "plot " + plots + "\n";
-  *warning = common::RunGnuplot(script, {dir + "/convergence.png"});
+  *warning = common::RunGnuplot(dir, script, {"convergence.png"});
 }
 
 }  // namespace
