@@ -152,10 +152,10 @@ void GaitDiagram(const Run& run, const Report& report, const std::string& out_di
   }
   for (const auto& [cause, block] : detaches) {
     const CauseStyle st = DetachStyle(cause);
-    std::snprintf(buf, sizeof(buf), "%s using 1:2 with points pt %d ps 1.1 lc rgb \"%s\" title %s",
-                  block.name().c_str(), st.point_type, st.colour,
-                  common::GnuplotQuote("detach: " + cause).c_str());
-    plots.push_back(buf);
+    // The title is appended, not formatted into `buf`: a cut would leave its quote open.
+    std::snprintf(buf, sizeof(buf), "%s using 1:2 with points pt %d ps 1.1 lc rgb \"%s\" title ",
+                  block.name().c_str(), st.point_type, st.colour);
+    plots.push_back(buf + common::GnuplotQuote("detach: " + cause));
     blocks.push_back(&block);
   }
   if (plots.empty()) plots.push_back("NaN title \"no attachments\"");
