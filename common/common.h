@@ -90,10 +90,10 @@ void WriteFileAtomic(const std::string& path, const std::string& content);
 
 // Where a child's standard streams go and where it starts.
 struct ProcessOptions {
-  std::string working_dir{};             // "": the caller's
+  std::string working_dir{};              // "": the caller's
   std::string stdout_path = "/dev/null";  // "": the caller's standard output
-  std::string stderr_path{};             // a file (truncated); "": the caller's standard error
-  bool stdin_pipe = false;               // Process::Write feeds it; else /dev/null
+  std::string stderr_path{};              // a file (truncated); "": the caller's standard error
+  bool stdin_pipe = false;                // Process::Write feeds it; else /dev/null
 };
 
 // A program started by posix_spawnp from `argv` (argv[0] looked up in PATH), running beside

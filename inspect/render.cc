@@ -379,16 +379,15 @@ class Encoder {
             .string();
     char fps[32];
     std::snprintf(fps, sizeof(fps), "%.9g", o.fps);
-    std::vector<std::string> argv = {
-        "ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24",
-        "-s", std::to_string(o.width) + "x" + std::to_string(o.height), "-r", fps, "-i", "-",
-        "-vf", "vflip"};
-    argv.insert(argv.end(), output_args.begin(), output_args.end());
+    const std::string size = std::to_string(o.width) + "x" + std::to_string(o.height);
     // -nostdin keeps ffmpeg off the terminal; its input is the "-i -" pipe.
-    process_ = std::make_unique<common::Process>(
-        argv, common::ProcessOptions{.working_dir = working_dir,
-                                     .stderr_path = err_path_,
-                                     .stdin_pipe = true});
+    std::vector<std::string> argv = {"ffmpeg",   "-nostdin", "-loglevel", "error", "-y",   "-f",
+                                     "rawvideo", "-pix_fmt", "rgb24",     "-s",    size,   "-r",
+                                     fps,        "-i",       "-",         "-vf",   "vflip"};
+    argv.insert(argv.end(), output_args.begin(), output_args.end());
+    const common::ProcessOptions options{
+        .working_dir = working_dir, .stderr_path = err_path_, .stdin_pipe = true};
+    process_ = std::make_unique<common::Process>(argv, options);
   }
   ~Encoder() {
     process_.reset();
@@ -548,10 +547,10 @@ RenderStats RenderVideo(const Run& run, const RenderOptions& o, const std::strin
     MakeParent(mp4_path);
     const std::string tmp = common::TempSiblingPath(mp4_path);
     try {
-      Encoder encoder(o, fs::path(tmp).parent_path().string(),
-                      {"-c:v", "libx264", "-preset", "veryfast", "-crf", "20", "-pix_fmt",
-                       "yuv420p", "-movflags", "+faststart", "-f", "mp4",
-                       "file:" + fs::path(tmp).filename().string()});
+      Encoder encoder(
+          o, fs::path(tmp).parent_path().string(),
+          {"-c:v", "libx264", "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p",
+           "-movflags", "+faststart", "-f", "mp4", "file:" + fs::path(tmp).filename().string()});
       RenderInto(r, times, encoder, stats, progress);
       encoder.Finish();
     } catch (...) {

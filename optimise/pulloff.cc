@@ -199,10 +199,10 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
   y_max = std::min(3.0, std::ceil(1.1 * y_max * 4.0) / 4.0);
   // pulloff.gp names no folder: a user runs it where it lies, as gnuplot runs it here.
   const std::string data = common::GnuplotQuote("pulloff.csv");
-  common::WriteFileAtomic(dir + "/pulloff.gp",
-                          "# cd into this folder and run: gnuplot pulloff.gp\n" +
-                              Script(o, data, common::GnuplotQuote("pulloff.png"), bonds,
-                                     mujoco, capacity, y_max));
+  common::WriteFileAtomic(
+      dir + "/pulloff.gp",
+      "# cd into this folder and run: gnuplot pulloff.gp\n" +
+          Script(o, data, common::GnuplotQuote("pulloff.png"), bonds, mujoco, capacity, y_max));
   const std::string error = common::RunGnuplot(
       dir, Script(o, data, "OUTPUT(0)", bonds, mujoco, capacity, y_max), {"pulloff.png"});
   folder.Commit();
@@ -403,10 +403,10 @@ bool RunPulloffLaws(const PulloffLawOptions& o) {
   // pulloff.gp names no folder: a user runs it where it lies, as gnuplot runs it here.
   const std::string data = common::GnuplotQuote("pulloff.csv");
   const std::string limits = common::GnuplotQuote("limit.csv");
-  common::WriteFileAtomic(dir + "/pulloff.gp",
-                          "# cd into this folder and run: gnuplot pulloff.gp\n" +
-                              Script(o, data, limits, common::GnuplotQuote("pulloff.png"),
-                                     capacity, shear, y_max));
+  common::WriteFileAtomic(
+      dir + "/pulloff.gp",
+      "# cd into this folder and run: gnuplot pulloff.gp\n" +
+          Script(o, data, limits, common::GnuplotQuote("pulloff.png"), capacity, shear, y_max));
   const std::string error = common::RunGnuplot(
       dir, Script(o, data, limits, "OUTPUT(0)", capacity, shear, y_max), {"pulloff.png"});
   folder.Commit();

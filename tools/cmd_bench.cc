@@ -138,9 +138,8 @@ double LoadAverage() {
 // The options of one of bench optimise's runs in `dir`: an earlier bench's run is replaced
 // whole, anything else a user has there is refused.
 sim::RunFolderOptions BenchRunFolder(const std::string& dir, const std::string& file) {
-  return {.made_by = "optimise",
-          .force = sim::RunFolderMadeBy(dir) == "optimise",
-          .inputs = {file}};
+  return {
+      .made_by = "optimise", .force = sim::RunFolderMadeBy(dir) == "optimise", .inputs = {file}};
 }
 
 // One MPI run: `climbsim optimise` under mpirun, from an argument vector (no shell). Returns

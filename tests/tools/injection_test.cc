@@ -72,7 +72,7 @@ std::string ShortScenario(const std::string& path) {
 // control characters (spaces), and runs none of it.
 TEST(GnuplotQuote, EveryStringReadsBackAsItselfAndNothingRuns) {
   const std::string dir = Fresh("quote");
-  const std::vector<std::string> texts = {kHostile, "a''b\\", "'", "''`touch PWNED`''",
+  const std::vector<std::string> texts = {kHostile,           "a''b\\",  "'", "''`touch PWNED`''",
                                           "@macro `x` \"y\"", "t\tu\rv", ""};
   std::string script = "set print 'echo.txt'\n";
   std::string expected;
@@ -99,8 +99,8 @@ TEST(Injection, PulloffFolderNameIsNeverCode) {
   const std::string cwd = Fresh("pulloff");
   for (const std::string law : {"von_mises", "frictional"}) {
     const std::string out = cwd + "/" + kHostile + law;
-    CliResult r = RunClimbsimArgs({"pulloff", "--model", "bonds", "--grid", "2", "--step-deg",
-                                   "90", "--law", law, "--out", out, "--quiet"},
+    CliResult r = RunClimbsimArgs({"pulloff", "--model", "bonds", "--grid", "2", "--step-deg", "90",
+                                   "--law", law, "--out", out, "--quiet"},
                                   cwd);
     ASSERT_EQ(r.code, 0) << law << r.err;
     ExpectPng(out + "/pulloff.png");
@@ -114,10 +114,10 @@ TEST(Injection, SweepScenarioAndFolderNamesAreNeverCode) {
   const std::string cwd = Fresh("sweep");
   const std::string scenario = ShortScenario(cwd + "/a'.system(\"touch PWNED\").'.yaml");
   const std::string out = cwd + "/" + kHostile;
-  const CliResult r = RunClimbsimArgs({"sweep", scenario, "--key", "cpg.frequency_hz", "--from",
-                                       "1", "--to", "1.5", "--step", "0.5", "--threads", "1",
-                                       "--out", out},
-                                      cwd);
+  const CliResult r =
+      RunClimbsimArgs({"sweep", scenario, "--key", "cpg.frequency_hz", "--from", "1", "--to", "1.5",
+                       "--step", "0.5", "--threads", "1", "--out", out},
+                      cwd);
   ASSERT_EQ(r.code, 0) << r.err;
   ExpectPng(out + "/sweep.png");
   EXPECT_EQ(Pwned(cwd), std::vector<std::string>{});
@@ -127,8 +127,7 @@ TEST(Injection, OptimiseFolderNameIsNeverCode) {
   const std::string cwd = Fresh("optimise");
   const std::string out = cwd + "/" + kHostile;
   const CliResult r = RunClimbsimArgs(
-      {"optimise", ShortScenario(cwd + "/s.yaml"), "--out", out, "--threads", "1", "--quiet"},
-      cwd);
+      {"optimise", ShortScenario(cwd + "/s.yaml"), "--out", out, "--threads", "1", "--quiet"}, cwd);
   ASSERT_EQ(r.code, 0) << r.err;
   ExpectPng(out + "/convergence.png");
   EXPECT_EQ(Pwned(cwd), std::vector<std::string>{});
@@ -149,10 +148,10 @@ TEST(Injection, BenchRobustnessScenarioAndFolderNamesAreNeverCode) {
   const std::string cwd = Fresh("robustness");
   const std::string scenario = ShortScenario(cwd + "/" + kHostile + ".yaml");
   const std::string out = cwd + "/" + kHostile + "_out";
-  const CliResult r = RunClimbsimArgs(
-      {"bench", "robustness", scenario, "--duration", "0.2", "--seeds", "1", "--phases", "1",
-       "--families", "payload", "--threads", "1", "--out", out},
-      cwd);
+  const CliResult r =
+      RunClimbsimArgs({"bench", "robustness", scenario, "--duration", "0.2", "--seeds", "1",
+                       "--phases", "1", "--families", "payload", "--threads", "1", "--out", out},
+                      cwd);
   ASSERT_EQ(r.code, 0) << r.err;
   ExpectPng(out + "/robustness.png");
   EXPECT_EQ(Pwned(cwd), std::vector<std::string>{});
@@ -212,9 +211,9 @@ TEST(Injection, BenchOptimiseHandsMpirunThePathAsOneArgumentAndFailsWithIt) {
   const std::string args_file = cwd + "/args";
   FakeMpirun fake(args_file);
   const std::string scenario = ShortScenario(cwd + "/b';touch pwned;'$(touch PWNED).yaml");
-  const CliResult r = RunClimbsimArgs({"bench", "optimise", scenario, "--only", "mpi",
-                                       "--evaluations", "2", "--out", cwd + "/out"},
-                                      cwd);
+  const CliResult r = RunClimbsimArgs(
+      {"bench", "optimise", scenario, "--only", "mpi", "--evaluations", "2", "--out", cwd + "/out"},
+      cwd);
   EXPECT_EQ(r.code, 1) << r.out << r.err;
   EXPECT_NE(r.err.find("mpirun"), std::string::npos) << r.err;
   const std::string args = ReadFile(args_file);
@@ -264,8 +263,8 @@ TEST(DiskFull, InspectPlotsFailNamingTheCauseAndLeaveNoCutPlot) {
 
 TEST(DiskFull, PulloffFailsNamingTheCauseAndLeavesNoCutPlot) {
   const std::string cwd = Fresh("full_pulloff");
-  const CliResult r = RunClimbsimArgs({"pulloff", "--model", "bonds", "--grid", "2",
-                                       "--step-deg", "90", "--out", cwd + "/out", "--quiet"},
+  const CliResult r = RunClimbsimArgs({"pulloff", "--model", "bonds", "--grid", "2", "--step-deg",
+                                       "90", "--out", cwd + "/out", "--quiet"},
                                       cwd, 8000);
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find("disk full"), std::string::npos) << r.err;
