@@ -986,6 +986,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
                            sim::ScenarioToYamlText(problem.ScenarioFor(result.best.x, 0)));
   std::string plot_warning;
   WriteConvergence(options.out_dir, problem, result.history, &plot_warning);
+  result.plot_warning = plot_warning;
   result.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
 
   const Evaluation& first = shared.by_start[0].front();

@@ -272,14 +272,15 @@ TEST(DiskFull, PulloffFailsNamingTheCauseAndLeavesNoCutPlot) {
   ExpectNoCutPlots(cwd + "/out");
 }
 
-// optimise keeps its results when only the plot fails: no cut convergence.png is installed,
-// and summary.json says why.
-TEST(DiskFull, OptimiseInstallsNoCutConvergencePlot) {
+// optimise keeps its results when only the plot fails, but installs no cut convergence.png,
+// says why (and in summary.json) and exits 1.
+TEST(DiskFull, OptimiseFailsNamingTheCauseAndInstallsNoCutPlot) {
   const std::string cwd = Fresh("full_optimise");
   const CliResult r = RunClimbsimArgs({"optimise", ShortScenario(cwd + "/s.yaml"), "--out",
                                        cwd + "/out", "--threads", "1", "--quiet"},
                                       cwd, 8000);
-  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("disk full"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(cwd + "/out/convergence.png"));
   EXPECT_NE(ReadFile(cwd + "/out/summary.json").find("disk full"), std::string::npos);
   ExpectNoCutPlots(cwd + "/out");
