@@ -5,7 +5,11 @@
 //   CompileMjcfString  the program's one MJCF loader, serialised by one mutex
 //   TempSiblingPath    a temporary name beside a file, unique across processes and threads
 //   WriteFileAtomic    a file that is either complete or absent
+//   RunProcess         a program run from an argument vector, never through a shell
+//   Process            the same, running beside the caller, fed on its standard input
+//   FindInPath         where PATH finds a program ("" when nowhere)
 //   RunGnuplot         plots drawn by gnuplot into files that are complete or absent
+//   GnuplotQuote       any text as an inert gnuplot string literal
 //   ParallelFor        tasks on worker threads; a worker's exception reaches the caller
 //
 // common/README.md is the overview. Nothing here runs inside a step loop.
@@ -13,6 +17,7 @@
 #define CLIMBSIM_COMMON_COMMON_H_
 
 #include <mujoco/mujoco.h>
+#include <sys/types.h>
 
 #include <functional>
 #include <stdexcept>
@@ -80,13 +85,65 @@ std::string TempSiblingPath(const std::string& path);
 // no permission); the temporary file is then removed.
 void WriteFileAtomic(const std::string& path, const std::string& content);
 
-// Runs `script` with gnuplot (Debian's gnuplot-nox), as a child process. In the script,
-// write `set output OUTPUT(k)` for the k-th file of `outputs` (it is replaced by the quoted
-// temporary name of that file, renamed when gnuplot succeeds). Returns "" on success, else
-// what went wrong (gnuplot missing, gnuplot's error output); the outputs are then absent.
-std::string RunGnuplot(const std::string& script, const std::vector<std::string>& outputs);
+// ---- Child processes. No text ever reaches a shell: a program gets its arguments as they
+// are (quotes, backticks, `$(...)`, `;`, newlines included), found by PATH like execvp.
 
-// Escapes a string for a gnuplot double-quoted string.
+// Where a child's standard streams go and where it starts.
+struct ProcessOptions {
+  std::string working_dir{};              // "": the caller's
+  std::string stdout_path = "/dev/null";  // "": the caller's standard output
+  std::string stderr_path{};              // a file (truncated); "": the caller's standard error
+  bool stdin_pipe = false;                // Process::Write feeds it; else /dev/null
+};
+
+// A program started by posix_spawnp from `argv` (argv[0] looked up in PATH), running beside
+// the caller. Throws std::runtime_error when it cannot start (not installed, working_dir
+// missing). The destructor closes the child's input and waits for it.
+class Process {
+ public:
+  Process(const std::vector<std::string>& argv, const ProcessOptions& options);
+  ~Process();
+  Process(const Process&) = delete;
+  Process& operator=(const Process&) = delete;
+
+  // Writes to the child's standard input (options.stdin_pipe); false when the child stopped
+  // reading (it exited). Never raises SIGPIPE.
+  bool Write(const void* data, size_t size);
+  // Closes the child's input and waits for it: "" when it exited with status 0, else what
+  // happened ("ffmpeg exited with status 1", "gnuplot was killed by signal 9 (Killed)").
+  std::string Wait();
+
+ private:
+  std::string name_;
+  pid_t pid_ = -1;
+  int stdin_ = -1;
+  std::string result_;
+};
+
+// Runs `argv` to its end (Process, then Wait). Returns "" on exit status 0, else what went
+// wrong, a failure to start included ("cannot start mpirun: No such file or directory").
+std::string RunProcess(const std::vector<std::string>& argv, const ProcessOptions& options = {});
+
+// The full path of the executable `program` (a bare name) in PATH; "" when it is not there.
+std::string FindInPath(const std::string& program);
+
+// ---- gnuplot. A script is climbsim's own text: user text (a folder, a scenario's name, a
+// CSV field) enters it only through GnuplotQuote, and no path at all: gnuplot runs inside
+// the output folder, where the script names its files by plain names that climbsim chose.
+
+// Runs `script` with gnuplot (Debian's gnuplot-nox) in `folder`, its working folder. In the
+// script, write `set output OUTPUT(k)` for the k-th of `outputs` (plain names of files in
+// `folder`): it becomes a temporary name in a private subfolder, renamed to the output only
+// when gnuplot exited with status 0 and the file is whole (a PNG to its IEND chunk, an SVG to
+// `</svg>`; a full disk leaves a short file). Returns "" on success, else the cause (gnuplot
+// missing, its error output, the short file); then no output and no temporary is left.
+std::string RunGnuplot(const std::string& folder, const std::string& script,
+                       const std::vector<std::string>& outputs);
+
+// `s` as a gnuplot string expression, inert whatever it holds: single-quoted runs (gnuplot
+// expands backticks only inside double quotes; a backslash there is literal) joined by "'"
+// for each quote, every control character as a space (a newline would end the command).
+// Valid wherever gnuplot takes a string: 'it'."'".'s'. A text without quotes is one literal.
 std::string GnuplotQuote(const std::string& s);
 
 // Runs task(0) .. task(count - 1) on `threads` threads (the caller's among them; at least

@@ -1,7 +1,7 @@
-#include <unistd.h>
+#include <stdlib.h>
 
-#include <atomic>
-#include <cstdio>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,55 +10,117 @@
 
 namespace climbsim::common {
 
+namespace fs = std::filesystem;
+
 std::string GnuplotQuote(const std::string& s) {
-  std::string out = "\"";
+  // Single-quoted runs joined by "'": gnuplot 5.4 reads a doubled quote inside single quotes
+  // as one, but not two in a row ('a''''b' ends after a'), so a quote is never doubled.
+  std::string out, run;
+  const auto flush = [&] {
+    if (!run.empty()) out += (out.empty() ? "'" : ".'") + run + "'";
+    run.clear();
+  };
   for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (c == '\'') {
+      flush();
+      out += out.empty() ? "\"'\"" : ".\"'\"";
+    } else {
+      run += u < 0x20 || u == 0x7f ? ' ' : c;
+    }
   }
-  return out + "\"";
+  flush();
+  return out.empty() ? "\"\"" : out;
 }
 
-std::string RunGnuplot(const std::string& script, const std::vector<std::string>& outputs) {
-  namespace fs = std::filesystem;
-  // Process id and a counter: unique across processes and across threads of one process.
-  static std::atomic<long> counter{0};
-  const std::string pid = std::to_string(::getpid()) + "_" + std::to_string(counter++);
-  std::string text = script;
+namespace {
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// "" when `path` is a whole image, else why not. A write that failed (disk full) leaves an
+// empty or cut file while gnuplot still exits with status 0.
+std::string Incomplete(const fs::path& path) {
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec) return "gnuplot wrote no file";
+  if (size == 0) return "gnuplot wrote an empty file (disk full?)";
+  const std::string ext = path.extension().string();
+  if (ext != ".png" && ext != ".svg") return "";
+  const std::string text = ReadAll(path);
+  if (ext == ".png") {
+    // A PNG ends with its IEND chunk: length 0, "IEND", CRC ae426082.
+    static const std::string kEnd("\0\0\0\0IEND\xae\x42\x60\x82", 12);
+    if (text.size() < 20 || text.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0 ||
+        text.compare(text.size() - kEnd.size(), kEnd.size(), kEnd) != 0) {
+      return "gnuplot wrote a cut PNG of " + std::to_string(size) + " bytes (disk full?)";
+    }
+  } else if (text.rfind("</svg>") == std::string::npos) {
+    return "gnuplot wrote a cut SVG of " + std::to_string(size) + " bytes (disk full?)";
+  }
+  return "";
+}
+
+// `script` with OUTPUT(k) replaced by the quoted k-th of `names`.
+std::string WithOutputs(std::string script, const std::vector<std::string>& names) {
+  for (size_t k = 0; k < names.size(); ++k) {
+    const std::string mark = "OUTPUT(" + std::to_string(k) + ")";
+    const std::string quoted = GnuplotQuote(names[k]);
+    for (size_t at = script.find(mark); at != std::string::npos;
+         at = script.find(mark, at + quoted.size())) {
+      script.replace(at, mark.size(), quoted);
+    }
+  }
+  return script;
+}
+
+}  // namespace
+
+std::string RunGnuplot(const std::string& folder, const std::string& script,
+                       const std::vector<std::string>& outputs) {
+  // A private folder inside `folder` holds the script, gnuplot's messages and the unfinished
+  // plots: the same file system (an atomic rename), and one thing to remove.
+  std::string work = (fs::path(folder) / ".climbsim-plot.XXXXXX").string();
+  if (::mkdtemp(work.data()) == nullptr) {
+    return "cannot make a temporary folder in " + folder + ": " + std::strerror(errno);
+  }
+  const std::string rel = fs::path(work).filename().string();  // [A-Za-z0-9.-] only
   std::vector<std::string> temps;
   for (size_t k = 0; k < outputs.size(); ++k) {
-    const std::string tmp = TempSiblingPath(outputs[k]);
-    temps.push_back(tmp);
-    const std::string mark = "OUTPUT(" + std::to_string(k) + ")";
-    for (size_t at = text.find(mark); at != std::string::npos; at = text.find(mark, at)) {
-      text.replace(at, mark.size(), GnuplotQuote(tmp));
+    temps.push_back(rel + "/" + std::to_string(k) + fs::path(outputs[k]).extension().string());
+  }
+  std::string error;
+  {
+    std::ofstream out(work + "/plot.gp", std::ios::binary);
+    out << WithOutputs(script, temps);
+    out.flush();
+    if (!out) error = "cannot write the gnuplot script in " + folder + " (disk full?)";
+  }
+  if (error.empty()) {
+    error = RunProcess({"gnuplot", rel + "/plot.gp"},
+                       {.working_dir = folder, .stderr_path = work + "/gnuplot.err"});
+    if (error.find("cannot start") == 0) {
+      error += " (is gnuplot installed? scripts/setup.sh installs gnuplot-nox)";
+    } else if (!error.empty()) {
+      error += ": " + ReadAll(work + "/gnuplot.err");
     }
   }
-  const fs::path script_path = fs::temp_directory_path() / ("climbsim_plot_" + pid + ".gp");
-  const fs::path err_path = fs::temp_directory_path() / ("climbsim_plot_" + pid + ".err");
-  std::ofstream(script_path) << text;
-  const std::string cmd =
-      "gnuplot " + script_path.string() + " >/dev/null 2>" + err_path.string();
-  const int status = std::system(cmd.c_str());
-  std::string error;
-  if (status != 0) {
-    std::ifstream in(err_path);
-    std::stringstream e;
-    e << in.rdbuf();
-    error = "gnuplot failed (exit " + std::to_string(status) + "): " + e.str();
-    if (e.str().empty()) error += "is gnuplot installed? (scripts/setup.sh installs gnuplot-nox)";
+  for (size_t k = 0; k < outputs.size() && error.empty(); ++k) {
+    const std::string why = Incomplete(fs::path(folder) / temps[k]);
+    if (!why.empty()) error = outputs[k] + ": " + why;
   }
   std::error_code ec;
-  fs::remove(script_path, ec);
-  fs::remove(err_path, ec);
-  for (size_t k = 0; k < outputs.size(); ++k) {
-    if (error.empty() && fs::exists(temps[k])) {
-      fs::rename(temps[k], outputs[k]);
-    } else {
-      fs::remove(temps[k], ec);
-      if (error.empty()) error = "gnuplot wrote no " + outputs[k];
-    }
+  for (size_t k = 0; k < outputs.size() && error.empty(); ++k) {
+    fs::rename(fs::path(folder) / temps[k], fs::path(folder) / outputs[k], ec);
+    if (!ec) continue;
+    error = "cannot write " + folder + "/" + outputs[k] + ": " + ec.message();
+    while (k-- > 0) fs::remove(fs::path(folder) / outputs[k], ec);  // all or none
   }
+  fs::remove_all(work, ec);
   return error;
 }
 

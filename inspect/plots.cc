@@ -67,11 +67,12 @@ std::string Script(const std::vector<const Block*>& blocks, const std::string& b
   return s;
 }
 
-void Run2(const std::string& script, const std::string& base, std::vector<std::string>* files) {
-  const std::vector<std::string> outputs = {base + ".png", base + ".svg"};
-  const std::string error = common::RunGnuplot(script, outputs);
-  if (!error.empty()) throw std::runtime_error(error);
-  files->insert(files->end(), outputs.begin(), outputs.end());
+// Draws `name`.png and `name`.svg in `out_dir`; a failed plot fails the verb, naming why.
+void Run2(const std::string& script, const std::string& out_dir, const std::string& name,
+          std::vector<std::string>* files) {
+  const std::string error = common::RunGnuplot(out_dir, script, {name + ".png", name + ".svg"});
+  if (!error.empty()) throw std::runtime_error("plot " + name + ": " + error);
+  for (const char* ext : {".png", ".svg"}) files->push_back(out_dir + "/" + name + ext);
 }
 
 std::string Range(double a, double b) {
@@ -151,17 +152,17 @@ void GaitDiagram(const Run& run, const Report& report, const std::string& out_di
   }
   for (const auto& [cause, block] : detaches) {
     const CauseStyle st = DetachStyle(cause);
-    std::snprintf(buf, sizeof(buf), "%s using 1:2 with points pt %d ps 1.1 lc rgb \"%s\" title %s",
-                  block.name().c_str(), st.point_type, st.colour,
-                  common::GnuplotQuote("detach: " + cause).c_str());
-    plots.push_back(buf);
+    // The title is appended, not formatted into `buf`: a cut would leave its quote open.
+    std::snprintf(buf, sizeof(buf), "%s using 1:2 with points pt %d ps 1.1 lc rgb \"%s\" title ",
+                  block.name().c_str(), st.point_type, st.colour);
+    plots.push_back(buf + common::GnuplotQuote("detach: " + cause));
     blocks.push_back(&block);
   }
   if (plots.empty()) plots.push_back("NaN title \"no attachments\"");
   body += "plot ";
   for (size_t i = 0; i < plots.size(); ++i) body += (i ? ", \\\n     " : "") + plots[i];
   body += "\n";
-  Run2(Script(blocks, body, 1000, 120 + 60 * n), out_dir + "/gait", files);
+  Run2(Script(blocks, body, 1000, 120 + 60 * n), out_dir, "gait", files);
 }
 
 void PadPlot(const Run& run, const Report& report, const LegReport& leg, const std::string& out_dir,
@@ -215,7 +216,7 @@ void PadPlot(const Run& run, const Report& report, const LegReport& leg, const s
         "$loads using 1:3 with points pt 9 ps 0.6 lc rgb \"#e65100\" title \"shear\"\n";
   }
   body += "unset multiplot\n";
-  Run2(Script(blocks, body, 1000, 560), out_dir + "/pad_" + leg.leg, files);
+  Run2(Script(blocks, body, 1000, 560), out_dir, "pad_" + leg.leg, files);
 }
 
 void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
@@ -281,7 +282,7 @@ void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
             std::string(buf) + "\n";
   }
   body += "unset multiplot\n";
-  Run2(Script(blocks, body, 1100, 480), out_dir + "/path", files);
+  Run2(Script(blocks, body, 1100, 480), out_dir, "path", files);
 }
 
 }  // namespace

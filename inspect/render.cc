@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/common.h"
 #include "inspect/inspect.h"
 #include "sim/sim.h"
 
@@ -364,17 +364,14 @@ class Renderer {
   std::vector<unsigned char> rgb_;
 };
 
-std::string ShellQuote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-// ffmpeg reading raw RGB frames (bottom-up, hence vflip) on its standard input.
+// ffmpeg reading raw RGB frames (bottom-up, hence vflip) on its standard input, started from
+// an argument vector in `working_dir` (no shell). `output_args` end with the output as
+// "file:NAME", a name in `working_dir`: the file protocol whatever the name holds (no URL).
 class Encoder {
  public:
-  Encoder(const RenderOptions& o, const std::string& output_args) {
-    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+  Encoder(const RenderOptions& o, const std::string& working_dir,
+          const std::vector<std::string>& output_args) {
+    if (common::FindInPath("ffmpeg").empty()) {
       throw std::runtime_error("ffmpeg is not installed (scripts/setup.sh installs it)");
     }
     err_path_ =
@@ -382,19 +379,18 @@ class Encoder {
             .string();
     char fps[32];
     std::snprintf(fps, sizeof(fps), "%.9g", o.fps);
-    const std::string cmd = "ffmpeg -nostdin -loglevel error -y -f rawvideo -pix_fmt rgb24 -s " +
-                            std::to_string(o.width) + "x" + std::to_string(o.height) + " -r " +
-                            fps + " -i - -vf vflip " + output_args + " 2>" + ShellQuote(err_path_);
-    old_sigpipe_ = std::signal(SIGPIPE, SIG_IGN);  // a dead ffmpeg is an error, not a signal
-    pipe_ = popen(cmd.c_str(), "w");
-    if (pipe_ == nullptr) {
-      std::signal(SIGPIPE, old_sigpipe_);
-      throw std::runtime_error("cannot start ffmpeg");
-    }
+    const std::string size = std::to_string(o.width) + "x" + std::to_string(o.height);
+    // -nostdin keeps ffmpeg off the terminal; its input is the "-i -" pipe.
+    std::vector<std::string> argv = {"ffmpeg",   "-nostdin", "-loglevel", "error", "-y",   "-f",
+                                     "rawvideo", "-pix_fmt", "rgb24",     "-s",    size,   "-r",
+                                     fps,        "-i",       "-",         "-vf",   "vflip"};
+    argv.insert(argv.end(), output_args.begin(), output_args.end());
+    const common::ProcessOptions options{
+        .working_dir = working_dir, .stderr_path = err_path_, .stdin_pipe = true};
+    process_ = std::make_unique<common::Process>(argv, options);
   }
   ~Encoder() {
-    if (pipe_ != nullptr) pclose(pipe_);
-    std::signal(SIGPIPE, old_sigpipe_);
+    process_.reset();
     std::error_code ec;
     fs::remove(err_path_, ec);
   }
@@ -402,26 +398,24 @@ class Encoder {
   Encoder& operator=(const Encoder&) = delete;
 
   void Write(const std::vector<unsigned char>& rgb) {
-    if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size()) Fail(-1);
+    if (!process_->Write(rgb.data(), rgb.size())) Fail("it stopped reading frames");
   }
   void Finish() {
-    const int status = pclose(pipe_);
-    pipe_ = nullptr;
-    if (status != 0) Fail(status);
+    const std::string status = process_->Wait();
+    if (!status.empty()) Fail(status);
   }
 
  private:
-  [[noreturn]] void Fail(int status) {
-    if (pipe_ != nullptr) pclose(pipe_);
-    pipe_ = nullptr;
+  [[noreturn]] void Fail(const std::string& status) {
+    const std::string waited = process_->Wait();
     std::ifstream in(err_path_);
     std::stringstream e;
     e << in.rdbuf();
-    throw std::runtime_error("ffmpeg failed (status " + std::to_string(status) + "): " + e.str());
+    throw std::runtime_error("ffmpeg failed (" + (waited.empty() ? status : waited) +
+                             "): " + e.str());
   }
-  FILE* pipe_ = nullptr;
+  std::unique_ptr<common::Process> process_;
   std::string err_path_;
-  void (*old_sigpipe_)(int) = SIG_DFL;
 };
 
 void CheckOptions(const Run& run, const RenderOptions& o, bool video) {
@@ -534,7 +528,9 @@ RenderStats RenderStill(const Run& run, const RenderOptions& o, double t_s,
     MakeParent(png_path);
     const std::string tmp = common::TempSiblingPath(png_path);
     {
-      Encoder encoder(o, "-frames:v 1 -update 1 -c:v png -f image2 " + ShellQuote(tmp));
+      Encoder encoder(o, fs::path(tmp).parent_path().string(),
+                      {"-frames:v", "1", "-update", "1", "-c:v", "png", "-f", "image2",
+                       "file:" + fs::path(tmp).filename().string()});
       RenderInto(r, {t_s}, encoder, stats, {});
       encoder.Finish();
     }
@@ -551,10 +547,10 @@ RenderStats RenderVideo(const Run& run, const RenderOptions& o, const std::strin
     MakeParent(mp4_path);
     const std::string tmp = common::TempSiblingPath(mp4_path);
     try {
-      Encoder encoder(o,
-                      "-c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p "
-                      "-movflags +faststart -f mp4 " +
-                          ShellQuote(tmp));
+      Encoder encoder(
+          o, fs::path(tmp).parent_path().string(),
+          {"-c:v", "libx264", "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p",
+           "-movflags", "+faststart", "-f", "mp4", "file:" + fs::path(tmp).filename().string()});
       RenderInto(r, times, encoder, stats, progress);
       encoder.Finish();
     } catch (...) {
@@ -576,8 +572,8 @@ RenderStats RenderFrames(const Run& run, const RenderOptions& o, const std::stri
     const fs::path tmp = fs::path(out_dir) / (".tmp." + std::to_string(::getpid()));
     fs::create_directories(tmp);
     try {
-      Encoder encoder(
-          o, "-start_number 0 -c:v png -f image2 " + ShellQuote((tmp / "frame_%05d.png").string()));
+      Encoder encoder(o, tmp.string(),
+                      {"-start_number", "0", "-c:v", "png", "-f", "image2", "file:frame_%05d.png"});
       RenderInto(r, times, encoder, stats, progress);
       encoder.Finish();
     } catch (...) {

@@ -199,17 +199,15 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
   for (size_t k = 0; k < knobs.size(); ++k) {
     const std::string idx = std::to_string(k);
     const std::string sep = k ? ", " : "";
-    plot1 +=
-        sep + "data index " + idx + " using 1:2 with linespoints lw 2 title '" + knobs[k] + "'";
-    plot2 +=
-        sep + "data index " + idx + " using 1:3 with linespoints lw 2 title '" + knobs[k] + "'";
-    plot3 +=
-        sep + "data index " + idx + " using 1:4 with linespoints lw 2 title '" + knobs[k] + "'";
+    const std::string title = " with linespoints lw 2 title " + common::GnuplotQuote(knobs[k]);
+    plot1 += sep + "data index " + idx + " using 1:2" + title;
+    plot2 += sep + "data index " + idx + " using 1:3" + title;
+    plot3 += sep + "data index " + idx + " using 1:4" + title;
   }
   const std::string script =
       "set terminal pngcairo size 1400,480 noenhanced\nset output OUTPUT(0)\n"
       "set logscale xy\nset grid\nset key bottom left font ',8'\n"
-      "data = " + common::GnuplotQuote(dir + "/accuracy.dat") + "\n"
+      "data = 'accuracy.dat'\n"  // gnuplot runs in `dir`
       "set multiplot layout 1,3 title 'climbsim bench accuracy: error against wall time, one "
       "curve per knob (errors against the finest setting; 1e-7 = exact)'\n"
       "set xlabel 'wall time of the run [s]'\n"
@@ -217,7 +215,7 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report) 
       "set ylabel 'detach time error [s]'\nplot " + plot2 + "\n"
       "set ylabel 'pull-off error at 45 deg [relative]'\nplot " + plot3 + "\n"
       "unset multiplot\n";
-  return common::RunGnuplot(script, {dir + "/accuracy.png"});
+  return common::RunGnuplot(dir, script, {"accuracy.png"});
 }
 
 }  // namespace climbsim::optimise

@@ -282,6 +282,7 @@ struct Result {
   int rollouts_bounded = 0;       // stopped early by the bound rule
   double simulated_s = 0.0;       // simulated time of the computed rollouts
   int processes = 1;              // MPI ranks (1 without mpirun)
+  std::string plot_warning;       // why convergence.png is missing (rank 0); "" when drawn
 };
 
 // The MPI rank of this process and the number of ranks (0 and 1 without mpirun).

@@ -927,9 +927,9 @@ void WriteConvergence(const std::string& dir, const Problem& problem,
       "set datafile separator ','\nset key top right\nset grid\n"
       "set title 'climbsim optimise: best cost so far (lower is better)'\n"
       "set xlabel 'evaluation (within its start)'\nset ylabel 'J [m/s] = -speed + penalties'\n"
-      "data = " + common::GnuplotQuote(dir + "/convergence.csv") + "\n"
+      "data = 'convergence.csv'\n"  // gnuplot runs in `dir`
       "plot " + plots + "\n";
-  *warning = common::RunGnuplot(script, {dir + "/convergence.png"});
+  *warning = common::RunGnuplot(dir, script, {"convergence.png"});
 }
 
 }  // namespace
@@ -1142,6 +1142,7 @@ Result Optimise(const std::string& scenario_file, const Options& options,
                            sim::ScenarioToYamlText(problem.ScenarioFor(result.best.x, 0)));
   std::string plot_warning;
   WriteConvergence(options.out_dir, problem, result.history, &plot_warning);
+  result.plot_warning = plot_warning;
   result.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
 
   const Evaluation& first = shared.by_start[0].front();

@@ -58,7 +58,8 @@ std::string Csv(const std::vector<Row>& rows, bool bonds, bool mujoco, double ca
   return out;
 }
 
-// The gnuplot script; `data` and `output` are gnuplot string literals.
+// The gnuplot script, run inside the output folder; `data` and `output` are gnuplot string
+// literals of plain file names there.
 std::string Script(const PulloffExperimentOptions& o, const std::string& data, const std::string& output,
                    bool bonds, bool mujoco, double capacity_n, double y_max) {
   const adhesion::PadParams& pad = o.rig.pad;
@@ -189,7 +190,6 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
 
   // Files: the CSV and the script first, then the plot.
   const std::string csv_path = dir + "/pulloff.csv";
-  const std::string png_path = dir + "/pulloff.png";
   common::WriteFileAtomic(csv_path, Csv(rows, bonds, mujoco, capacity));
   double y_max = 0.0;
   for (const Row& r : rows) {
@@ -199,13 +199,14 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
     }
   }
   y_max = std::min(3.0, std::ceil(1.1 * y_max * 4.0) / 4.0);
+  // pulloff.gp names no folder: a user runs it where it lies, as gnuplot runs it here.
+  const std::string data = common::GnuplotQuote("pulloff.csv");
   common::WriteFileAtomic(
       dir + "/pulloff.gp",
       "# cd into this folder and run: gnuplot pulloff.gp\n" +
-          Script(o, "\"pulloff.csv\"", "\"pulloff.png\"", bonds, mujoco, capacity, y_max));
+          Script(o, data, common::GnuplotQuote("pulloff.png"), bonds, mujoco, capacity, y_max));
   const std::string error = common::RunGnuplot(
-      Script(o, common::GnuplotQuote(csv_path), "OUTPUT(0)", bonds, mujoco, capacity, y_max),
-      {png_path});
+      dir, Script(o, data, "OUTPUT(0)", bonds, mujoco, capacity, y_max), {"pulloff.png"});
   folder.Commit();
 
   if (!o.quiet) {
@@ -393,7 +394,6 @@ bool RunPulloffLaws(const PulloffLawOptions& o) {
   }
   const std::string csv_path = dir + "/pulloff.csv";
   const std::string limit_path = dir + "/limit.csv";
-  const std::string png_path = dir + "/pulloff.png";
   common::WriteFileAtomic(csv_path, csv);
   common::WriteFileAtomic(limit_path, limit.str());
   double y_max = 0.0;
@@ -403,14 +403,15 @@ bool RunPulloffLaws(const PulloffLawOptions& o) {
     }
   }
   y_max = std::min(3.0 * std::max(capacity, shear), 1.15 * y_max);
-  common::WriteFileAtomic(dir + "/pulloff.gp",
-                       "# cd into this folder and run: gnuplot pulloff.gp\n" +
-                           Script(o, "\"pulloff.csv\"", "\"limit.csv\"", "\"pulloff.png\"",
-                                  capacity, shear, y_max));
-  const std::string error =
-      common::RunGnuplot(Script(o, common::GnuplotQuote(csv_path), common::GnuplotQuote(limit_path),
-                             "OUTPUT(0)", capacity, shear, y_max),
-                      {png_path});
+  // pulloff.gp names no folder: a user runs it where it lies, as gnuplot runs it here.
+  const std::string data = common::GnuplotQuote("pulloff.csv");
+  const std::string limits = common::GnuplotQuote("limit.csv");
+  common::WriteFileAtomic(
+      dir + "/pulloff.gp",
+      "# cd into this folder and run: gnuplot pulloff.gp\n" +
+          Script(o, data, limits, common::GnuplotQuote("pulloff.png"), capacity, shear, y_max));
+  const std::string error = common::RunGnuplot(
+      dir, Script(o, data, limits, "OUTPUT(0)", capacity, shear, y_max), {"pulloff.png"});
   folder.Commit();
 
   if (!o.quiet) {

@@ -421,19 +421,18 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
   common::WriteFileAtomic(dir + "/robustness.dat", data);
   if (n == 0) return "no family to plot";
   const int cols = std::min(n, 4), rows = (n + cols - 1) / cols;
-  // Two lines: gnuplot's "\n" inside a double-quoted string.
-  std::string title = common::GnuplotQuote("robustness of " +
-                                        std::filesystem::path(r.scenario_file).filename().string() +
-                                        ": largest magnitude survived");
-  title.pop_back();
-  title += "\\n(a bar at the bottom: not even the smallest; at the top: the largest tried)\"";
+  // Two lines: the file name single-quoted (inert), joined to climbsim's own "\n" (only a
+  // double-quoted string turns it into a line break).
+  const std::string title =
+      common::GnuplotQuote("robustness of " +
+                           std::filesystem::path(r.scenario_file).filename().string() +
+                           ": largest magnitude survived") +
+      ".\"\\n(a bar at the bottom: not even the smallest; at the top: the largest tried)\"";
   std::string script =
       "set terminal pngcairo size " + std::to_string(330 * cols) + "," +
       std::to_string(60 + 360 * rows) +
       " noenhanced\nset output OUTPUT(0)\n"
-      "data = " +
-      common::GnuplotQuote(dir + "/robustness.dat") +
-      "\n"
+      "data = 'robustness.dat'\n"  // gnuplot runs in `dir`
       "set style fill solid 0.8\nset boxwidth 0.6\nset grid ytics\nset logscale y\n"
       "set lmargin 11\nset rmargin 2\nset bmargin 4\n"
       "set xrange [-0.6:1.6]\nset xtics rotate by -20 font ',9'\nunset key\n"
@@ -455,7 +454,7 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
         " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
   }
   script += "unset multiplot\n";
-  return common::RunGnuplot(script, {dir + "/robustness.png"});
+  return common::RunGnuplot(dir, script, {"robustness.png"});
 }
 
 }  // namespace climbsim::optimise

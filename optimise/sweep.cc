@@ -141,18 +141,18 @@ std::string WriteSweep(const std::string& dir, const std::vector<std::string>& f
     const std::string fell = "(column(" + std::to_string(col + 1) + ") > 0.5)";
     plots += std::string(f ? ", " : "") + "data using 1:(" + fell + " ? NaN : 100*column(" +
              std::to_string(col) + ")) with linespoints lw 2 lc " + std::to_string(f + 1) +
-             " title '" + names[f] + "', data using 1:(" + fell +
-             " ? 0 : NaN) with points pt 2 ps 2 lc " + std::to_string(f + 1) + " title '" +
-             names[f] + " fell'";
+             " title " + common::GnuplotQuote(names[f]) + ", data using 1:(" + fell +
+             " ? 0 : NaN) with points pt 2 ps 2 lc " + std::to_string(f + 1) + " title " +
+             common::GnuplotQuote(names[f] + " fell");
   }
   const std::string script =
       "set terminal pngcairo size 900,560 noenhanced\nset output OUTPUT(0)\n"
       "set datafile separator ','\nset key top right\nset grid\n"
       "set title 'climbsim sweep: mean speed along the travel direction'\n"
       "set xlabel " + common::GnuplotQuote(o.key) + "\nset ylabel 'speed [cm/s]'\n"
-      "data = " + common::GnuplotQuote(dir + "/sweep.csv") + "\n"
+      "data = 'sweep.csv'\n"  // gnuplot runs in `dir`
       "plot " + plots + "\n";
-  return common::RunGnuplot(script, {dir + "/sweep.png"});
+  return common::RunGnuplot(dir, script, {"sweep.png"});
 }
 
 }  // namespace climbsim::optimise

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/common.h"
 #include "optimise/optimise.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
@@ -134,19 +135,44 @@ double LoadAverage() {
   return load;
 }
 
+// The options of one of bench optimise's runs in `dir`: an earlier bench's run is replaced
+// whole, anything else a user has there is refused.
+sim::RunFolderOptions BenchRunFolder(const std::string& dir, const std::string& file) {
+  return {
+      .made_by = "optimise", .force = sim::RunFolderMadeBy(dir) == "optimise", .inputs = {file}};
+}
+
+// One MPI run: `climbsim optimise` under mpirun, from an argument vector (no shell). Returns
+// "" or why it failed.
+std::string MpiRun(const std::string& file, int evaluations, const std::string& dir, int ranks) {
+  std::vector<std::string> argv = {"mpirun", "-np", std::to_string(ranks), "--oversubscribe"};
+  // Open MPI refuses root unless told (containers and CI often run as root).
+  if (geteuid() == 0) argv.push_back("--allow-run-as-root");
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  argv.insert(argv.end(), {self, "optimise", file, "--out", dir, "--max-evaluations",
+                           std::to_string(evaluations), "--threads", "1", "--quiet"});
+  if (BenchRunFolder(dir, file).force) argv.push_back("--force");  // an earlier bench's run
+  return common::RunProcess(argv, {.stdout_path = ""});
+}
+
 // Evaluations per second of `climbsim optimise` with 1 and 2 threads on a short budget, and
 // with 1 and 2 MPI ranks of one thread each when built with MPI and mpirun is on the PATH.
 // Each run also reports the CPU seconds it took (all threads, or all ranks) and the load
 // average when it ended: on a shared machine the wall time says little without them.
 void OptimiseSpeed(const std::string& file, int evaluations, const std::string& out,
                    const std::string& only) {
+  // Every output folder is checked before any work (and before anything in it is replaced).
+  for (const char* sub : {"threads1", "threads2", "mpi1", "mpi2"}) {
+    const std::string dir = out + "/" + sub;
+    sim::CheckOutputFolder(dir, BenchRunFolder(dir, file));
+  }
   std::printf("climbsim bench optimise: %s, %d evaluations\n", file.c_str(), evaluations);
   if (only != "mpi") {
     double rate[2] = {0, 0};
     for (int threads : {1, 2}) {
       optimise::Options o;
       o.out_dir = out + "/threads" + std::to_string(threads);
-      o.force = sim::RunFolderMadeBy(o.out_dir) == "optimise";  // an earlier bench's run
+      o.force = BenchRunFolder(o.out_dir, file).force;  // an earlier bench's run
       o.threads = threads;
       o.max_evaluations = evaluations;
       const double cpu0 = CpuSeconds(RUSAGE_SELF);
@@ -160,27 +186,14 @@ void OptimiseSpeed(const std::string& file, int evaluations, const std::string& 
     }
     std::printf("  speed-up with 2 threads: %.2fx\n", rate[1] / rate[0]);
   }
-  if (only != "threads" && optimise::BuiltWithMpi() &&
-      std::system("command -v mpirun >/dev/null 2>&1") == 0) {
+  if (only != "threads" && optimise::BuiltWithMpi() && !common::FindInPath("mpirun").empty()) {
     // The same optimisation as 1 and 2 MPI ranks of one thread each (mpirun from PATH).
     double mpi_rate[2] = {0, 0};
     for (int ranks : {1, 2}) {
       const std::string dir = out + "/mpi" + std::to_string(ranks);
-      // Open MPI refuses root unless told (containers and CI often run as root).
-      const std::string cmd = "mpirun -np " + std::to_string(ranks) +
-                              (geteuid() == 0 ? " --allow-run-as-root" : "") +
-                              " --oversubscribe climbsim_self optimise '" + file + "' --out '" +
-                              dir + "' --max-evaluations " + std::to_string(evaluations) +
-                              " --threads 1 --quiet";
-      const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
-      std::string line = cmd;
-      line.replace(line.find("climbsim_self"), 13, "'" + self + "'");
-      std::filesystem::remove(dir + "/summary.json");
       const double cpu0 = CpuSeconds(RUSAGE_CHILDREN);
-      if (std::system(line.c_str()) != 0) {
-        std::printf("  mpirun -np %d failed: %s\n", ranks, line.c_str());
-        return;
-      }
+      const std::string error = MpiRun(file, evaluations, dir, ranks);
+      if (!error.empty()) throw std::runtime_error("bench optimise: mpirun failed: " + error);
       const double cpu = CpuSeconds(RUSAGE_CHILDREN) - cpu0;
       std::ifstream in(dir + "/summary.json");
       const nlohmann::json j = nlohmann::json::parse(in);

@@ -60,6 +60,10 @@ void AddOptimiseCommand(CLI::App& app) {
       std::snprintf(note, sizeof(note), "best J %.5f m/s", best);
       progress.Update(f, note);
     });
+    if (!r.plot_warning.empty()) {  // the results stand; the promised plot is missing
+      std::fprintf(stderr, "climbsim optimise: no convergence.png: %s\n", r.plot_warning.c_str());
+      ExitCode() = 1;
+    }
     if (quiet || !root) return;
     std::printf("climbsim optimise: %zu evaluations (%d computed) in %.1f s, %d process%s\n",
                 r.history.size(), r.evaluations_computed, r.wall_time_s, r.processes,
