@@ -316,7 +316,9 @@ Run LoadRun(const std::string& dir_in) {
 
   // model.xml: the legs (robot contract) and the scene's travel direction.
   const std::string model_path = dir + "/model.xml";
-  run.model_xml = ReadWholeFile(model_path, "the composed model of the run");
+  // Compiled from its text: its meshes/ (if any) named by their place, as found now.
+  run.model_xml =
+      sim::WithRunMeshes(ReadWholeFile(model_path, "the composed model of the run"), dir);
   std::string error;
   mjModel* m = common::CompileMjcfString(run.model_xml, &error);
   if (m == nullptr) throw InputError(model_path, 0, 0, "", "MuJoCo cannot load it: " + error);
