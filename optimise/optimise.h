@@ -192,7 +192,9 @@ struct RobustnessOptions {
   double duration_s = 10.0;   // 0: the scenario's
   int seeds = 3;
   int phases = 4;
-  double push_time_s = 4.0;   // first push (at most a third of the duration)
+  // First push, at most a third of the duration (else InputError); default: 4 s, or a
+  // third of the duration when that is earlier.
+  std::optional<double> push_time_s;
   double tolerance = 0.1;
   int threads = 0;            // 0: all cores
   std::vector<std::string> families;  // empty: all
