@@ -108,6 +108,28 @@ std::string MeshRobot(const std::string& dir) {
   return climbsim::testing::WriteFile(dir + "/robot.xml", xml);
 }
 
+// Without a meshdir: an absolute file, one relative to the working folder (as MuJoCo reads the
+// composed model), the same file twice, a mesh in a comment and a default left as they are.
+TEST(RunFolder, CarryMeshesWithoutAMeshdir) {
+  const std::string xml =
+      "<mujoco model=\"m\">\n  <!-- <mesh file=\"old.stl\"/> -->\n"
+      "  <default><mesh scale=\"2 2 2\"/></default>\n"
+      "  <asset><mesh name=\"a\" file=\"/abs/a&amp;b.stl\"/><mesh name=\"b\" file=\"parts/b.obj\"/>"
+      "<mesh name=\"c\" file = '/abs/a&amp;b.stl'/></asset>\n</mujoco>\n";
+  const sim::CarriedModel c = sim::CarryMeshes(xml);
+  ASSERT_EQ(c.meshes.size(), 2u);
+  EXPECT_EQ(c.meshes[0].source, "/abs/a&b.stl");
+  EXPECT_EQ(c.meshes[0].name, "a&b.stl");
+  EXPECT_EQ(c.meshes[1].source, (fs::current_path() / "parts/b.obj").string());
+  EXPECT_EQ(c.meshes[1].name, "b.obj");
+  EXPECT_EQ(c.xml,
+            "<mujoco model=\"m\">\n  <compiler meshdir=\"meshes/\"/>\n"
+            "  <!-- <mesh file=\"old.stl\"/> -->\n"
+            "  <default><mesh scale=\"2 2 2\"/></default>\n"
+            "  <asset><mesh name=\"a\" file=\"a&amp;b.stl\"/><mesh name=\"b\" file=\"b.obj\"/>"
+            "<mesh name=\"c\" file = 'a&amp;b.stl'/></asset>\n</mujoco>\n");
+}
+
 // A custom robot with a meshdir: its run folder carries the meshes (meshes/, model.xml naming
 // them relative to itself), so that the folder moved elsewhere, the original meshes deleted,
 // still inspects and compiles.
