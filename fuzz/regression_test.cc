@@ -1,7 +1,10 @@
 // Every input the scenario fuzzer ever flagged (fuzz/regressions/), replayed through the
 // loader in the main build, with the same check as the fuzzer (fuzz/scenario_check.h): an
 // InputError or a valid scenario that reads back to itself, never a crash or another
-// exception. The examples go through the same check: each must be valid.
+// exception. The examples go through the same check: each must be valid. Likewise the run-
+// folder readers (fuzz/run_files_check.h): every input of fuzz/run_files_regressions/ is read
+// or rejected with an InputError naming its file, and every seed (fuzz/run_files_seeds/, files
+// of a real run) is read.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +13,9 @@
 #include <sstream>
 #include <vector>
 
+#include "fuzz/run_files_check.h"
 #include "fuzz/scenario_check.h"
+#include "tests/common/test_util.h"
 
 namespace climbsim::fuzz {
 namespace {
@@ -92,6 +97,58 @@ TEST(FuzzRegressions, EveryExampleIsValidUnderTheFuzzersCheck) {
     const Check c = CheckScenarioText(Read(f), f.string());
     EXPECT_EQ(c.finding, "");
     EXPECT_EQ(c.outcome, Outcome::kValid) << c.detail;
+  }
+}
+
+RunFileCheck CheckRunFile(const fs::path& input) {
+  const std::string bytes = Read(input);
+  const std::string dir = climbsim::testing::TempDir();
+  return CheckRunFileInput(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), dir);
+}
+
+TEST(FuzzRegressions, EveryRunFileSeedIsRead) {
+  const std::vector<fs::path> files =
+      FilesIn(std::string(CLIMBSIM_SOURCE_DIR) + "/fuzz/run_files_seeds");
+  EXPECT_EQ(files.size(), 5u) << "one seed per reader";
+  for (const fs::path& f : files) {
+    SCOPED_TRACE(f.filename().string());
+    const RunFileCheck c = CheckRunFile(f);
+    EXPECT_EQ(c.finding, "");
+    EXPECT_FALSE(c.rejected) << c.detail;
+  }
+}
+
+TEST(FuzzRegressions, EveryFlaggedRunFileIsRejectedWithItsFileAndNeverCrashes) {
+  const std::string dir = std::string(CLIMBSIM_SOURCE_DIR) + "/fuzz/run_files_regressions";
+  for (const fs::path& f : FilesIn(dir)) {
+    SCOPED_TRACE(f.filename().string());
+    const RunFileCheck c = CheckRunFile(f);
+    EXPECT_EQ(c.finding, "");
+  }
+}
+
+// What the readers do with the findings they were fixed for: a rejection, and a piece of its
+// message (after the place).
+TEST(FuzzRegressions, FixedRunFileFindingsAreRejectedWithTheirKey) {
+  const struct {
+    const char* file;
+    const char* message;
+  } kFixed[] = {
+      // failed_runs read with get<int>: 1e300 is undefined behaviour (UBSan stopped the
+      // fuzzer), and a whole number beyond INT_MAX wrapped to another count.
+      {"checkpoint_failed_runs_1e300.json",
+       "starts[0][0]: wrong value: expected a whole number >= 0, got 1e+300"},
+      {"checkpoint_failed_runs_beyond_int.json",
+       "starts[0][0]: wrong value: expected a whole number >= 0, got 99999999999"},
+  };
+  for (const auto& f : kFixed) {
+    SCOPED_TRACE(f.file);
+    const fs::path path = fs::path(CLIMBSIM_SOURCE_DIR) / "fuzz" / "run_files_regressions" / f.file;
+    ASSERT_TRUE(fs::exists(path));
+    const RunFileCheck c = CheckRunFile(path);
+    EXPECT_EQ(c.finding, "");
+    EXPECT_TRUE(c.rejected);
+    EXPECT_NE(c.detail.find(f.message), std::string::npos) << c.detail;
   }
 }
 

@@ -87,6 +87,9 @@ struct TextTable {
 std::vector<EventRow> ReadEvents(const std::string& path);
 NumericTable ReadTrajectory(const std::string& path);
 TextTable ReadTextCsv(const std::string& path);
+// summary.json: a JSON object with a number duration_s >= 0 (InputError with the line
+// otherwise: not JSON, a number out of range, duration_s missing or negative).
+nlohmann::json ReadSummary(const std::string& path);
 
 // What a folder holds. A folder with events.csv is a simulation run; else with best.yaml an
 // optimise results folder; else with pulloff.csv a pulloff folder; else it is taken for an

@@ -263,27 +263,19 @@ int Run::LegIndex(std::string_view name) const {
   return -1;
 }
 
-Run LoadRun(const std::string& dir_in) {
-  std::string dir = dir_in;
-  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
-  DetectRunKind(dir);  // the folder exists
-  Run run;
-  run.dir = dir;
-
-  // summary.json: written last, so its absence means the run did not finish.
-  const std::string summary_path = dir + "/summary.json";
-  const std::string summary_text = ReadWholeFile(
-      summary_path, "written last by climbsim simulate: without it the run did not finish");
+nlohmann::json ReadSummary(const std::string& path) {
+  nlohmann::json summary;
+  const std::string summary_text =
+      ReadWholeFile(path, "written last by climbsim simulate: without it the run did not finish");
   const auto line_of = [&](size_t byte) {
     byte = std::min(byte, summary_text.size());
     return 1 +
            static_cast<int>(std::count(summary_text.begin(), summary_text.begin() + byte, '\n'));
   };
   try {
-    run.summary = nlohmann::json::parse(summary_text);
+    summary = nlohmann::json::parse(summary_text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(summary_path, line_of(e.byte), 0, "",
-                     std::string("not valid JSON: ") + e.what());
+    throw InputError(path, line_of(e.byte), 0, "", std::string("not valid JSON: ") + e.what());
   } catch (const nlohmann::json::exception& e) {
     // A number out of range ("number overflow parsing '1e400'"): the line of that number.
     const std::string what = e.what();
@@ -295,17 +287,38 @@ Run LoadRun(const std::string& dir_in) {
       const size_t at = token.empty() ? std::string::npos : summary_text.find(token);
       if (at != std::string::npos) line = line_of(at);
     }
-    throw InputError(summary_path, line, 0, "", "not valid climbsim JSON: " + what);
+    throw InputError(path, line, 0, "", "not valid climbsim JSON: " + what);
   }
-  if (!run.summary.is_object() || !run.summary.contains("duration_s") ||
-      !run.summary["duration_s"].is_number()) {
-    throw InputError(summary_path, 0, 0, "duration_s", "missing or not a number");
+  const size_t key = summary_text.find("\"duration_s\"");
+  const int key_line = key == std::string::npos ? 0 : line_of(key);
+  if (!summary.is_object() || !summary.contains("duration_s") ||
+      !summary["duration_s"].is_number()) {
+    throw InputError(path, key_line, 0, "duration_s", "missing or not a number");
   }
+  // A run's simulated time: the window of every report is clipped to [0, duration_s].
+  if (!(summary["duration_s"].get<double>() >= 0.0)) {
+    throw InputError(path, key_line, 0, "duration_s",
+                     "must be >= 0, got " + summary["duration_s"].dump());
+  }
+  return summary;
+}
+
+Run LoadRun(const std::string& dir_in) {
+  std::string dir = dir_in;
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  DetectRunKind(dir);  // the folder exists
+  Run run;
+  run.dir = dir;
+
+  // summary.json: written last, so its absence means the run did not finish.
+  run.summary = ReadSummary(dir + "/summary.json");
   run.duration_s = run.summary["duration_s"].get<double>();
 
   // model.xml: the legs (robot contract) and the scene's travel direction.
   const std::string model_path = dir + "/model.xml";
-  run.model_xml = ReadWholeFile(model_path, "the composed model of the run");
+  // Compiled from its text: its meshes/ (if any) named by their place, as found now.
+  run.model_xml =
+      sim::WithRunMeshes(ReadWholeFile(model_path, "the composed model of the run"), dir);
   std::string error;
   mjModel* m = common::CompileMjcfString(run.model_xml, &error);
   if (m == nullptr) throw InputError(model_path, 0, 0, "", "MuJoCo cannot load it: " + error);

@@ -195,12 +195,15 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 //                                                                      -     0.02 .. 0.99
 //   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
 // Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
-// roughness off the plane scenes, pushes without cpg) are left out.
+// roughness off the plane scenes, pushes without cpg) are left out; named in `families`, one
+// is refused (InputError saying why), before any run.
 struct RobustnessOptions {
   double duration_s = 10.0;   // 0: the scenario's
   int seeds = 3;
   int phases = 4;
-  double push_time_s = 4.0;   // first push (at most a third of the duration)
+  // First push, at most a third of the duration (else InputError); default: 4 s, or a
+  // third of the duration when that is earlier.
+  std::optional<double> push_time_s;
   double tolerance = 0.1;
   int threads = 0;            // 0: all cores
   std::vector<std::string> families;  // empty: all

@@ -24,6 +24,7 @@
 #include <tuple>
 #include <thread>
 
+#include "optimise/checkpoint.h"
 #include "optimise/comm.h"
 #include "optimise/optimise.h"
 #include "common/common.h"
@@ -42,21 +43,6 @@ double CpuSeconds() {
          1e-6 * u.ru_stime.tv_usec;
 }
 
-uint64_t Fnv1a(std::string_view s) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
-// Checksum of a checkpoint: FNV-1a of the fingerprint (scenario and budget) and the
-// canonical dump of the evaluations, as hex.
-std::string CheckpointChecksum(const std::string& fingerprint, const nlohmann::json& starts) {
-  char buf[17];
-  std::snprintf(buf, sizeof(buf), "%016llx",
-                static_cast<unsigned long long>(Fnv1a(fingerprint + "|" + starts.dump())));
-  return buf;
-}
-
 nlopt::algorithm Algorithm(const std::string& name) {
   static const std::map<std::string, nlopt::algorithm> k{
       {"LN_SBPLX", nlopt::LN_SBPLX},     {"LN_NELDERMEAD", nlopt::LN_NELDERMEAD},
@@ -64,55 +50,6 @@ nlopt::algorithm Algorithm(const std::string& name) {
       {"GN_CRS2_LM", nlopt::GN_CRS2_LM}, {"GN_ISRES", nlopt::GN_ISRES},
       {"GN_ESCH", nlopt::GN_ESCH}};
   return k.at(name);
-}
-
-nlohmann::json CostToJson(const Cost& c) {
-  return {{"total", c.total},
-          {"speed_mps", c.speed_mps},
-          {"fall_penalty", c.fall_penalty},
-          {"overload_penalty", c.overload_penalty},
-          {"energy_penalty", c.energy_penalty},
-          {"failed", c.failed},
-          {"failure", c.failure},
-          {"early_stop", c.early_stop},
-          {"stop_time_s", c.stop_time_s},
-          {"wall_time_s", c.wall_time_s}};
-}
-
-Cost CostFromJson(const nlohmann::json& n) {
-  Cost c;
-  c.total = n.at("total").get<double>();
-  c.speed_mps = n.at("speed_mps").get<double>();
-  c.fall_penalty = n.at("fall_penalty").get<double>();
-  c.overload_penalty = n.at("overload_penalty").get<double>();
-  c.energy_penalty = n.at("energy_penalty").get<double>();
-  c.failed = n.at("failed").get<bool>();
-  c.failure = n.at("failure").get<std::string>();
-  // Absent from checkpoints written before early stopping.
-  c.early_stop = n.value("early_stop", std::string());
-  c.stop_time_s = n.value("stop_time_s", 0.0);
-  c.wall_time_s = n.value("wall_time_s", 0.0);
-  return c;
-}
-
-nlohmann::json ToJson(const Evaluation& e) {
-  return {{"x", e.x},
-          {"objective", e.objective},
-          {"nominal", CostToJson(e.nominal)},
-          {"failed_runs", e.failed_runs},
-          {"wall_time_s", e.wall_time_s}};
-}
-
-Evaluation FromJson(const nlohmann::json& j, int start, int index) {
-  Evaluation e;
-  e.start = start;
-  e.index = index;
-  e.x = j.at("x").get<std::vector<double>>();
-  e.objective = j.at("objective").get<double>();
-  e.nominal = CostFromJson(j.at("nominal"));
-  e.failed_runs = j.at("failed_runs").get<int>();
-  e.wall_time_s = j.at("wall_time_s").get<double>();
-  return e;
 }
 
 // What the starts share: their evaluations (for the checkpoint and the progress bar) and
@@ -159,61 +96,6 @@ void WriteCheckpoint(Shared& s) {
                          {"checksum", CheckpointChecksum(s.fingerprint, starts)},
                          {"starts", starts}};
   common::WriteFileAtomic(s.checkpoint_path, j.dump() + "\n");
-}
-
-// Reads DIR/checkpoint.json for --resume: every value of the right type, the scenario's
-// fingerprint, and the checksum of the content (accidental damage is refused; an edit with
-// the checksum recomputed passes here, and RecheckReplayedBest keeps it out of the result).
-std::vector<std::vector<Evaluation>> ReadCheckpoint(const std::string& path,
-                                                    const std::string& fingerprint, int starts,
-                                                    size_t dimension) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    throw InputError(path, 0, 0, "",
-                     "missing: nothing to resume (drop --resume to start over, with --force)");
-  }
-  nlohmann::json j;
-  try {
-    std::ifstream in(path);
-    j = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(path, 0, 0, "", std::string("unreadable: ") + e.what());
-  }
-  if (!j.is_object() || !j.contains("fingerprint") || !j["fingerprint"].is_string() ||
-      !j.contains("checksum") || !j["checksum"].is_string() || !j.contains("starts") ||
-      !j["starts"].is_array()) {
-    throw InputError(path, 0, 0, "",
-                     "not a climbsim checkpoint (expected an object with fingerprint, checksum "
-                     "and starts)");
-  }
-  if (j["fingerprint"].get<std::string>() != fingerprint) {
-    throw InputError(path, 0, 0, "fingerprint",
-                     "belongs to another scenario or budget; drop --resume (and use --force) "
-                     "to start over");
-  }
-  if (j["checksum"].get<std::string>() != CheckpointChecksum(fingerprint, j["starts"])) {
-    throw InputError(path, 0, 0, "checksum",
-                     "does not match the content: the checkpoint was edited or damaged; drop "
-                     "--resume (and use --force) to start over");
-  }
-  std::vector<std::vector<Evaluation>> recorded(starts);
-  const auto& list = j["starts"];
-  for (int s = 0; s < starts && s < static_cast<int>(list.size()); ++s) {
-    if (!list[s].is_array()) throw InputError(path, 0, 0, "starts", "expected lists");
-    for (size_t i = 0; i < list[s].size(); ++i) {
-      const std::string where = "starts[" + std::to_string(s) + "][" + std::to_string(i) + "]";
-      try {
-        recorded[s].push_back(FromJson(list[s][i], s, static_cast<int>(i)));
-      } catch (const nlohmann::json::exception& e) {
-        throw InputError(path, 0, 0, where, std::string("wrong value: ") + e.what());
-      }
-      if (recorded[s].back().x.size() != dimension) {
-        throw InputError(path, 0, 0, where + ".x",
-                         "expected " + std::to_string(dimension) + " parameters");
-      }
-    }
-  }
-  return recorded;
 }
 
 // ---- Batches of rollouts: rank 0 hands them out as workers free up ---------------------------

@@ -18,6 +18,7 @@ namespace climbsim::optimise {
 namespace {
 
 constexpr double kPushDuration = 0.01;
+constexpr double kDefaultPushTimeS = 4.0;  // or a third of the duration when that is earlier
 constexpr double kJitterOffsetM = 0.005;
 constexpr double kJitterYawDeg = 5.0;
 constexpr uint64_t kStreamJitter = 101;
@@ -44,7 +45,7 @@ Setup MakeSetup(const sim::Scenario& base, const RobustnessOptions& options) {
   u.options = options;
   u.duration_s = options.duration_s > 0 ? options.duration_s : base.duration_s;
   u.frequency_hz = base.cpg ? base.cpg->frequency_hz : 0.0;
-  u.push_time_s = std::min(options.push_time_s, u.duration_s / 3.0);
+  u.push_time_s = options.push_time_s.value_or(std::min(kDefaultPushTimeS, u.duration_s / 3.0));
   // Directions on the contract's surface, the plane z = 0 with normal +z: off it; down the
   // slope (gravity along the surface; on a level surface, against the travel); across.
   const std::unique_ptr<sim::CompiledModel> model =
@@ -74,15 +75,23 @@ std::vector<RobustnessFamily> AllFamilies(double mass_kg) {
   };
 }
 
-bool Applicable(const Setup& u, const std::string& family) {
-  if (family.rfind("push_", 0) == 0) return u.frequency_hz > 0;
-  if (family == "pad_failure") return u.base.adhesion.has_value();
-  if (family == "weak_patch") {
-    return u.base.adhesion.has_value() && u.base.adhesion->model == "bonds" && PlaneScene(u.base);
+// Why the scenario cannot take a family, "" when it can.
+std::string CannotTake(const Setup& u, const std::string& family) {
+  if (family.rfind("push_", 0) == 0 && u.frequency_hz <= 0) {
+    return "it has no cpg (the pushes are timed by its gait)";
   }
-  if (family == "roughness") return PlaneScene(u.base);
-  return true;
+  const bool adhesion_family = family == "pad_failure" || family == "weak_patch";
+  if (adhesion_family && !u.base.adhesion) return "it has no adhesion";
+  if (family == "weak_patch" && u.base.adhesion->model != "bonds") {
+    return "its adhesion.model is '" + u.base.adhesion->model + "', not bonds";
+  }
+  if ((family == "weak_patch" || family == "roughness") && !PlaneScene(u.base)) {
+    return "its scene '" + u.base.scene.name + "' is not a plane (floor, wall, ceiling, incline)";
+  }
+  return "";
 }
+
+bool Applicable(const Setup& u, const std::string& family) { return CannotTake(u, family).empty(); }
 
 sim::Scenario MakeCase(const Setup& u, const std::string& family, double magnitude, int mode,
                        int seed, int phase) {
@@ -195,10 +204,11 @@ bool RobustnessSurvives(const sim::Scenario& scenario, double baseline_m, std::s
   return Survives(scenario, baseline_m, &cache, how);
 }
 
-RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
-                                 const std::function<void(double)>& progress) {
-  const sim::Scenario base = sim::LoadScenario(file);
-  const Setup u = MakeSetup(base, options);
+namespace {
+
+// What is refused before any work (bad input, exit code 2): an unknown family, a family the
+// scenario cannot take, a push time the pushes' schedule cannot keep.
+void CheckOptions(const Setup& u, const RobustnessOptions& options) {
   const std::vector<std::string> known = RobustnessFamilyNames();
   for (const std::string& f : options.families) {
     if (std::find(known.begin(), known.end(), f) == known.end()) {
@@ -207,7 +217,30 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
       throw InputError("climbsim bench robustness", 0, 0, "--families",
                        "unknown family '" + f + "' (" + list + ")");
     }
+    const std::string why = CannotTake(u, f);
+    if (!why.empty()) {
+      throw InputError("climbsim bench robustness", 0, 0, "--families",
+                       "the scenario cannot take family '" + f + "': " + why);
+    }
   }
+  // The pushes start within the first third of the run, so that every phase and its outcome
+  // fit in it.
+  const double latest_s = u.duration_s / 3.0;
+  if (options.push_time_s && !(*options.push_time_s >= 0.0 && *options.push_time_s <= latest_s)) {
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "must be in [0, %g] s (a third of the %g s run), got %g",
+                  latest_s, u.duration_s, *options.push_time_s);
+    throw InputError("climbsim bench robustness", 0, 0, "--push-time", buf);
+  }
+}
+
+}  // namespace
+
+RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
+                                 const std::function<void(double)>& progress) {
+  const sim::Scenario base = sim::LoadScenario(file);
+  const Setup u = MakeSetup(base, options);
+  CheckOptions(u, options);
   std::vector<RobustnessFamily> families;
   for (const auto& f : AllFamilies(u.robot_mass_kg)) {
     const bool wanted = options.families.empty() ||

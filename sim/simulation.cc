@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
+#include <sstream>
 
 #include "sim/adhesion_effect.h"
 #include "sim/controller.h"
@@ -427,7 +429,17 @@ std::vector<std::string> ScenarioInputs(const Scenario& s) {
 
 void WriteRunFiles(const std::string& dir, const Simulation& sim, const nlohmann::json& extra) {
   common::WriteFileAtomic(dir + "/scenario.yaml", ScenarioToYamlText(sim.scenario()));
-  common::WriteFileAtomic(dir + "/model.xml", sim.world().Xml());
+  // model.xml and the mesh files it reads, in meshes/ beside it: the folder travels.
+  const CarriedModel model = CarryMeshes(sim.world().Xml());
+  if (!model.meshes.empty()) std::filesystem::create_directories(dir + "/" + kRunMeshDir);
+  for (const CarriedModel::Mesh& mesh : model.meshes) {
+    std::ifstream in(mesh.source, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read the mesh file " + mesh.source);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    common::WriteFileAtomic(dir + "/" + kRunMeshDir + mesh.name, bytes.str());
+  }
+  common::WriteFileAtomic(dir + "/model.xml", model.xml);
   const std::string traj = sim.TrajectoryCsv();
   if (!traj.empty()) common::WriteFileAtomic(dir + "/trajectory.csv", traj);
   common::WriteFileAtomic(dir + "/events.csv", sim.EventsCsv());

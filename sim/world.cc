@@ -1,5 +1,6 @@
 #include "sim/world.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -8,8 +9,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
+#include <set>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "adhesion/adhesion.h"
 
@@ -161,6 +166,58 @@ std::string IncludedChildren(const std::string& path, int depth) {
   }
   return ExpandIncludes(xml.substr(open_end + 1, close - open_end - 1),
                         std::filesystem::path(path).parent_path().string(), depth + 1);
+}
+
+// Where each element <tag ...> of an MJCF text starts and ends (just past its '>'), comments
+// left out.
+std::vector<std::pair<size_t, size_t>> Elements(const std::string& xml, const std::string& tag) {
+  std::vector<std::pair<size_t, size_t>> out;
+  const std::string open = "<" + tag;
+  for (size_t at = 0; at < xml.size();) {
+    if (xml.compare(at, 4, "<!--") == 0) {
+      const size_t end = xml.find("-->", at + 4);
+      at = end == std::string::npos ? xml.size() : end + 3;
+      continue;
+    }
+    const char next = at + open.size() < xml.size() ? xml[at + open.size()] : '\0';
+    if (xml.compare(at, open.size(), open) != 0 ||
+        !(std::isspace(static_cast<unsigned char>(next)) || next == '/' || next == '>')) {
+      ++at;
+      continue;
+    }
+    const size_t close = xml.find('>', at);
+    if (close == std::string::npos) break;
+    out.emplace_back(at, close + 1);
+    at = close + 1;
+  }
+  return out;
+}
+
+// Where the value of attribute `name` of one element's text starts, and its length (as
+// written, entities and all); npos when the element has none.
+std::pair<size_t, size_t> FindAttribute(const std::string& element, const std::string& name) {
+  for (size_t key = element.find(name); key != std::string::npos;
+       key = element.find(name, key + 1)) {
+    if (key == 0 || !std::isspace(static_cast<unsigned char>(element[key - 1]))) continue;
+    size_t q = element.find_first_not_of(" \t\r\n", key + name.size());
+    if (q == std::string::npos || element[q] != '=') continue;
+    q = element.find_first_not_of(" \t\r\n", q + 1);
+    if (q == std::string::npos || (element[q] != '"' && element[q] != '\'')) continue;
+    const size_t end = element.find(element[q], q + 1);
+    if (end == std::string::npos) break;
+    return {q + 1, end - q - 1};
+  }
+  return {std::string::npos, 0};
+}
+
+// `file`'s name, or stem_2.ext, stem_3.ext ... when another file took it.
+std::string UniqueName(const std::filesystem::path& file, std::set<std::string>* taken) {
+  std::string name = file.filename().string();
+  for (int k = 2; taken->count(name) > 0; ++k) {
+    name = file.stem().string() + "_" + std::to_string(k) + file.extension().string();
+  }
+  taken->insert(name);
+  return name;
 }
 
 }  // namespace
@@ -415,6 +472,69 @@ std::string World::Xml() const {
 World::~World() {
   mj_deleteData(data_);
   mj_deleteModel(model_);
+}
+
+CarriedModel CarryMeshes(const std::string& xml) {
+  namespace fs = std::filesystem;
+  // What MuJoCo 2.2.2 reads: the last meshdir given + file (the file alone when absolute; the
+  // composed model's own folder is the working folder), without its folders under strippath.
+  const std::vector<std::pair<size_t, size_t>> compilers = Elements(xml, "compiler");
+  std::string meshdir;
+  bool strip = false;
+  for (const auto& [begin, end] : compilers) {
+    const std::string element = xml.substr(begin, end - begin);
+    const auto [dir_at, dir_size] = FindAttribute(element, "meshdir");
+    if (dir_at != std::string::npos) meshdir = XmlUnescape(element.substr(dir_at, dir_size));
+    const auto [strip_at, strip_size] = FindAttribute(element, "strippath");
+    if (strip_at != std::string::npos) strip = element.substr(strip_at, strip_size) == "true";
+  }
+  CarriedModel carried{xml, {}};
+  std::vector<std::tuple<size_t, size_t, std::string>> edits;  // at, size, new value
+  std::map<std::string, std::string> name_of;                  // source -> name in meshes/
+  std::set<std::string> taken;
+  for (const auto& [begin, end] : Elements(xml, "mesh")) {
+    const std::string element = xml.substr(begin, end - begin);
+    const auto [at, size] = FindAttribute(element, "file");
+    if (at == std::string::npos) continue;  // vertices given inline
+    fs::path file = XmlUnescape(element.substr(at, size));
+    if (strip) file = file.filename();
+    const fs::path source =
+        (file.is_absolute() ? file : fs::absolute(fs::path(meshdir) / file)).lexically_normal();
+    const auto [it, fresh] = name_of.emplace(source.string(), "");
+    if (fresh) {
+      it->second = UniqueName(file, &taken);
+      carried.meshes.push_back({source.string(), it->second});
+    }
+    edits.emplace_back(begin + at, size, XmlAttribute(it->second));
+  }
+  if (carried.meshes.empty()) return carried;  // the text as it was, byte for byte
+  for (const auto& [begin, end] : compilers) {
+    const auto [at, size] = FindAttribute(xml.substr(begin, end - begin), "meshdir");
+    if (at != std::string::npos) edits.emplace_back(begin + at, size, std::string(kRunMeshDir));
+  }
+  // Back to front, so that the positions before each edit hold.
+  std::sort(edits.begin(), edits.end(),
+            [](const auto& a, const auto& b) { return std::get<0>(a) > std::get<0>(b); });
+  for (const auto& [at, size, value] : edits) carried.xml.replace(at, size, value);
+  if (meshdir.empty()) {
+    const std::vector<std::pair<size_t, size_t>> root = Elements(carried.xml, "mujoco");
+    const size_t after = root.empty() ? 0 : root.front().second;
+    carried.xml.insert(after, "\n  <compiler meshdir=\"" + std::string(kRunMeshDir) + "\"/>");
+  }
+  return carried;
+}
+
+std::string WithRunMeshes(const std::string& xml, const std::string& run_dir) {
+  std::error_code ec;
+  const std::filesystem::path meshes = std::filesystem::path(run_dir) / kRunMeshDir;
+  if (!std::filesystem::is_directory(meshes, ec)) return xml;
+  const std::string dir = std::filesystem::absolute(meshes, ec).string();
+  std::string out = xml;
+  const size_t close = out.rfind("</mujoco>");
+  // MuJoCo takes the last meshdir given.
+  out.insert(close == std::string::npos ? out.size() : close,
+             "  <compiler meshdir=\"" + XmlAttribute(dir) + "\"/>\n");
+  return out;
 }
 
 }  // namespace climbsim::sim

@@ -149,8 +149,31 @@ std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_
 // own includes expanded in turn; relative names resolve against base_dir, or against the
 // including file's folder inside an included file), each between "climbsim: begin of NAME"
 // and "end of NAME" comments (the file name only). Throws std::runtime_error when a file cannot be
-// read. Asset files (meshes, textures from files) are not copied: the bundled models use none.
+// read. Asset files are not copied here (CarryMeshes makes a run folder carry its meshes).
 std::string ExpandIncludes(const std::string& xml, const std::string& base_dir, int depth = 0);
+
+// A run folder carries the mesh files its model reads, in this subfolder beside model.xml.
+inline constexpr const char* kRunMeshDir = "meshes/";
+
+// A model text made to travel: every <mesh file="..."> names a copy in meshes/ beside the
+// model (the file's own name; stem_2.ext and so on when two files share one), and every
+// meshdir is "meshes/" (one is added when none was given). `meshes` lists each file read (an
+// absolute path, resolved as MuJoCo 2.2.2 resolves it for the composed model) and its name
+// there. A model that reads no mesh file comes back unchanged, byte for byte.
+struct CarriedModel {
+  struct Mesh {
+    std::string source;  // the file the model read
+    std::string name;    // its name in meshes/
+  };
+  std::string xml;
+  std::vector<Mesh> meshes;
+};
+CarriedModel CarryMeshes(const std::string& xml);
+
+// A run folder's model.xml made compilable from its text (common::CompileMjcfString, whose
+// relative paths resolve against the working folder): meshdir set to run_dir's meshes/ as an
+// absolute path. Unchanged when run_dir has no meshes/.
+std::string WithRunMeshes(const std::string& xml, const std::string& run_dir);
 
 }  // namespace climbsim::sim
 

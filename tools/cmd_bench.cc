@@ -309,10 +309,12 @@ void AddBenchCommand(CLI::App& app) {
   rob->add_option("--phases", robust.phases, "push times spread over one gait cycle")
       ->check(CLI::Range(1, 32))
       ->capture_default_str();
-  rob->add_option("--push-time", robust.push_time_s,
-                  "first push [s] (at most a third of the duration)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  // Given or not: not given, the default depends on the duration (optimise.h).
+  static double push_time_s = 0.0;
+  static CLI::Option* push_time = nullptr;
+  push_time = rob->add_option(
+      "--push-time", push_time_s,
+      "first push [s], at most a third of the duration (default: 4, or a third if earlier)");
   rob->add_option("--families", families,
                   "comma-separated: push_off, push_down, push_side, payload, pad_failure, "
                   "weak_patch, roughness (default: all the scenario can take)");
@@ -324,6 +326,7 @@ void AddBenchCommand(CLI::App& app) {
       "--duration 3 --seeds 1 --phases 1 --families push_down,pad_failure --out "
       "runs/robustness_quick");
   rob->callback([] {
+    if (push_time->count() > 0) robust.push_time_s = push_time_s;
     robust.families.clear();
     std::string cur;
     for (char c : families + ",") {

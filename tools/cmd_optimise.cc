@@ -38,8 +38,8 @@ void AddOptimiseCommand(CLI::App& app) {
   cmd->footer(
       "Examples:\n  climbsim optimise examples/gecko_wall.yaml --out runs/gecko_opt "
       "--max-evaluations 20\n"
-      "  mpirun -np 4 climbsim optimise examples/gecko_wall.yaml --out runs/gecko_opt   "
-      "(the same best.yaml)");
+      "  mpirun -np 4 climbsim optimise examples/gecko_wall.yaml --out runs/gecko_opt_mpi "
+      "--max-evaluations 20   (the same best.yaml)");
   cmd->callback([] {
     optimise::Options o;
     o.out_dir = out_dir;

@@ -164,6 +164,43 @@ TEST(HelpExamples, EveryVerbHasACase) {
   EXPECT_EQ(ListedVerbs(), cased);
 }
 
+// Every example line of a verb's help ("Example:" / "Examples:" to the end), with what comes
+// before "climbsim" (mpirun -np 4) and after two blanks (a remark) left out.
+std::vector<std::string> ExampleLines(const std::string& help) {
+  std::vector<std::string> lines;
+  const size_t at = help.find("Example");
+  if (at == std::string::npos) return lines;
+  std::istringstream in(help.substr(at));
+  for (std::string line; std::getline(in, line);) {
+    const size_t from = line.find("climbsim ");
+    if (line.rfind("  ", 0) != 0 || from == std::string::npos) continue;
+    line = line.substr(from);
+    lines.push_back(line.substr(0, line.find("   ")));
+  }
+  return lines;
+}
+
+// A user who runs the examples one after another gets every one done: no two write to the
+// same --out (the second would be refused, its folder holding the first one's run).
+TEST(HelpExamples, EveryExampleWritesToAFolderOfItsOwn) {
+  std::map<std::string, std::string> writer;  // --out -> the example that writes it
+  for (const VerbCase& c : Verbs()) {
+    const CliResult help = RunClimbsim(c.verb + " --help");
+    ASSERT_EQ(help.code, 0) << help.err;
+    for (const std::string& example : ExampleLines(help.out)) {
+      const std::vector<std::string> tokens = Split(example);
+      for (size_t i = 0; i + 1 < tokens.size(); ++i) {
+        if (tokens[i] != "--out") continue;
+        const auto [it, fresh] = writer.emplace(tokens[i + 1], example);
+        // The same command shown twice (a parent's help and the verb's) is one run.
+        EXPECT_TRUE(fresh || it->second == example) << "two examples write to " << tokens[i + 1]
+                                                    << ":\n  " << it->second << "\n  " << example;
+      }
+    }
+  }
+  EXPECT_GE(writer.size(), 8u) << "examples found: the parsing above missed some";
+}
+
 class HelpExample : public ::testing::TestWithParam<VerbCase> {};
 
 TEST_P(HelpExample, RunsWithExitCodeZero) {
