@@ -11,7 +11,6 @@
 #include <limits>
 #include <optional>
 #include <sstream>
-#include <thread>
 
 #include "adhesion/adhesion.h"
 #include "common/common.h"
@@ -166,25 +165,29 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
   const double capacity = p.pad.sigma_t_pa * p.pad.width_m * p.pad.length_m;
   const double gain = p.gain_n > 0 ? p.gain_n : capacity;
   const auto started = std::chrono::steady_clock::now();
-  std::thread mujoco_thread([&] {
-    if (!mujoco_rig) return;
-    for (Row& r : rows) r.mujoco = mujoco_rig->Run(r.angle_deg * kDeg);
-  });
-  for (Row& r : rows) {
-    const double theta = r.angle_deg * kDeg;
-    if (bond_rig) r.bonds = bond_rig->Run(theta);
-    adhesion::PullSetup setup{.angle_rad = theta, .azimuth_rad = p.azimuth_rad, .arm_m = p.arm_m};
-    adhesion::PulloffOptions qs;
-    qs.max_force_factor = p.max_force_factor;
-    const adhesion::PulloffResult q = adhesion::PullOff(p.pad, setup, qs);
-    r.quasi_static_n = q.force_n;
-    if (p.arm_m == 0.0) {
-      r.closed_form_n = capacity * adhesion::CentralPulloffPerCapacity(theta, p.pad.mu);
+  // Task 1 sweeps the MuJoCo rig on a second thread; an exception in either reaches the caller.
+  common::ParallelFor(2, 2, [&](int task) {
+    if (task == 1) {
+      if (!mujoco_rig) return;
+      for (Row& r : rows) r.mujoco = mujoco_rig->Run(r.angle_deg * kDeg);
+      return;
     }
-    r.mujoco_closed_n =
-        adhesion::MujocoPulloffClosedForm(gain, p.friction, p.pad.width_m, p.arm_m, theta);
-  }
-  mujoco_thread.join();
+    for (Row& r : rows) {
+      const double theta = r.angle_deg * kDeg;
+      if (bond_rig) r.bonds = bond_rig->Run(theta);
+      adhesion::PullSetup setup{
+          .angle_rad = theta, .azimuth_rad = p.azimuth_rad, .arm_m = p.arm_m};
+      adhesion::PulloffOptions qs;
+      qs.max_force_factor = p.max_force_factor;
+      const adhesion::PulloffResult q = adhesion::PullOff(p.pad, setup, qs);
+      r.quasi_static_n = q.force_n;
+      if (p.arm_m == 0.0) {
+        r.closed_form_n = capacity * adhesion::CentralPulloffPerCapacity(theta, p.pad.mu);
+      }
+      r.mujoco_closed_n =
+          adhesion::MujocoPulloffClosedForm(gain, p.friction, p.pad.width_m, p.arm_m, theta);
+    }
+  });
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 

@@ -56,24 +56,6 @@ void CheckFinite(const char* where, const char* key, double v) {
   }
 }
 
-// A controller's period by the rule of the scenario's cpg.control_period_s (a whole multiple
-// of the physics time step), where 0 (every step, the controller API's default) is allowed
-// too. Simulation would otherwise round any value, NaN included, to a number of steps.
-void CheckControlPeriod(const Controller& c, double timestep_s) {
-  const double period_s = c.control_period_s();
-  const double ratio = period_s / timestep_s;
-  const bool multiple = std::isfinite(period_s) && ratio >= 0.5 &&
-                        ratio <= sim::kMaxScenarioSteps &&
-                        std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio;
-  if (period_s != 0.0 && !multiple) {
-    throw InputError(std::string("controller '") + c.name() + "'", 0, 0, "control_period_s()",
-                     "must be 0 (every step) or a whole multiple of the time step (" +
-                         ExactNumber(timestep_s) + " s), at most " +
-                         ExactNumber(sim::kMaxScenarioSteps) + " of them; got " +
-                         ExactNumber(period_s));
-  }
-}
-
 // Sets one top-level key of `s` through the scenario loader: the checks and messages of a
 // file (the key and the value; no line, since the value came from Python). Every other key
 // keeps its value and the place it was read at.
@@ -141,10 +123,6 @@ class PySimulation {
  public:
   PySimulation(const sim::Scenario& scenario, std::shared_ptr<Controller> controller)
       : model_(sim::CompileScenario(scenario)), controller_(std::move(controller)) {
-    if (controller_) {
-      CheckControlPeriod(*controller_,
-                         scenario.physics.timestep_s.value_or(model_->model()->opt.timestep));
-    }
     sim_ = std::make_unique<sim::Simulation>(scenario, *model_, controller_);
   }
 
@@ -417,7 +395,7 @@ call only; their arrays are copies (cmd's and pose's are written back when the c
              const char* where = "climbsim.SineOffsetController";
              CheckFinite(where, "amplitude_rad", amplitude_rad);
              CheckFinite(where, "frequency_hz", frequency_hz);
-             // period_s: checked with the run's time step (CheckControlPeriod).
+             // period_s: checked with the run's time step by sim::Simulation.
              return std::make_shared<SineOffsetController>(amplitude_rad, frequency_hz, period_s);
            }),
            py::arg("amplitude_rad"), py::arg("frequency_hz"), py::arg("period_s") = 0.0);

@@ -64,6 +64,23 @@ void PrintMujocoError(const char* msg) {
   std::exit(1);
 }
 
+// A user controller's period by the rule of cpg.control_period_s (a whole multiple of the
+// physics time step), where 0 (every step, the controller API's default) is allowed too: the
+// run would otherwise round any value, NaN included, to a number of steps.
+void CheckControlPeriod(const Controller& c, double timestep_s) {
+  const double period_s = c.control_period_s();
+  const double ratio = period_s / timestep_s;
+  const bool multiple = std::isfinite(period_s) && ratio >= 0.5 && ratio <= kMaxScenarioSteps &&
+                        std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio;
+  if (period_s != 0.0 && !multiple) {
+    throw InputError(std::string("controller '") + c.name() + "'", 0, 0, "control_period_s()",
+                     "must be 0 (every step) or a whole multiple of the time step (" +
+                         ExactNumber(timestep_s) + " s), at most " +
+                         ExactNumber(kMaxScenarioSteps) + " of them; got " +
+                         ExactNumber(period_s));
+  }
+}
+
 }  // namespace
 
 void InstallMujocoHandlers() {
@@ -160,6 +177,7 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
   // The controllers: the built-in CPG + reflexes when the scenario has a cpg block, then the
   // user's; one effect runs the chain at the control period (sim/controller.h).
   std::vector<std::shared_ptr<Controller>> chain;
+  if (controller) CheckControlPeriod(*controller, world_.model()->opt.timestep);
   double period_s = controller ? controller->control_period_s() : 0.0;
   if (scenario_.cpg) {
     auto cpg = std::make_unique<CpgEffect>(scenario_, *scenario_.cpg, world_);

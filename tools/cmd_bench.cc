@@ -99,8 +99,8 @@ void SpeedVersus(const std::string& file, const std::vector<std::string>& versus
 
 void Accuracy(const std::string& file, double duration_s, int threads, const std::string& out) {
   // A run folder (docs/run-folders.md), checked before the runs; an earlier bench's replaced.
-  sim::RunFolder folder(out, {.made_by = "bench",
-                              .force = sim::RunFolderMadeBy(out) == "bench",
+  sim::RunFolder folder(out, {.made_by = "bench accuracy",
+                              .force = sim::RunFolderMadeBy(out) == "bench accuracy",
                               .inputs = {file}});
   const optimise::AccuracyReport r = optimise::BenchAccuracy(file, duration_s, threads);
   const std::string warning = optimise::WriteAccuracy(folder.path(), r);
@@ -214,7 +214,9 @@ void Robustness(const std::string& file, const optimise::RobustnessOptions& opti
   // A run folder (docs/run-folders.md), checked and locked before the runs; an earlier
   // bench's replaced.
   sim::RunFolder folder(
-      out, {.made_by = "bench", .force = sim::RunFolderMadeBy(out) == "bench", .inputs = {file}});
+      out, {.made_by = "bench robustness",
+            .force = sim::RunFolderMadeBy(out) == "bench robustness",
+            .inputs = {file}});
   Progress bar("robustness");
   const optimise::RobustnessReport r =
       optimise::BenchRobustness(file, options, [&](double f) { bar.Update(f); });

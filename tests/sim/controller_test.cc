@@ -169,5 +169,30 @@ TEST(Controller, ReleaseLetsThePadGo) {
   EXPECT_EQ(released, 1);
 }
 
+// A controller's period is a whole multiple of the time step, or 0; any other value (negative,
+// NaN, a fraction of a step, one beyond the run's step budget) is refused when the run is
+// built, for a C++ controller as for a Python one, instead of being rounded to a step count.
+class FixedPeriod final : public Controller {
+ public:
+  explicit FixedPeriod(double period_s) : period_s_(period_s) {}
+  double control_period_s() const override { return period_s_; }
+  void Update(const Observation&, Command*) override {}
+
+ private:
+  double period_s_;
+};
+
+TEST(Controller, APeriodThatIsNotAWholeNumberOfStepsIsRefused) {
+  Scenario s = Load("period.yaml", "robot: gecko\nscene: floor\nduration_s: 0.05\n");
+  auto model = CompileScenario(s);
+  const double dt = model->model()->opt.timestep;
+  for (double bad : {-1.0, std::nan(""), 1e300, 1.5 * dt, 0.25 * dt}) {
+    EXPECT_THROW(Simulation run(s, *model, std::make_shared<FixedPeriod>(bad)), InputError) << bad;
+  }
+  for (double good : {0.0, dt, 3 * dt}) {
+    EXPECT_NO_THROW(Simulation run(s, *model, std::make_shared<FixedPeriod>(good))) << good;
+  }
+}
+
 }  // namespace
 }  // namespace climbsim::sim

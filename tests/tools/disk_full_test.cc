@@ -98,4 +98,21 @@ TEST(BenchRobustness, ASecondWriterOfTheFolderIsRefusedByTheLock) {
   EXPECT_FALSE(fs::exists(dir));
 }
 
+// bench accuracy and bench robustness each replace only their own earlier folder: one never
+// takes the other's report for its own.
+TEST(BenchRobustness, AnotherBenchsFolderIsRefusedNotReplaced) {
+  const std::string scenario = WriteFile("df_bench_mix.yaml", kWalk);
+  const std::string dir = TempDir() + "/df_mix";
+  const CliResult first = RunClimbsimArgs({"bench", "robustness", scenario, "--out", dir,
+                                           "--duration", "0.2", "--seeds", "1", "--phases", "1",
+                                           "--families", "push_down", "--threads", "1"});
+  ASSERT_EQ(first.code, 0) << first.err;
+  const CliResult second = RunClimbsimArgs(
+      {"bench", "accuracy", scenario, "--duration", "0.1", "--threads", "1", "--out", dir});
+  EXPECT_EQ(second.code, 2) << second.err;
+  EXPECT_TRUE(Has(second.err, "bench robustness")) << second.err;
+  EXPECT_TRUE(fs::exists(dir + "/robustness.csv"));
+  EXPECT_FALSE(fs::exists(dir + "/accuracy.csv"));
+}
+
 }  // namespace
