@@ -90,6 +90,11 @@ inline std::string ReadFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// True when `text` holds `part` (a message, a file's content).
+inline bool Has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
 inline std::string Source(const std::string& rel) {
   return std::string(CLIMBSIM_SOURCE_DIR) + "/" + rel;
 }

@@ -15,15 +15,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using climbsim::testing::CliResult;
+using climbsim::testing::Has;
 using climbsim::testing::ReadFile;
 using climbsim::testing::RunClimbsimArgs;
 using climbsim::testing::Source;
 using climbsim::testing::TempDir;
 using climbsim::testing::WriteFile;
-
-bool Has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // Files in `dir` whose name holds `part` (staging folders, temporary files).
 int CountNamed(const std::string& dir, const std::string& part) {

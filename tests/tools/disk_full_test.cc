@@ -18,14 +18,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using climbsim::testing::CliResult;
+using climbsim::testing::Has;
 using climbsim::testing::ReadFile;
 using climbsim::testing::RunClimbsimArgs;
 using climbsim::testing::TempDir;
 using climbsim::testing::WriteFile;
-
-bool Has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // A short floor walk: runs in well under a second.
 const char* kWalk = "robot: gecko\nscene: floor\nduration_s: 0.2\ncpg:\n  gait: trot\n";

@@ -18,6 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using climbsim::testing::CliResult;
+using climbsim::testing::Has;
 using climbsim::testing::ReadFile;
 using climbsim::testing::RunClimbsim;
 using climbsim::testing::RunClimbsimArgs;
@@ -28,10 +29,6 @@ using climbsim::testing::WriteFile;
 // events.csv's header (inspect/inspect.h).
 const std::string kEventsHeader =
     "time_s,pad,event,cause,surface,bonded_fraction,fn_n,fx_n,fy_n,mx_nm,my_nm\n";
-
-bool Has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // A short floor walk: runs in well under a second.
 const char* kWalk = "robot: gecko\nscene: floor\nduration_s: 0.2\ncpg:\n  gait: trot\n";
@@ -547,8 +544,10 @@ TEST(CustomRobot, MeshdirResolvesAgainstTheRobotFileAndQuotesInFolderNamesWork) 
     const int status = std::system(cmd.c_str());
     EXPECT_EQ(WEXITSTATUS(status), 0) << folder << ": " << ReadFile(cwd + "/err.txt");
     EXPECT_TRUE(fs::exists(out + "/model.xml")) << folder;
-    std::string error;
-    mjModel* m = climbsim::common::CompileMjcfString(ReadFile(out + "/model.xml"), &error);
+    // model.xml names the run's own copy of the mesh (meshes/ beside it), as MuJoCo reads it.
+    EXPECT_TRUE(fs::exists(out + "/meshes/tet.obj")) << folder;
+    char error[1000] = "";
+    mjModel* m = mj_loadXML((out + "/model.xml").c_str(), nullptr, error, sizeof(error));
     EXPECT_NE(m, nullptr) << folder << ": model.xml does not load: " << error;
     if (m != nullptr) mj_deleteModel(m);
   }
