@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Runs every example (or the ones named) with two climbsim executables and compares what they
+# wrote: trajectory.csv, events.csv and model.xml byte for byte, summary.json less its wall
+# time. For a change that must not change any result (a refactor, a safety fix): build the
+# reference from the commit before it, then
+#   scripts/compare_outputs.sh /path/to/reference/climbsim build/climbsim
+#   scripts/compare_outputs.sh REF NEW examples/gecko_wall.yaml examples/spider_wall.yaml
+# Prints one line per example and exits 1 when any file differs (the runs are kept then).
+set -euo pipefail
+if (($# < 2)); then
+  echo "usage: $0 REFERENCE_CLIMBSIM NEW_CLIMBSIM [EXAMPLE.yaml ...]" >&2
+  exit 2
+fi
+ref=$1
+new=$2
+shift 2
+cd "$(dirname "$0")/.."
+examples=("$@")
+((${#examples[@]})) || examples=(examples/*.yaml)
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/climbsim_compare.XXXXXX")
+status=0
+for example in "${examples[@]}"; do
+  name=$(basename "$example" .yaml)
+  "$ref" simulate "$example" --out "$work/ref/$name" --quiet >"$work/$name.ref.log" 2>&1 &
+  "$new" simulate "$example" --out "$work/new/$name" --quiet >"$work/$name.new.log" 2>&1 ||
+    true
+  wait || true
+  differs=()
+  for f in trajectory.csv events.csv model.xml; do
+    cmp -s "$work/ref/$name/$f" "$work/new/$name/$f" || differs+=("$f")
+  done
+  # summary.json less what depends on the machine's load.
+  if ! python3 - "$work/ref/$name/summary.json" "$work/new/$name/summary.json" <<'EOF'; then
+import json, sys
+def load(path):
+    with open(path) as f:
+        d = json.load(f)
+    for key in ("wall_time_s", "realtime_factor", "steps_per_s"):
+        d.pop(key, None)
+    return d
+sys.exit(0 if load(sys.argv[1]) == load(sys.argv[2]) else 1)
+EOF
+    differs+=(summary.json)
+  fi
+  if ((${#differs[@]})); then
+    echo "$name: DIFFERS: ${differs[*]}"
+    status=1
+  else
+    echo "$name: identical"
+  fi
+done
+if ((status == 0)); then
+  rm -rf "$work"
+else
+  echo "runs kept in $work"
+fi
+exit $status
