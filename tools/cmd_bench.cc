@@ -161,7 +161,9 @@ std::string MpiRun(const std::string& file, int evaluations, const std::string& 
 // average when it ended: on a shared machine the wall time says little without them.
 void OptimiseSpeed(const std::string& file, int evaluations, const std::string& out,
                    const std::string& only) {
-  // Every output folder is checked before any work (and before anything in it is replaced).
+  // The scenario and every output folder are checked before any work (and before anything in
+  // a folder is replaced): bad input is exit 2 here, not a failed mpirun later.
+  optimise::Problem problem(file);
   for (const char* sub : {"threads1", "threads2", "mpi1", "mpi2"}) {
     const std::string dir = out + "/" + sub;
     sim::CheckOutputFolder(dir, BenchRunFolder(dir, file));

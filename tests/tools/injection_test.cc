@@ -234,6 +234,22 @@ TEST(Injection, BenchOptimiseRefusesAUsersFolderBeforeDeletingAnything) {
   EXPECT_EQ(ReadFile(mine), "{\"mine\": 1}\n");
   EXPECT_FALSE(fs::exists(cwd + "/args")) << "mpirun ran";
 }
+
+// A scenario the optimiser cannot take is bad input (exit 2) before mpirun starts, not a
+// failed mpirun after it.
+TEST(Injection, BenchOptimiseRefusesAScenarioWithoutAnOptimiseBlockBeforeMpirun) {
+  const std::string cwd = Fresh("bench_plain");
+  FakeMpirun fake(cwd + "/args");
+  const std::string plain =
+      WriteFile(cwd + "/plain.yaml", "robot: gecko\nscene: floor\nduration_s: 0.1\n");
+  const CliResult r = RunClimbsimArgs(
+      {"bench", "optimise", plain, "--only", "mpi", "--evaluations", "2", "--out", cwd + "/out"},
+      cwd);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("no optimise block"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(cwd + "/args")) << "mpirun ran";
+  EXPECT_FALSE(fs::exists(cwd + "/out"));
+}
 #endif
 
 // Every plot in `dir` is whole, and no temporary is left.
