@@ -5,6 +5,7 @@
 //   CompileMjcfString  the program's one MJCF loader, serialised by one mutex
 //   TempSiblingPath    a temporary name beside a file, unique across processes and threads
 //   WriteFileAtomic    a file that is either complete or absent
+//   Fnv1a64            FNV-1a 64 of bytes, chunk by chunk (guards accidents, not forgery)
 //   RunProcess         a program run from an argument vector, never through a shell
 //   Process            the same, running beside the caller, fed on its standard input
 //   FindInPath         where PATH finds a program ("" when nowhere)
@@ -19,7 +20,9 @@
 #include <mujoco/mujoco.h>
 #include <sys/types.h>
 
+#include <cstdint>
 #include <functional>
+#include <string_view>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -84,6 +87,11 @@ std::string TempSiblingPath(const std::string& path);
 // `path` is either the old file or the whole new one. Throws std::runtime_error (disk full,
 // no permission); the temporary file is then removed.
 void WriteFileAtomic(const std::string& path, const std::string& content);
+
+// FNV-1a 64 of `bytes`, continuing from `hash`: hashing chunks one after the other gives the
+// hash of their concatenation. A check against accidental change, not a cryptographic hash.
+inline constexpr uint64_t kFnv1a64Basis = 14695981039346656037ull;
+uint64_t Fnv1a64(std::string_view bytes, uint64_t hash = kFnv1a64Basis);
 
 // ---- Child processes. No text ever reaches a shell: a program gets its arguments as they
 // are (quotes, backticks, `$(...)`, `;`, newlines included), found by PATH like execvp.

@@ -38,6 +38,11 @@ int WriteAll(int fd, const std::string& content) {
 
 }  // namespace
 
+uint64_t Fnv1a64(std::string_view bytes, uint64_t hash) {
+  for (unsigned char c : bytes) hash = (hash ^ c) * 1099511628211ull;  // the FNV 64 prime
+  return hash;
+}
+
 std::string TempSiblingPath(const std::string& path) {
   static std::atomic<long> counter{0};
   const fs::path p(path);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "optimise/checkpoint.h"
 #include "optimise/optimise.h"
 #include "tests/common/test_util.h"
 
@@ -104,16 +105,10 @@ TEST(OptimiseFailure, ACheckpointThatCannotBeWrittenStopsTheRunAndKeepsThePrevio
   EXPECT_EQ(ReadFile(out + "/best.yaml"), ReadFile(full + "/best.yaml"));
 }
 
-// The checkpoint's checksum as climbsim computes it (optimise/optimiser.cc): FNV-1a of the
-// fingerprint, '|' and the evaluations' JSON, in hex.
+// The checkpoint's checksum as climbsim computes it, as a forger would recompute it.
 std::string Checksum(const nlohmann::json& checkpoint) {
-  const std::string text =
-      checkpoint["fingerprint"].get<std::string>() + "|" + checkpoint["starts"].dump();
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  char buf[17];
-  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(h));
-  return buf;
+  return climbsim::optimise::CheckpointChecksum(checkpoint["fingerprint"].get<std::string>(),
+                                                checkpoint["starts"]);
 }
 
 // An edited checkpoint with its checksum recomputed passes the checksum; the resumed run
