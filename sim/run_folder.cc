@@ -19,173 +19,24 @@
 #include <sstream>
 
 #include "common/common.h"
+#include "sim/run_marker.h"
 
 namespace climbsim::sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Names climbsim's verbs write as data; never the target of a picture or a plot, even in an
-// old run folder without a marker.
-const std::set<std::string>& StandardDataFiles() {
-  static const std::set<std::string> k{
-      "scenario.yaml", "model.xml",       "trajectory.csv", "events.csv",
-      "summary.json",  "checkpoint.json", "history.csv",    "best.yaml",
-      "failures.log",  "convergence.csv", "sweep.csv",      "pulloff.csv",
-      "pulloff.gp",    "accuracy.csv",    "accuracy.dat",   kRunMarker};
-  return k;
-}
+using run_marker::FileEntry;
+using run_marker::ListFiles;
+using run_marker::Marker;
+using run_marker::OthersIn;
+using run_marker::ReadMarker;
+using run_marker::StandardDataFiles;
+using run_marker::Walk;
 
 std::string Quoted(const std::string& s) { return "'" + s + "'"; }
 
 InputError Refuse(const RunFolderOptions& o, const std::string& message) {
   return InputError("climbsim " + o.made_by, 0, 0, o.flag, message);
-}
-
-std::string ReadSmallFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::string text;
-  char buf[4096];
-  while (in && text.size() < (1u << 20)) {
-    in.read(buf, sizeof(buf));
-    text.append(buf, static_cast<size_t>(in.gcount()));
-  }
-  return text;
-}
-
-// One file climbsim wrote, as its marker records it.
-struct Entry {
-  uintmax_t size = 0;
-  std::string hash;
-};
-
-// A folder's marker, read. kOld: schema 1 (names only); kDamaged: empty, `{}`, not JSON, or
-// without the schema; kInProgress: a live run not yet committed.
-struct Marker {
-  enum class Kind { kNone, kDamaged, kOld, kInProgress, kComplete } kind = Kind::kNone;
-  std::string made_by;
-  std::map<std::string, Entry> files;  // relative path → entry
-  std::set<std::string> data;          // relative paths of the run's data
-  nlohmann::json json;
-  bool Usable() const { return kind == Kind::kInProgress || kind == Kind::kComplete; }
-};
-
-// The schema-2 `files` list, or false when it is malformed.
-bool ReadEntries(const nlohmann::json& files, Marker* m) {
-  if (!files.is_array()) return false;
-  for (const auto& f : files) {
-    if (!f.is_object() || !f.contains("path") || !f["path"].is_string() || !f.contains("size") ||
-        !f["size"].is_number_unsigned() || !f.contains("fnv1a64") || !f["fnv1a64"].is_string()) {
-      return false;
-    }
-    m->files[f["path"].get<std::string>()] = {f["size"].get<uintmax_t>(),
-                                              f["fnv1a64"].get<std::string>()};
-  }
-  return true;
-}
-
-Marker ReadMarker(const fs::path& dir) {
-  Marker m;
-  std::error_code ec;
-  const auto st = fs::symlink_status(dir / kRunMarker, ec);
-  if (!fs::exists(st)) return m;
-  m.kind = Marker::Kind::kDamaged;
-  if (!fs::is_regular_file(st)) return m;
-  try {
-    m.json = nlohmann::json::parse(ReadSmallFile(dir / kRunMarker));
-  } catch (const std::exception&) {
-    return m;
-  }
-  const auto& j = m.json;
-  if (!j.is_object() || !j.contains("climbsim_run_folder") ||
-      !j["climbsim_run_folder"].is_number_integer() || !j.contains("made_by") ||
-      !j["made_by"].is_string() || j["made_by"].get<std::string>().empty()) {
-    return m;
-  }
-  m.made_by = j["made_by"].get<std::string>();
-  if (j.contains("data_files") && j["data_files"].is_array()) {
-    for (const auto& f : j["data_files"]) {
-      if (f.is_string()) m.data.insert(f.get<std::string>());
-    }
-  }
-  const int version = j["climbsim_run_folder"].get<int>();
-  if (version == 1) m.kind = Marker::Kind::kOld;
-  if (version != 2 || !j.contains("files") || !ReadEntries(j["files"], &m)) return m;
-  m.kind = j.value("in_progress", false) ? Marker::Kind::kInProgress : Marker::Kind::kComplete;
-  return m;
-}
-
-// `name` without the `.tmp.<pid>_<n>` that common::TempSiblingPath puts before the extension.
-std::string WithoutTempTag(const std::string& name) {
-  const size_t at = name.find(".tmp.");
-  if (at == std::string::npos) return name;
-  size_t end = at + 5;
-  while (end < name.size() &&
-         (std::isdigit(static_cast<unsigned char>(name[end])) || name[end] == '_')) {
-    ++end;
-  }
-  return name.substr(0, at) + name.substr(end);
-}
-
-// `.<name>.climbsim-lock`: the lock file of a folder (left in place by design).
-bool IsLockName(const std::string& name) {
-  const std::string tail = ".climbsim-lock";
-  return name.size() > tail.size() + 1 && name[0] == '.' &&
-         name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-// Whether `e` (a regular file in a folder at `key` below the marker `m`) is climbsim's.
-bool Ours(const fs::directory_entry& e, const Marker& m, const std::string& key) {
-  std::error_code ec;
-  if (!fs::is_regular_file(e.symlink_status(ec))) return false;
-  const std::string name = e.path().filename().string();
-  const uintmax_t size = fs::file_size(e.path(), ec);
-  if (ec) return false;
-  if (key.empty() && name == kRunMarker) return true;
-  if (IsLockName(name) && size == 0) return true;
-  if (m.kind == Marker::Kind::kInProgress && key.empty() && KnownOutputName(WithoutTempTag(name))) {
-    return true;  // a killed live run: its files were never listed
-  }
-  const auto it = m.files.find(key + name);
-  return it != m.files.end() && it->second.size == size && FileHash(e.path()) == it->second.hash;
-}
-
-// Walks `dir` (shown as `shown`, at `key` below the marker `m`): files that are not climbsim's
-// are added to `others`; a subfolder with a marker of its own (best_run/) is judged by it; an
-// empty subfolder is the user's. With `remove`, climbsim's files are unlinked one by one and
-// the folders this emptied removed (rmdir: a folder that still holds anything stays).
-void Walk(const fs::path& dir, const Marker& m, const std::string& shown, const std::string& key,
-          bool remove, std::vector<std::string>* others) {
-  std::error_code ec;
-  std::vector<fs::directory_entry> entries;
-  for (const auto& e : fs::directory_iterator(dir, ec)) entries.push_back(e);
-  std::sort(entries.begin(), entries.end());
-  for (const auto& e : entries) {
-    const std::string name = e.path().filename().string();
-    if (fs::is_directory(e.symlink_status(ec))) {
-      if (fs::is_empty(e.path(), ec)) {
-        others->push_back(shown + name + "/");
-        continue;
-      }
-      const Marker nested = ReadMarker(e.path());
-      if (nested.Usable()) {
-        Walk(e.path(), nested, shown + name + "/", "", remove, others);
-      } else {
-        Walk(e.path(), m, shown + name + "/", key + name + "/", remove, others);
-      }
-      if (remove) ::rmdir(e.path().c_str());
-    } else if (!Ours(e, m, key)) {
-      others->push_back(shown + name);
-    } else if (remove) {
-      ::unlink(e.path().c_str());
-    }
-  }
-}
-
-std::vector<std::string> OthersIn(const fs::path& dir) {
-  std::vector<std::string> others;
-  Walk(dir, ReadMarker(dir), "", "", false, &others);
-  return others;
 }
 
 // The first few of `names`, for a message.
@@ -381,69 +232,7 @@ int TakeLock(const fs::path& dir, std::string* lock_path, Refusal refuse) {
   return fd;
 }
 
-nlohmann::json FileEntry(const fs::path& file, const std::string& rel) {
-  std::error_code ec;
-  return {{"path", rel},
-          {"size", static_cast<uintmax_t>(fs::file_size(file, ec))},
-          {"fnv1a64", FileHash(file.string())}};
-}
-
-// Every regular file below `root` (not the marker) by relative path; `top_known_only`: only
-// the top-level files with the names the verbs write (a live folder a user could add to).
-void ListFiles(const fs::path& root, bool top_known_only, nlohmann::json* files,
-               nlohmann::json* data) {
-  std::error_code ec;
-  std::vector<std::string> rels;
-  for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::end(it);
-       it.increment(ec)) {
-    if (!fs::is_regular_file(it->symlink_status(ec))) continue;
-    const std::string rel = it->path().lexically_relative(root).string();
-    if (rel == kRunMarker) continue;
-    if (top_known_only && (it.depth() > 0 || !KnownOutputName(rel))) continue;
-    rels.push_back(rel);
-  }
-  std::sort(rels.begin(), rels.end());
-  for (const auto& rel : rels) {
-    files->push_back(FileEntry(root / rel, rel));
-    data->push_back(rel);
-  }
-}
-
 }  // namespace
-
-bool IsRunFolder(const std::string& dir) {
-  std::error_code ec;
-  return fs::is_regular_file(fs::path(dir) / kRunMarker, ec);
-}
-
-std::string RunFolderMadeBy(const std::string& dir) {
-  if (!IsRunFolder(dir)) return "";
-  const Marker m = ReadMarker(dir);
-  return m.made_by.empty() ? "unknown" : m.made_by;
-}
-
-bool KnownOutputName(const std::string& name) {
-  static const std::set<std::string> k{"convergence.png", "sweep.png",      "pulloff.png",
-                                       "accuracy.png",    "robustness.csv", "robustness.dat",
-                                       "robustness.png"};
-  return (StandardDataFiles().count(name) > 0 && name != kRunMarker) || k.count(name) > 0;
-}
-
-std::string FileHash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "";
-  uint64_t h = 14695981039346656037ull;  // FNV-1a 64 offset basis
-  char buf[1 << 16];
-  while (in) {
-    in.read(buf, sizeof(buf));
-    for (std::streamsize k = 0; k < in.gcount(); ++k) {
-      h = (h ^ static_cast<unsigned char>(buf[k])) * 1099511628211ull;
-    }
-  }
-  char hex[17];
-  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
-  return hex;
-}
 
 void CheckOutputFolder(const std::string& dir, const RunFolderOptions& options) {
   CheckContent(dir, CheckPath(dir, options), options, false);
