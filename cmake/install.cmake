@@ -14,7 +14,8 @@ set(CLIMBSIM_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/climbsim)
 set(CLIMBSIM_INSTALL_DATADIR ${CMAKE_INSTALL_DATADIR}/climbsim)
 
 set(climbsim_installed_modules)
-foreach(module cpg reflex common adhesion sim inspect optimise)
+foreach(module keys cpg reflex common adhesion scenario robot transition sim inspect optimise
+               experiments)
   if(NOT TARGET climbsim_${module})
     continue()
   endif()

@@ -22,7 +22,7 @@
 #include <string>
 
 #include "common/common.h"
-#include "sim/scenario.h"
+#include "scenario/scenario.h"
 
 namespace climbsim::fuzz {
 

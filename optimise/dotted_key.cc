@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "optimise/optimise.h"
-#include "sim/archive.h"
+#include "scenario/archive.h"
 
 namespace climbsim::optimise {
 namespace {

@@ -20,11 +20,11 @@
 #include <optional>
 
 #include "adhesion/adhesion.h"
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "python/tick_objects.h"
 #include "sim/sim.h"
 #include "sim/trajectory.h"
-#include "sim/yaml_reader.h"
+#include "scenario/yaml_reader.h"
 
 namespace py = pybind11;
 

@@ -125,7 +125,7 @@ GtoReflex::GtoReflex(const GtoParams& params, double dt_s)
 double GtoReflex::Update(double load) {
   delayed_load_ = load_delay_.Update(Sanitize(load, &nonfinite_inputs_));
   loaded_ = delayed_load_ > params_.threshold;
-  return loaded_ ? params_.gain * (delayed_load_ - params_.threshold) : 0.0;
+  return GtoLaw(delayed_load_, params_.gain, params_.threshold);
 }
 
 void GtoReflex::Reset() {

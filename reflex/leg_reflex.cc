@@ -502,7 +502,7 @@ Eigen::Vector3d LegReflex::Gto(const Sensed& in, const Laws& laws, LegReflexOutp
     }
     unloading = attached && laws.unload_u > 0.0;
     if (unloading) {
-      out->kp_fraction *= std::max(p.unload_min_kp_fraction, 1.0 - laws.unload_u);
+      out->kp_fraction *= GtoUnloadKpFraction(laws.unload_u, p.unload_min_kp_fraction);
       Fire(out, Reflex::kGtoUnload);
       if (!st.gto_unloading) Emit(out, LegEventType::kGtoUnload);
     }

@@ -36,6 +36,7 @@
 #define CLIMBSIM_REFLEX_REFLEX_H_
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string_view>
@@ -153,6 +154,17 @@ struct GtoParams {
 // A negative gain is allowed here (negative force feedback, as Geyer and Herr's SOL→TA); the
 // LegReflex's GTO channels require gain >= 0 (positive feedback: the stance-holding reflex).
 void Validate(const GtoParams& params, double dt_s, std::string_view name = "gto");
+
+// The GTO law on one sample, u = K_F·[F − F0]₊ (GtoReflex adds the delay and the checks;
+// the corner manoeuvre applies it to a pad's utilisation as it is).
+inline double GtoLaw(double load, double gain, double threshold) {
+  return load > threshold ? gain * (load - threshold) : 0.0;
+}
+
+// The GTO's unload channel: a loaded leg yields, its servos' kp scaled by max(min, 1 − u).
+inline double GtoUnloadKpFraction(double u, double min_kp_fraction) {
+  return std::max(min_kp_fraction, 1.0 - u);
+}
 
 //   u(t) = K_F·[F̃(t−Δ) − F0]₊
 // Positive force feedback (K_F > 0) keeps a loaded leg pressing. `loaded()` is the strict test

@@ -39,7 +39,7 @@
 
 #include "adhesion/adhesion.h"
 #include "sim/effect.h"
-#include "sim/effect_params.h"
+#include "scenario/scenario.h"
 #include "sim/world.h"
 
 namespace climbsim::sim {

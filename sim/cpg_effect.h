@@ -28,8 +28,8 @@
 
 #include "cpg/cpg.h"
 #include "sim/effect.h"
-#include "sim/effect_params.h"
-#include "sim/leg_ik.h"
+#include "scenario/scenario.h"
+#include "robot/leg_ik.h"
 
 namespace climbsim::sim {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "sim/effect.h"
-#include "sim/effect_params.h"
+#include "scenario/scenario.h"
 
 namespace climbsim::sim {
 

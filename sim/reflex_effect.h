@@ -24,7 +24,7 @@
 #include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
 #include "sim/effect.h"
-#include "sim/effect_params.h"
+#include "scenario/scenario.h"
 
 namespace climbsim::sim {
 

@@ -9,11 +9,10 @@
 #ifndef CLIMBSIM_SIM_SIM_H_
 #define CLIMBSIM_SIM_SIM_H_
 
-#include "sim/bench_speed.h"
 #include "sim/controller.h"
 #include "common/common.h"
-#include "sim/run_folder.h"
-#include "sim/scenario.h"
+#include "common/run_folder.h"
+#include "scenario/scenario.h"
 #include "sim/simulation.h"
 #include "sim/surface.h"
 #include "sim/world.h"

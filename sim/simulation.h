@@ -14,8 +14,8 @@
 #include "sim/controller.h"
 #include "sim/effect.h"
 #include "sim/events.h"
-#include "sim/run_folder.h"
-#include "sim/scenario.h"
+#include "common/run_folder.h"
+#include "scenario/scenario.h"
 #include "sim/world.h"
 
 namespace climbsim::sim {

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <string>
 
-#include "sim/scenario.h"
+#include "scenario/scenario.h"
 #include "sim/world.h"
 
 namespace climbsim::sim {

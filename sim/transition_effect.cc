@@ -874,8 +874,9 @@ void TransitionEffect::WriteTargets(World& world) const {
       const double u = static_cast<int>(i) == step_leg_
                            ? 0.0
                            : adhesion_->utilisation(adhesion_->pad_of_leg(static_cast<int>(i)));
-      const double f = std::max(
-          0.2, 1.0 - params_.unload_gain * std::max(0.0, u - params_.unload_threshold));
+      // The reflexes' GTO unload law on the utilisation as it is (no delay), kp at least 20 %.
+      const double f = reflex::GtoUnloadKpFraction(
+          reflex::GtoLaw(u, params_.unload_gain, params_.unload_threshold), 0.2);
       for (int k = 0; k < 3; ++k) SetServoKp(m, r.legs[i].actuator[k], kp_[i][k] * f);
     }
   }

@@ -44,10 +44,10 @@
 #include <vector>
 
 #include "sim/adhesion_effect.h"
-#include "sim/corner_plan.h"
+#include "transition/corner_plan.h"
 #include "sim/cpg_effect.h"
 #include "sim/effect.h"
-#include "sim/effect_params.h"
+#include "scenario/scenario.h"
 
 namespace climbsim::sim {
 

@@ -10,7 +10,7 @@
 #include <fstream>
 
 #include "common/common.h"
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 #include "tools/progress.h"

@@ -6,7 +6,7 @@
 
 #include "inspect/inspect.h"
 #include "common/common.h"
-#include "sim/run_folder.h"
+#include "common/run_folder.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 

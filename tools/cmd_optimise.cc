@@ -2,7 +2,7 @@
 // Under mpirun every rank runs this command; rank 0 writes DIR and the terminal output.
 #include <cstdio>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "common/common.h"
 #include "tools/commands.h"
 #include "tools/progress.h"

@@ -3,7 +3,7 @@
 #include <optional>
 #include <string>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "tools/commands.h"
 
 namespace climbsim::tools {

@@ -10,7 +10,7 @@
 
 #include "common/common.h"
 #include "inspect/inspect.h"
-#include "sim/run_folder.h"
+#include "common/run_folder.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 

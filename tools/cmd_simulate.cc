@@ -1,7 +1,7 @@
 // climbsim simulate SCENARIO --out DIR
 #include <cstdio>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 #include "tools/progress.h"

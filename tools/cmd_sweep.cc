@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 

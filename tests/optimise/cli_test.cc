@@ -12,7 +12,7 @@
 #include <sstream>
 #include <thread>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "tests/common/test_util.h"
 
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "optimise/checkpoint.h"
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "tests/common/test_util.h"
 
 namespace {

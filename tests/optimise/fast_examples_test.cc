@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::optimise {

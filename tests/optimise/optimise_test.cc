@@ -1,6 +1,6 @@
 // The optimiser's pieces: dotted keys, validation of the optimise block, the cost formula,
 // failed rollouts, thread-count independence and bit-exact replay of best.yaml.
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::optimise {

@@ -3,7 +3,7 @@
 // they aim at, and the corner plan (sim/corner_plan.h) takes the robots with actuated ankles
 // round each corner in a dry run (no dynamics): every foot reachable with margin, three pads
 // down at every step.
-#include "sim/corner_plan.h"
+#include "transition/corner_plan.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The leg IK tables: built with kinematics of one leg's chain of bodies, they hold the same
 // joint angles bit for bit as the straightforward construction with mj_kinematics of the
 // whole robot (the reference below, as sim/leg_ik.cc first had it), for every robot.
-#include "sim/leg_ik.h"
+#include "robot/leg_ik.h"
 
 #include <gtest/gtest.h>
 

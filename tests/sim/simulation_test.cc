@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "experiments/bench_speed.h"
 #include "sim/sim.h"
 #include "tests/common/test_util.h"
 

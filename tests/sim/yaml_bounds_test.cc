@@ -6,8 +6,8 @@
 #include <chrono>
 #include <string>
 
-#include "sim/scenario.h"
-#include "sim/yaml_reader.h"
+#include "scenario/scenario.h"
+#include "scenario/yaml_reader.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {

@@ -5,8 +5,8 @@
 // key with its unit, default and meaning for docs/scenario.md. A struct may also define
 //   void Validate(const Checker& c) const
 // for rules that span several keys; the reader calls it after the struct's keys are read.
-#ifndef CLIMBSIM_SIM_ARCHIVE_H_
-#define CLIMBSIM_SIM_ARCHIVE_H_
+#ifndef CLIMBSIM_SCENARIO_ARCHIVE_H_
+#define CLIMBSIM_SCENARIO_ARCHIVE_H_
 
 #include <yaml-cpp/yaml.h>
 
@@ -17,18 +17,9 @@
 #include <string_view>
 #include <vector>
 
-#include "sim/yaml_reader.h"
+#include "scenario/yaml_reader.h"
 
 namespace climbsim::sim {
-
-// A key: its name, unit (empty when dimensionless or text), meaning, allowed range.
-struct Field {
-  std::string_view key;
-  std::string_view unit;
-  std::string_view doc;
-  Range range = Range::Any();
-  bool required = false;
-};
 
 // Where each key was read (dotted path → 1-based line and column), so that checks which
 // need the compiled model (a gait that does not fit the leg count, a pad body that does not
@@ -39,14 +30,14 @@ struct SourcePlace {
 };
 using SourceMap = std::map<std::string, SourcePlace, std::less<>>;
 
-// Raises an InputError at a key of the struct being validated.
-class Checker {
+// The Checker of a YAML map: raises an InputError at a key of the struct being read.
+class YamlChecker : public Checker {
  public:
-  explicit Checker(const YamlMap* map) : map_(map) {}
-  [[noreturn]] void Fail(std::string_view key, const std::string& message) const {
+  explicit YamlChecker(const YamlMap* map) : map_(map) {}
+  [[noreturn]] void Fail(std::string_view key, const std::string& message) const override {
     throw map_->Error(key, message);
   }
-  bool Has(std::string_view key) const { return map_->Has(key); }
+  bool Has(std::string_view key) const override { return map_->Has(key); }
 
  private:
   const YamlMap* map_;
@@ -66,7 +57,7 @@ class YamlReadArchive {
   void Read(T* value) {
     value->Serialize(this);
     if constexpr (requires(const T& t, const Checker& c) { t.Validate(c); }) {
-      value->Validate(Checker(&map_));
+      value->Validate(YamlChecker(&map_));
     }
     map_.CheckNoUnknownKeys();
   }
@@ -378,4 +369,4 @@ struct DocArchive {
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_ARCHIVE_H_
+#endif  // CLIMBSIM_SCENARIO_ARCHIVE_H_

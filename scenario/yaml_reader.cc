@@ -1,4 +1,4 @@
-#include "sim/yaml_reader.h"
+#include "scenario/yaml_reader.h"
 
 #include <charconv>
 #include <cmath>
@@ -9,13 +9,6 @@
 
 namespace climbsim::sim {
 namespace {
-
-std::string ShortNumber(double v) {
-  if (v == std::floor(v) && std::abs(v) < 1e15) return std::to_string(static_cast<long long>(v));
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // What a node holds, for "expected a number, got a list".
 std::string Shape(const YAML::Node& n) {
@@ -31,23 +24,6 @@ std::string ExactNumber(double v) {
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof(buf), v);
   return std::string(buf, r.ptr);
-}
-
-bool Range::Contains(double v) const {
-  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
-  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
-  return true;
-}
-
-std::string Range::Describe() const {
-  const bool has_lo = lo > -1e299, has_hi = hi < 1e299;
-  if (has_lo && has_hi) {
-    return std::string("must be in ") + (lo_open ? "(" : "[") + ShortNumber(lo) + ", " +
-           ShortNumber(hi) + (hi_open ? ")" : "]");
-  }
-  if (has_lo) return std::string("must be ") + (lo_open ? "> " : ">= ") + ShortNumber(lo);
-  if (has_hi) return std::string("must be ") + (hi_open ? "< " : "<= ") + ShortNumber(hi);
-  return "must be finite";
 }
 
 namespace {

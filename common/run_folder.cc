@@ -1,4 +1,4 @@
-#include "sim/run_folder.h"
+#include "common/run_folder.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -19,7 +19,7 @@
 #include <sstream>
 
 #include "common/common.h"
-#include "sim/run_marker.h"
+#include "common/run_marker.h"
 
 namespace climbsim::sim {
 namespace {

@@ -10,7 +10,7 @@
 #include <mutex>
 #include <thread>
 
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "common/common.h"
 #include "sim/surface.h"
 

@@ -14,7 +14,7 @@
 
 #include "adhesion/adhesion.h"
 #include "common/common.h"
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "sim/sim.h"
 
 namespace climbsim::optimise {

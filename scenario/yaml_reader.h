@@ -1,9 +1,9 @@
 // Reading YAML with the place of every value: each getter validates type and range and, on
 // failure, throws climbsim::InputError naming file:line:col and the dotted key. A map
 // remembers which keys were read so that CheckNoUnknownKeys() can reject the rest (a typo
-// must not silently fall back to a default). Internal to sim/.
-#ifndef CLIMBSIM_SIM_YAML_READER_H_
-#define CLIMBSIM_SIM_YAML_READER_H_
+// must not silently fall back to a default). Internal to scenario/.
+#ifndef CLIMBSIM_SCENARIO_YAML_READER_H_
+#define CLIMBSIM_SCENARIO_YAML_READER_H_
 
 #include <yaml-cpp/yaml.h>
 
@@ -14,24 +14,9 @@
 #include <vector>
 
 #include "common/common.h"
+#include "keys/keys.h"
 
 namespace climbsim::sim {
-
-// Closed or open interval for numeric checks; the text says it in messages ("> 0").
-struct Range {
-  double lo = -1e300;
-  double hi = 1e300;
-  bool lo_open = false;
-  bool hi_open = false;
-
-  static Range Any() { return {}; }
-  static Range Positive() { return {0.0, 1e300, true, false}; }
-  static Range NonNegative() { return {0.0, 1e300, false, false}; }
-  static Range Closed(double lo, double hi) { return {lo, hi, false, false}; }
-  static Range OpenClosed(double lo, double hi) { return {lo, hi, true, false}; }
-  bool Contains(double v) const;
-  std::string Describe() const;  // "must be > 0", "must be in [0, 1]"
-};
 
 // Bounds on what a YAML file may hold: a scenario file is a few kB; without bounds /dev/zero
 // or a 58 MB file would take gigabytes of memory before any check.
@@ -116,4 +101,4 @@ class YamlMap {
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_YAML_READER_H_
+#endif  // CLIMBSIM_SCENARIO_YAML_READER_H_

@@ -31,8 +31,8 @@
 // the new surface, kept clear of the corner line), moved sideways up to 3 cm for a flatter
 // landing, which it must reach now with landing margins; of these the one it can keep the
 // longest as the body goes on.
-#ifndef CLIMBSIM_SIM_CORNER_PLAN_H_
-#define CLIMBSIM_SIM_CORNER_PLAN_H_
+#ifndef CLIMBSIM_TRANSITION_CORNER_PLAN_H_
+#define CLIMBSIM_TRANSITION_CORNER_PLAN_H_
 
 #include <mujoco/mujoco.h>
 
@@ -41,9 +41,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/effect_params.h"
-#include "sim/leg_chain.h"
-#include "sim/world.h"
+#include "transition/transition_params.h"
+#include "robot/leg_chain.h"
+#include "robot/robot.h"
 
 namespace climbsim::sim {
 
@@ -155,4 +155,4 @@ class CornerPlan {
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_CORNER_PLAN_H_
+#endif  // CLIMBSIM_TRANSITION_CORNER_PLAN_H_

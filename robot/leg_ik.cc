@@ -1,4 +1,4 @@
-#include "sim/leg_ik.h"
+#include "robot/leg_ik.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -12,13 +12,13 @@
 // A variant's physics can differ from bare (a robot that climbs touches more than one that
 // hangs), so the full variant is also profiled: time in mj_step against time in each effect's
 // hooks within the same run, which the physics cannot blur.
-#ifndef CLIMBSIM_SIM_BENCH_SPEED_H_
-#define CLIMBSIM_SIM_BENCH_SPEED_H_
+#ifndef CLIMBSIM_EXPERIMENTS_BENCH_SPEED_H_
+#define CLIMBSIM_EXPERIMENTS_BENCH_SPEED_H_
 
 #include <string>
 #include <vector>
 
-#include "sim/scenario.h"
+#include "scenario/scenario.h"
 
 namespace climbsim::sim {
 
@@ -67,4 +67,4 @@ SpeedComparison BenchSpeedCompare(const Scenario& a, const Scenario& b, double d
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_BENCH_SPEED_H_
+#endif  // CLIMBSIM_EXPERIMENTS_BENCH_SPEED_H_

@@ -1,4 +1,4 @@
-#include "sim/corner_plan.h"
+#include "transition/corner_plan.h"
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "optimise/comm.h"
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "common/common.h"
 
 namespace climbsim::optimise {

@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "adhesion/adhesion.h"
-#include "optimise/optimise.h"
+#include "experiments/experiments.h"
 #include "common/common.h"
 
 namespace climbsim::optimise {

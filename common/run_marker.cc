@@ -1,4 +1,4 @@
-#include "sim/run_marker.h"
+#include "common/run_marker.h"
 
 #include <unistd.h>
 

@@ -45,8 +45,8 @@
 // Everything here throws climbsim::InputError (exit 2) for a refused path and
 // std::runtime_error for a failure of the file system after the checks (disk full) or a
 // folder changed under a run (the message says where the new run was kept).
-#ifndef CLIMBSIM_SIM_RUN_FOLDER_H_
-#define CLIMBSIM_SIM_RUN_FOLDER_H_
+#ifndef CLIMBSIM_COMMON_RUN_FOLDER_H_
+#define CLIMBSIM_COMMON_RUN_FOLDER_H_
 
 #include <sys/types.h>
 
@@ -159,4 +159,4 @@ class RunFolderAdditions {
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_RUN_FOLDER_H_
+#endif  // CLIMBSIM_COMMON_RUN_FOLDER_H_

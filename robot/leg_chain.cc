@@ -1,4 +1,4 @@
-#include "sim/leg_chain.h"
+#include "robot/leg_chain.h"
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>

@@ -10,15 +10,15 @@
 // gives its poses bit for bit at a fraction of the whole robot's cost) on a grid; the step only
 // interpolates it (bilinear, no allocation). Solutions are continuous across the grid (each cell
 // starts from its neighbour's solution) and clamped to the joint ranges.
-#ifndef CLIMBSIM_SIM_LEG_IK_H_
-#define CLIMBSIM_SIM_LEG_IK_H_
+#ifndef CLIMBSIM_ROBOT_LEG_IK_H_
+#define CLIMBSIM_ROBOT_LEG_IK_H_
 
 #include <mujoco/mujoco.h>
 
 #include <array>
 #include <vector>
 
-#include "sim/world.h"
+#include "robot/robot.h"
 
 namespace climbsim::sim {
 
@@ -49,4 +49,4 @@ class LegIk {
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_LEG_IK_H_
+#endif  // CLIMBSIM_ROBOT_LEG_IK_H_

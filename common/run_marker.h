@@ -1,8 +1,8 @@
 // The marker of a run folder (`.climbsim-run`) read and written, and the inventory of what in
 // a folder is climbsim's: the internals of sim/run_folder.cc, which holds the contract
 // (sim/run_folder.h). Not part of the sim module's public header.
-#ifndef CLIMBSIM_SIM_RUN_MARKER_H_
-#define CLIMBSIM_SIM_RUN_MARKER_H_
+#ifndef CLIMBSIM_COMMON_RUN_MARKER_H_
+#define CLIMBSIM_COMMON_RUN_MARKER_H_
 
 #include <cstdint>
 #include <filesystem>
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/run_folder.h"
+#include "common/run_folder.h"
 
 namespace climbsim::sim::run_marker {
 
@@ -60,4 +60,4 @@ void ListFiles(const std::filesystem::path& root, bool top_known_only, nlohmann:
 
 }  // namespace climbsim::sim::run_marker
 
-#endif  // CLIMBSIM_SIM_RUN_MARKER_H_
+#endif  // CLIMBSIM_COMMON_RUN_MARKER_H_

@@ -1,13 +1,13 @@
 // Scenario keys of the `optimise:` block, read by `climbsim optimise` (optimise/). The block
 // is part of the scenario so that it is validated like every other key and travels with
 // best.yaml; `climbsim simulate` ignores it except to report the objective.
-#ifndef CLIMBSIM_SIM_OPTIMISE_PARAMS_H_
-#define CLIMBSIM_SIM_OPTIMISE_PARAMS_H_
+#ifndef CLIMBSIM_SCENARIO_OPTIMISE_PARAMS_H_
+#define CLIMBSIM_SCENARIO_OPTIMISE_PARAMS_H_
 
 #include <string>
 #include <vector>
 
-#include "sim/archive.h"
+#include "scenario/archive.h"
 
 namespace climbsim::sim {
 
@@ -181,4 +181,4 @@ struct OptimiseParams {
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_OPTIMISE_PARAMS_H_
+#endif  // CLIMBSIM_SCENARIO_OPTIMISE_PARAMS_H_

@@ -1,4 +1,4 @@
-#include "sim/bench_speed.h"
+#include "experiments/bench_speed.h"
 
 #include <algorithm>
 #include <chrono>

@@ -5,8 +5,8 @@
 // turns the pad's face normal towards a given direction. The chain of bodies from the base to
 // the pad is read from the model once (body offsets, joint axes and anchors as compiled); the
 // step only multiplies small matrices: nothing allocates.
-#ifndef CLIMBSIM_SIM_LEG_CHAIN_H_
-#define CLIMBSIM_SIM_LEG_CHAIN_H_
+#ifndef CLIMBSIM_ROBOT_LEG_CHAIN_H_
+#define CLIMBSIM_ROBOT_LEG_CHAIN_H_
 
 #include <mujoco/mujoco.h>
 
@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/world.h"
+#include "robot/robot.h"
 
 namespace climbsim::sim {
 
@@ -139,4 +139,4 @@ class LegChain {
 
 }  // namespace climbsim::sim
 
-#endif  // CLIMBSIM_SIM_LEG_CHAIN_H_
+#endif  // CLIMBSIM_ROBOT_LEG_CHAIN_H_

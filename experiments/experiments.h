@@ -1,0 +1,198 @@
+// The verbs that run many simulations of one scenario and report what they measured:
+// `climbsim sweep` (a key over a range), `bench accuracy` (what accuracy costs in time),
+// `bench robustness` (the largest disturbance survived), `pulloff` (the pad's limit against
+// the pulling angle) and `bench speed` (experiments/bench_speed.h). Their rollouts run on the
+// one rollout pool (optimise::ParallelRollouts), which hands a worker's error to the caller.
+#ifndef CLIMBSIM_EXPERIMENTS_EXPERIMENTS_H_
+#define CLIMBSIM_EXPERIMENTS_EXPERIMENTS_H_
+
+#include <string>
+#include <vector>
+
+#include "experiments/bench_speed.h"
+#include "optimise/optimise.h"
+
+namespace climbsim::optimise {
+
+// ---- Parameter sweeps ------------------------------------------------------------------
+// `climbsim sweep`: each scenario run with one numeric key set to each value of a range
+// (e.g. scene.incline_deg from 0 to 180 in steps of 15), runs side by side on threads.
+struct SweepOptions {
+  std::string key;
+  double from = 0.0, to = 0.0, step = 1.0;
+  int threads = 0;  // 0: all cores
+};
+struct SweepRow {
+  double value = 0.0;
+  std::vector<sim::RunResult> results;  // one per scenario, in the order given
+};
+// Throws InputError for a key the files cannot hold or a value that makes a scenario invalid
+// (checked for every value before anything runs).
+std::vector<SweepRow> Sweep(const std::vector<std::string>& scenario_files,
+                            const SweepOptions& options);
+// sweep.csv (value, then distance, speed, fell and fall time per scenario) and sweep.png.
+// Returns the plot's warning ("" when drawn).
+std::string WriteSweep(const std::string& dir, const std::vector<std::string>& scenario_files,
+                       const SweepOptions& options, const std::vector<SweepRow>& rows);
+
+// ---- What accuracy costs in time -------------------------------------------------------
+// `climbsim bench accuracy`: one knob at a time (time step; MuJoCo integrator; solver
+// iterations; solver tolerance; bond grid; Odeint stepper and tolerance) swept around the
+// scenario, each run measured against a reference at the finest setting of every knob.
+struct AccuracyRun {
+  double wall_s = 0.0;
+  bool stable = true, fell = false;
+  double distance_m = 0.0;
+  std::vector<std::vector<double>> detach_s;  // per pad, in order
+  std::vector<double> peak_load_n;            // per pad, over the event rows
+  double pulloff_n = 0.0;                     // pull-off at 45° (pull-off rig), 0 without adhesion
+};
+struct AccuracyRow {
+  std::string knob, setting;
+  AccuracyRun run;
+  double distance_error_m = 0.0;
+  double detach_time_error_s = 0.0;  // mean |Δt| of the detaches matched in order per pad
+  int detach_count_diff = 0;         // detaches one run has and the other has not
+  double peak_load_error = 0.0;      // largest relative error of a pad's peak load
+  double pulloff_error = 0.0;        // relative
+};
+struct AccuracyReport {
+  double duration_s = 0.0;
+  AccuracyRun reference;
+  std::vector<AccuracyRow> rows;
+};
+AccuracyReport BenchAccuracy(const std::string& scenario_file, double duration_s, int threads);
+// accuracy.csv and accuracy.png (error against wall time on log axes, a curve per knob).
+std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
+
+// ---- Robustness ----------------------------------------------------------------------------
+// `climbsim bench robustness`: for each family of disturbance, the largest magnitude the robot
+// survives, with the scenario's reflexes and with spindle and GTO off, on the same cases.
+//
+// A case is a seed k (0 .. seeds−1): the scenario's seed + k for every random draw, and for
+// k ≥ 1 a start moved by up to ±5 mm along x and y and turned by up to ±5° (uniform draws
+// from that seed), so the cases differ even where no disturbance is random. Push families
+// add the phases: a push at push_time_s + j/(phases·f) (f = cpg.frequency_hz), j = 0 ..
+// phases−1. A case SURVIVES a magnitude when its run (the given duration, fall.stop on) is
+// stable, does not fall, and climbs at least half of what the same case climbs undisturbed
+// (when that is positive). A magnitude survives when every case does.
+//
+// The search, per family and mode: the family's largest magnitude hi is tried first (if it
+// survives, the answer is "≥ hi"), then the smallest lo ("< lo" if it fails), then geometric
+// bisection between a surviving and a failing magnitude until they are within `tolerance`
+// (10 %: failing ≤ 1.1 × survived). Cases run in order and an evaluation stops at its first
+// failing case. (family, mode) searches run side by side on threads, each run on its own
+// model copy: the report does not depend on the number of threads.
+//
+// Families (magnitude, unit, range):
+//   push_off    10 ms push along the surface normal, away from it      N s   0.005 .. 1
+//   push_down   10 ms push down the slope (gravity along the surface)  N s   0.005 .. 1
+//   push_side   10 ms push across the slope (normal x down: -y on the wall) N s   0.005 .. 1
+//   payload     payload_kg on the base                                 kg    2 % .. 400 % of the
+//   robot's mass pad_failure adhesion.pad_failure_probability                       -     0.01 .. 1
+//   weak_patch  1 − scene.weak_patches.fraction (σ_T lost on a patch; 5 cm cells, 30 % weak)
+//                                                                      -     0.02 .. 0.99
+//   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
+// Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
+// roughness off the plane scenes, pushes without cpg) are left out; named in `families`, one
+// is refused (InputError saying why), before any run.
+struct RobustnessOptions {
+  double duration_s = 10.0;   // 0: the scenario's
+  int seeds = 3;
+  int phases = 4;
+  // First push, at most a third of the duration (else InputError); default: 4 s, or a
+  // third of the duration when that is earlier.
+  std::optional<double> push_time_s;
+  double tolerance = 0.1;
+  int threads = 0;            // 0: all cores
+  std::vector<std::string> families;  // empty: all
+};
+
+struct RobustnessFamily {
+  std::string name, unit, what;
+  double lo = 0.0, hi = 0.0;
+};
+// The families a scenario can take (ranges resolved: payload from the robot's mass).
+std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario);
+// The names of every family, in order.
+std::vector<std::string> RobustnessFamilyNames();
+
+// The scenario of one case at one magnitude: mode 0 the scenario's reflexes, 1 spindle and GTO
+// off; magnitude 0 (or family "") is the undisturbed case. Throws InputError for an unknown
+// family.
+sim::Scenario RobustnessCase(const sim::Scenario& base, const RobustnessOptions& options,
+                             const std::string& family, double magnitude, int mode, int seed,
+                             int phase);
+
+struct RobustnessRow {
+  std::string family, unit, mode;  // mode: "reflexes" or "spindle_gto_off"
+  double lo = 0.0, hi = 0.0;
+  double survived = 0.0;  // largest magnitude every case survived (0: not even lo)
+  double failed = 0.0;    // smallest magnitude found failing (+inf: hi survived)
+  std::string failing_case;  // the first case that failed at `failed` ("seed 1 phase 2")
+  std::string failing_how;   // "fell at 4.21 s", "climbed 0.012 m of 0.150 m", "unstable"
+  int evaluations = 0, runs = 0;
+  bool same_as_reflexes = false;  // spindle and GTO were already off: the rows are one search
+};
+struct RobustnessReport {
+  std::string scenario_file;
+  RobustnessOptions options;
+  double robot_mass_kg = 0.0;
+  std::vector<std::vector<double>> baseline_m;  // [mode][seed] undisturbed distance
+  std::vector<RobustnessRow> rows;              // per family: reflexes, then spindle_gto_off
+};
+// progress(fraction) is called from worker threads under a lock.
+RobustnessReport BenchRobustness(const std::string& scenario_file, const RobustnessOptions& options,
+                                 const std::function<void(double)>& progress = {});
+// Whether one case survives `magnitude` (what the search evaluates), with why not in `how`.
+bool RobustnessSurvives(const sim::Scenario& scenario, double baseline_m, std::string* how);
+// robustness.csv and robustness.png (one panel per family, reflexes against spindle and GTO
+// off). Returns the plot's warning ("" when drawn).
+std::string WriteRobustness(const std::string& dir, const RobustnessReport& report);
+// The terminal table.
+std::string RobustnessTable(const RobustnessReport& report);
+
+// ---- climbsim pulloff (pulloff.cc) --------------------------------------------------------
+// The options: the rig's and the sweep's own parameters (their defaults are the library's),
+// and what only the command has.
+struct PulloffExperimentOptions {
+  std::string out_dir;
+  std::string model = "both";
+  adhesion::PulloffRigParams rig;
+  adhesion::SweepRange range;
+  std::optional<double> length_m;  // default: the width
+  int grid = 0;                    // > 0 sets both sides
+  double azimuth_deg = 0.0;        // rig.azimuth_rad in degrees
+  bool quiet = false;
+  bool force = false;
+  bool keep_other_files = false;  // with force: carry a user's files along (sim/run_folder.h)
+  std::string law = "von_mises";  // frictional: RunPulloffLaws
+  adhesion::FrictionalParams frictional;
+  double grip_deg = 0.0;
+};
+
+// Sweeps the angles, writes DIR/pulloff.csv, pulloff.gp and pulloff.png and prints the table
+// (unless quiet). Throws InputError for options that do not fit (exit code 2), before
+// anything runs; returns false when only the plot could not be drawn (exit code 1).
+bool RunPulloffExperiment(PulloffExperimentOptions options);
+
+struct PulloffLawOptions {
+  std::string out_dir;
+  bool force = false;
+  bool keep_other_files = false;
+  bool quiet = false;
+  adhesion::PadParams pad;             // the von Mises law's pad (σ_T, μ) and the grid
+  adhesion::FrictionalParams law;      // the frictional law (grip direction in the pad frame)
+  double arm_m = 0.0;                  // lever of the pull (0: the closed forms apply)
+  double from_deg = 0.0, to_deg = 180.0, step_deg = 5.0;
+  double max_force_factor = 8.0;
+};
+
+// Runs both quasi-static sweeps (along the gripping direction and against it), writes the
+// files and prints the table. Returns false when the plot could not be drawn (as
+// RunPulloffExperiment).
+bool RunPulloffLaws(const PulloffLawOptions& options);
+
+}  // namespace climbsim::optimise
+
+#endif  // CLIMBSIM_EXPERIMENTS_EXPERIMENTS_H_

@@ -1,0 +1,51 @@
+// The robot as a model holds it: the contract of mjcf/README.md (legs, joints, servos, pads)
+// resolved to MuJoCo ids once, so the step never looks up a name, and the servos' stiffness.
+// The leg chains (leg_chain.h) and the legs' inverse kinematics (leg_ik.h) build on it.
+#ifndef CLIMBSIM_ROBOT_ROBOT_H_
+#define CLIMBSIM_ROBOT_ROBOT_H_
+
+#include <mujoco/mujoco.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace climbsim::sim {
+
+// One leg of the robot contract: ids resolved once so the step never looks up a name.
+struct LegInfo {
+  std::string name;                    // "LF"
+  std::array<int, 3> joint{};          // hip_yaw, hip_pitch, knee
+  std::array<int, 3> qpos_adr{};
+  std::array<int, 3> dof_adr{};
+  std::array<int, 3> actuator{};       // position servos, same names as the joints
+  int pad_body = -1;                   // "LF_pad"
+  int pad_geom = -1;
+  int ankle_site = -1;                 // "LF_ankle"
+  int pad_face_site = -1;              // "LF_pad_face"
+  // Optional (the robots with actuated ankles, mjcf/README.md): the ankle tilt servo "LF_ankle_tilt"
+  // that turns the pad about its y axis; −1 when the robot has none.
+  int tilt_joint = -1;
+  int tilt_qpos_adr = -1;
+  int tilt_actuator = -1;
+};
+
+struct RobotInfo {
+  int base_body = -1;
+  int root_qpos_adr = -1;
+  int root_dof_adr = -1;
+  std::vector<LegInfo> legs;           // order of the custom text "climbsim_legs"
+  double mass_kg = 0.0;
+};
+
+// A position servo's stiffness (force = gain·ctrl + bias1·q + bias2·q̇ with gain = kp and
+// bias1 = −kp): read, and set at run time (the run's own model copy; both terms together).
+inline double ServoKp(const mjModel* m, int actuator) { return m->actuator_gainprm[actuator * mjNGAIN]; }
+inline void SetServoKp(mjModel* m, int actuator, double kp) {
+  m->actuator_gainprm[actuator * mjNGAIN] = kp;
+  m->actuator_biasprm[actuator * mjNBIAS + 1] = -kp;
+}
+
+}  // namespace climbsim::sim
+
+#endif  // CLIMBSIM_ROBOT_ROBOT_H_
