@@ -17,6 +17,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest  # import climbsim
   libpagmo-dev                 # CMA-ES for climbsim optimise
   libopenmpi-dev openmpi-bin   # mpirun -np N climbsim optimise|sweep (optional: CLIMBSIM_MPI)
+  universal-ctags              # scripts/house_check.sh: the length of every function
 )
 
 missing=()
