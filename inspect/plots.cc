@@ -219,8 +219,14 @@ void PadPlot(const Run& run, const Report& report, const LegReport& leg, const s
   Run2(Script(blocks, body, 1000, 560), out_dir, "pad_" + leg.leg, files);
 }
 
-void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
-              std::vector<std::string>* files) {
+// The base's path in the surface plane and its speed along the travel direction, both
+// in the window, with the path's extent for the plot's ranges.
+struct PathSeries {
+  Block path{"$path"}, speed{"$speed"};
+  double lat_lo = 0, lat_hi = 0, s_lo = 0, s_hi = 0;
+};
+
+PathSeries PathAndSpeed(const Run& run, const Report& report) {
   const NumericTable& t = *run.trajectory;
   const Eigen::Vector3d n(0, 0, 1);  // the surface normal of every scene (mjcf/README.md)
   Eigen::Vector3d along = run.travel - run.travel.dot(n) * n;
@@ -232,55 +238,75 @@ void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
     time[r] = t.at(r, 0);
     s[r] = run.travel.dot(Eigen::Vector3d(t.at(r, 1), t.at(r, 2), t.at(r, 3)) - p0);
   }
-  Block path("$path"), speed("$speed");
+  PathSeries out;
   constexpr double kHalfWindow = 0.25;  // s: the speed is a central difference over 0.5 s
   size_t lo = 0, hi = 0;
-  double lat_lo = 0, lat_hi = 0, s_lo = 0, s_hi = 0;
   for (size_t r = 0; r < t.rows(); ++r) {
     if (time[r] < report.from_s || time[r] > report.to_s) continue;
     const Eigen::Vector3d p = Eigen::Vector3d(t.at(r, 1), t.at(r, 2), t.at(r, 3)) - p0;
-    path.Add({lateral.dot(p), s[r]});
-    lat_lo = std::min(lat_lo, lateral.dot(p)), lat_hi = std::max(lat_hi, lateral.dot(p));
-    s_lo = std::min(s_lo, s[r]), s_hi = std::max(s_hi, s[r]);
+    out.path.Add({lateral.dot(p), s[r]});
+    out.lat_lo = std::min(out.lat_lo, lateral.dot(p));
+    out.lat_hi = std::max(out.lat_hi, lateral.dot(p));
+    out.s_lo = std::min(out.s_lo, s[r]), out.s_hi = std::max(out.s_hi, s[r]);
     // Only where the whole window is recorded (no one-sided differences at the ends).
     if (time[r] - kHalfWindow < time.front() || time[r] + kHalfWindow > time.back()) continue;
     while (time[lo] < time[r] - kHalfWindow - 1e-9) ++lo;
     while (hi + 1 < t.rows() && time[hi + 1] <= time[r] + kHalfWindow + 1e-9) ++hi;
-    if (time[hi] > time[lo]) speed.Add({time[r], (s[hi] - s[lo]) / (time[hi] - time[lo])});
+    if (time[hi] > time[lo]) out.speed.Add({time[r], (s[hi] - s[lo]) / (time[hi] - time[lo])});
   }
-  const double mean = run.summary.value("mean_speed_mps", 0.0);
-  std::string body =
-      "set multiplot layout 1,2 title " + common::GnuplotQuote("body: " + run.dir) + "\nset grid\n";
-  // Equal scales on a square: the larger span (or 1 cm) sets both ranges.
-  const double half = 0.55 * std::max({lat_hi - lat_lo, s_hi - s_lo, 0.01});
+  return out;
+}
+
+// The left panel: the path on equal scales, a square whose side the larger span (or 1 cm)
+// sets.
+std::string PathPanel(const PathSeries& p, std::vector<const Block*>* blocks) {
+  const double half = 0.55 * std::max({p.lat_hi - p.lat_lo, p.s_hi - p.s_lo, 0.01});
   char range[200];
   std::snprintf(range, sizeof(range), "set xrange [%.9g:%.9g]\nset yrange [%.9g:%.9g]\n",
-                0.5 * (lat_lo + lat_hi) - half, 0.5 * (lat_lo + lat_hi) + half,
-                0.5 * (s_lo + s_hi) - half, 0.5 * (s_lo + s_hi) + half);
-  body += range;
+                0.5 * (p.lat_lo + p.lat_hi) - half, 0.5 * (p.lat_lo + p.lat_hi) + half,
+                0.5 * (p.s_lo + p.s_hi) - half, 0.5 * (p.s_lo + p.s_hi) + half);
+  std::string body = range;
   body +=
       "set size ratio -1\nset xlabel \"lateral (m, left +)\"\nset ylabel \"along the travel "
       "direction (m)\"\nset title \"path of the base (start at 0)\"\n";
-  std::vector<const Block*> blocks;
-  if (path.empty()) {
+  if (p.path.empty()) {
     body += EmptyPanel("no trajectory rows in this window");
   } else {
-    blocks.push_back(&path);
+    blocks->push_back(&p.path);
     body += "plot $path using 1:2 with lines lw 1.5 lc rgb \"#1565c0\" notitle\n";
   }
-  body += "set size noratio\nset autoscale y\n" + Range(report.from_s, report.to_s) +
-          "set xlabel \"time (s)\"\nset ylabel \"speed along the travel direction (m/s)\"\n"
-          "set title \"speed (central difference over 0.5 s)\"\nset key bottom right\n";
+  return body;
+}
+
+// The right panel: the speed over time against the run's mean speed.
+std::string SpeedPanel(const Run& run, const Report& report, const PathSeries& p,
+                       std::vector<const Block*>* blocks) {
+  const double mean = run.summary.value("mean_speed_mps", 0.0);
+  std::string body = "set size noratio\nset autoscale y\n" + Range(report.from_s, report.to_s) +
+                     "set xlabel \"time (s)\"\nset ylabel \"speed along the travel direction "
+                     "(m/s)\"\nset title \"speed (central difference over 0.5 s)\"\n"
+                     "set key bottom right\n";
   char buf[200];
   std::snprintf(buf, sizeof(buf), "%.9g dt 2 lc rgb \"#616161\" title \"run mean %.4f m/s\"", mean,
                 mean);
-  if (speed.empty()) {
+  if (p.speed.empty()) {
     body += EmptyPanel("no speed: it needs 0.25 s of recording either side");
   } else {
-    blocks.push_back(&speed);
+    blocks->push_back(&p.speed);
     body += "plot $speed using 1:2 with lines lc rgb \"#2e7d32\" title \"speed\", " +
             std::string(buf) + "\n";
   }
+  return body;
+}
+
+void PathPlot(const Run& run, const Report& report, const std::string& out_dir,
+              std::vector<std::string>* files) {
+  const PathSeries series = PathAndSpeed(run, report);
+  std::vector<const Block*> blocks;
+  std::string body =
+      "set multiplot layout 1,2 title " + common::GnuplotQuote("body: " + run.dir) + "\nset grid\n";
+  body += PathPanel(series, &blocks);
+  body += SpeedPanel(run, report, series, &blocks);
   body += "unset multiplot\n";
   Run2(Script(blocks, body, 1100, 480), out_dir, "path", files);
 }

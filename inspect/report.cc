@@ -66,6 +66,239 @@ nlohmann::json WindowJson(double a, double b) {
   return {{"from_s", a}, {"to_s", b}, {"observed_s", b - a}};
 }
 
+// A stance over the whole run (attach .. detach, or .. the run's end when still open),
+// before it is clipped to the window.
+struct RawStance {
+  double start, end;
+  bool closed;
+  std::string cause;
+};
+
+// One pad's events followed in order over the whole run, the window [a, b] counted.
+struct LegScan {
+  double a = 0.0, b = 0.0;
+  LegReport* r = nullptr;
+  std::vector<RawStance> raw;
+  std::vector<const EventRow*> rows;  // the open stance's rows, kept for its loads
+  bool attached = false;
+  double start = 0.0;
+  // A touchdown in the window still waiting to attach or be rejected.
+  bool pending_touchdown = false;
+};
+
+// Loads while attached: every row of the stance in the window; bonded fraction: those
+// before the detach's own step.
+void TakeLoads(const LegScan& s, double detach_time) {
+  for (const EventRow* e : s.rows) {
+    if (e->time_s < s.a || e->time_s > s.b) continue;
+    Max(&s.r->peak_normal_n, e->fn_n);
+    Max(&s.r->peak_shear_n, e->shear_n());
+    if (e->time_s < detach_time) Min(&s.r->lowest_bonded_fraction, e->bonded_fraction);
+  }
+}
+
+// A touchdown in the window that neither attached nor was rejected, and why: the pad
+// touched again (it left the surface inside the attach window, before its contacts and
+// preload met the attach conditions), or the run ended during the touch.
+void Unanswered(LegScan* s, const char* why) {
+  ++s->r->unanswered_touchdowns;
+  ++s->r->unanswered_by[why];
+  s->pending_touchdown = false;
+}
+
+// Counts an event inside the window by its kind (and cause).
+void CountInWindow(const EventRow& e, LegScan* s) {
+  LegReport& r = *s->r;
+  if (e.event == "touchdown") {
+    ++r.touchdowns;
+    s->pending_touchdown = true;
+  } else if (e.event == "attach") {
+    ++r.attachments;
+  } else if (e.event == "attach_rejected") {
+    ++r.rejected;
+    ++r.rejected_by[e.cause_name()];
+  } else if (e.event == "detach") {
+    ++r.detaches;
+    ++r.detached_by[e.cause.empty() ? "unknown" : e.cause];
+  } else if (e.event == "bonds_lost") {
+    ++r.bonds_lost_steps;
+  } else {
+    ++r.reflexes[e.event];
+  }
+}
+
+// Opens a stance at the first attach, keeps its rows, closes it (and takes its loads) at
+// the detach; stances are followed over the whole run so the window can clip them.
+void FollowStance(const EventRow& e, LegScan* s) {
+  if (e.event == "attach" && !s->attached) {
+    s->attached = true;
+    s->start = e.time_s;
+    s->rows.clear();
+  }
+  if (s->attached) s->rows.push_back(&e);
+  if (e.event == "detach" && s->attached) {
+    s->raw.push_back({s->start, e.time_s, true, e.cause});
+    TakeLoads(*s, e.time_s);
+    s->attached = false;
+  }
+}
+
+// The leg's counts and loads in the window, and its stances over the whole run.
+std::vector<RawStance> ScanLegEvents(const Run& run, double a, double b, LegReport* r) {
+  LegScan s;
+  s.a = a;
+  s.b = b;
+  s.r = r;
+  for (const EventRow& e : run.events) {
+    if (e.pad != r->pad) continue;
+    if (e.event == "touchdown" && s.pending_touchdown) Unanswered(&s, "left_within_attach_window");
+    if (e.event == "attach" || e.event == "attach_rejected") s.pending_touchdown = false;
+    if (e.time_s >= a && e.time_s <= b) CountInWindow(e, &s);
+    FollowStance(e, &s);
+  }
+  if (s.pending_touchdown) Unanswered(&s, "run_ended_during_touch");
+  if (s.attached) {
+    s.raw.push_back({s.start, run.duration_s, false, ""});
+    TakeLoads(s, std::numeric_limits<double>::infinity());
+  }
+  return std::move(s.raw);
+}
+
+// The stances clipped to the window [a, b]: attached time, complete stances' mean and
+// shortest, duty factor.
+void ClipStances(const std::vector<RawStance>& raw, double a, double b, double observed_s,
+                 LegReport* r) {
+  double sum_complete = 0.0;
+  for (const RawStance& s : raw) {
+    if (s.end < a || s.start > b) continue;
+    Stance c;
+    c.start_s = std::max(s.start, a);
+    c.end_s = std::min(s.end, b);
+    c.open_start = s.start < a;
+    c.open_end = !s.closed || s.end > b;
+    c.end_cause = c.open_end ? "" : s.cause;
+    r->attached_s += c.length_s();
+    if (!c.open_start && !c.open_end) {
+      ++r->complete_stances;
+      sum_complete += c.length_s();
+      Min(&r->shortest_stance_s, c.length_s());
+    }
+    r->stances.push_back(c);
+  }
+  if (r->complete_stances > 0) r->mean_stance_s = sum_complete / r->complete_stances;
+  r->duty_factor = r->attached_s / observed_s;
+}
+
+// Peak utilisation from trajectory.csv, when the run has the column.
+void TakePeakUtilisation(const Run& run, double a, double b, LegReport* r) {
+  const int u = run.trajectory ? run.trajectory->Column(r->pad + "_utilisation") : -1;
+  if (u < 0) return;
+  const auto& t = *run.trajectory;
+  for (size_t row = 0; row < t.rows(); ++row) {
+    if (t.at(row, 0) >= a && t.at(row, 0) <= b) Max(&r->peak_utilisation, t.at(row, u));
+  }
+}
+
+// The text report's table: a label column, then one right-aligned column per leg.
+class LegTable {
+ public:
+  LegTable(const Report& report, std::string* out) : report_(report), out_(out) {
+    for (const LegReport& r : report.legs) width_ = std::max(width_, r.leg.size() + 2);
+  }
+
+  // One row; value_of(leg) gives a leg's cell.
+  template <typename ValueOf>
+  void Row(const std::string& label, ValueOf value_of) {
+    char buf[256];
+    std::snprintf(buf, sizeof(buf), "%-*s", kLabel, label.c_str());
+    *out_ += buf;
+    for (const LegReport& r : report_.legs) {
+      std::snprintf(buf, sizeof(buf), "%*s", static_cast<int>(width_), value_of(r).c_str());
+      *out_ += buf;
+    }
+    *out_ += "\n";
+  }
+
+  // A total, then one indented row per key (a cause) any leg counted, 0 where a leg has none.
+  template <typename Total, typename MapOf>
+  void CountRows(const std::string& label, Total total, MapOf map_of) {
+    Row(label, [&](const LegReport& r) { return std::to_string(total(r)); });
+    std::set<std::string> keys;
+    for (const LegReport& r : report_.legs) {
+      for (const auto& [k, n] : map_of(r)) keys.insert(k);
+    }
+    for (const std::string& k : keys) {
+      Row("  " + k, [&](const LegReport& r) {
+        const auto& m = map_of(r);
+        const auto it = m.find(k);
+        return std::to_string(it == m.end() ? 0 : it->second);
+      });
+    }
+  }
+
+ private:
+  static constexpr int kLabel = 28;
+  const Report& report_;
+  std::string* out_;
+  size_t width_ = 8;
+};
+
+std::string OrDash(const std::optional<double>& v, const char* format) {
+  return v ? Num(*v, format) : std::string("-");
+}
+
+// The leg names, then what the pad's events were: touchdowns, attaches, detaches.
+void EventRows(LegTable* t) {
+  using Counts = const std::map<std::string, int>&;
+  t->Row("leg", [](const LegReport& r) { return r.leg; });
+  t->Row("touchdowns", [](const LegReport& r) { return std::to_string(r.touchdowns); });
+  t->Row("attachments", [](const LegReport& r) { return std::to_string(r.attachments); });
+  t->CountRows(
+      "rejected attaches", [](const LegReport& r) { return r.rejected; },
+      [](const LegReport& r) -> Counts { return r.rejected_by; });
+  t->CountRows(
+      "touchdowns unanswered", [](const LegReport& r) { return r.unanswered_touchdowns; },
+      [](const LegReport& r) -> Counts { return r.unanswered_by; });
+  t->CountRows(
+      "detaches", [](const LegReport& r) { return r.detaches; },
+      [](const LegReport& r) -> Counts { return r.detached_by; });
+  t->Row("bonds-lost steps", [](const LegReport& r) { return std::to_string(r.bonds_lost_steps); });
+}
+
+// How long the pads held and what they carried.
+void StanceAndLoadRows(LegTable* t) {
+  t->Row("stances (complete)",
+         [](const LegReport& r) { return std::to_string(r.complete_stances); });
+  t->Row("stance mean (s)", [](const LegReport& r) { return OrDash(r.mean_stance_s, "%.3f"); });
+  t->Row("stance shortest (s)",
+         [](const LegReport& r) { return OrDash(r.shortest_stance_s, "%.3f"); });
+  t->Row("attached (s)", [](const LegReport& r) { return Num(r.attached_s); });
+  t->Row("duty factor", [](const LegReport& r) { return Num(r.duty_factor); });
+  t->Row("peak normal load (N)",
+         [](const LegReport& r) { return OrDash(r.peak_normal_n, "%.3f"); });
+  t->Row("peak shear load (N)", [](const LegReport& r) { return OrDash(r.peak_shear_n, "%.3f"); });
+  t->Row("lowest bonded fraction",
+         [](const LegReport& r) { return OrDash(r.lowest_bonded_fraction, "%.3f"); });
+  t->Row("peak utilisation",
+         [](const LegReport& r) { return OrDash(r.peak_utilisation, "%.3f"); });
+}
+
+// The reflexes any leg fired, one row each; nothing when none fired.
+void ReflexRows(const Report& report, LegTable* t, std::string* out) {
+  std::set<std::string> reflexes;
+  for (const LegReport& r : report.legs) {
+    for (const auto& [k, n] : r.reflexes) reflexes.insert(k);
+  }
+  if (reflexes.empty()) return;
+  *out += "reflexes fired\n";
+  for (const std::string& k : reflexes) {
+    t->Row("  " + k, [&](const LegReport& r) {
+      const auto it = r.reflexes.find(k);
+      return std::to_string(it == r.reflexes.end() ? 0 : it->second);
+    });
+  }
+}
+
 }  // namespace
 
 Report Analyse(const Run& run, const Window& window) {
@@ -79,104 +312,9 @@ Report Analyse(const Run& run, const Window& window) {
     LegReport r;
     r.leg = run.legs[leg];
     r.pad = run.pads[leg];
-
-    // Stances over the whole run; the rows of the open stance kept for its loads.
-    struct RawStance {
-      double start, end;
-      bool closed;
-      std::string cause;
-    };
-    std::vector<RawStance> raw;
-    std::vector<const EventRow*> rows;
-    bool attached = false;
-    double start = 0.0;
-    // Loads while attached: every row of the stance in the window; bonded fraction: those
-    // before the detach's own step.
-    auto take_loads = [&](double detach_time) {
-      for (const EventRow* e : rows) {
-        if (e->time_s < a || e->time_s > b) continue;
-        Max(&r.peak_normal_n, e->fn_n);
-        Max(&r.peak_shear_n, e->shear_n());
-        if (e->time_s < detach_time) Min(&r.lowest_bonded_fraction, e->bonded_fraction);
-      }
-    };
-    // A touchdown in the window that neither attached nor was rejected, and why: the pad
-    // touched again (it left the surface inside the attach window, before its contacts and
-    // preload met the attach conditions), or the run ended during the touch.
-    bool pending_touchdown = false;
-    auto unanswered = [&](const char* why) {
-      ++r.unanswered_touchdowns;
-      ++r.unanswered_by[why];
-      pending_touchdown = false;
-    };
-    for (const EventRow& e : run.events) {
-      if (e.pad != r.pad) continue;
-      if (e.event == "touchdown" && pending_touchdown) unanswered("left_within_attach_window");
-      if (e.event == "attach" || e.event == "attach_rejected") pending_touchdown = false;
-      if (e.time_s >= a && e.time_s <= b) {
-        if (e.event == "touchdown") {
-          ++r.touchdowns;
-          pending_touchdown = true;
-        } else if (e.event == "attach") {
-          ++r.attachments;
-        } else if (e.event == "attach_rejected") {
-          ++r.rejected;
-          ++r.rejected_by[e.cause_name()];
-        } else if (e.event == "detach") {
-          ++r.detaches;
-          ++r.detached_by[e.cause.empty() ? "unknown" : e.cause];
-        } else if (e.event == "bonds_lost") {
-          ++r.bonds_lost_steps;
-        } else {
-          ++r.reflexes[e.event];
-        }
-      }
-      if (e.event == "attach" && !attached) {
-        attached = true;
-        start = e.time_s;
-        rows.clear();
-      }
-      if (attached) rows.push_back(&e);
-      if (e.event == "detach" && attached) {
-        raw.push_back({start, e.time_s, true, e.cause});
-        take_loads(e.time_s);
-        attached = false;
-      }
-    }
-    if (pending_touchdown) unanswered("run_ended_during_touch");
-    if (attached) {
-      raw.push_back({start, run.duration_s, false, ""});
-      take_loads(std::numeric_limits<double>::infinity());
-    }
-
-    // Clipped to the window.
-    double sum_complete = 0.0;
-    for (const RawStance& s : raw) {
-      if (s.end < a || s.start > b) continue;
-      Stance c;
-      c.start_s = std::max(s.start, a);
-      c.end_s = std::min(s.end, b);
-      c.open_start = s.start < a;
-      c.open_end = !s.closed || s.end > b;
-      c.end_cause = c.open_end ? "" : s.cause;
-      r.attached_s += c.length_s();
-      if (!c.open_start && !c.open_end) {
-        ++r.complete_stances;
-        sum_complete += c.length_s();
-        Min(&r.shortest_stance_s, c.length_s());
-      }
-      r.stances.push_back(c);
-    }
-    if (r.complete_stances > 0) r.mean_stance_s = sum_complete / r.complete_stances;
-    r.duty_factor = r.attached_s / report.observed_s;
-    // Peak utilisation from trajectory.csv, when the run has the column.
-    const int u = run.trajectory ? run.trajectory->Column(r.pad + "_utilisation") : -1;
-    if (u >= 0) {
-      const auto& t = *run.trajectory;
-      for (size_t row = 0; row < t.rows(); ++row) {
-        if (t.at(row, 0) >= a && t.at(row, 0) <= b) Max(&r.peak_utilisation, t.at(row, u));
-      }
-    }
+    const std::vector<RawStance> raw = ScanLegEvents(run, a, b, &r);
+    ClipStances(raw, a, b, report.observed_s, &r);
+    TakePeakUtilisation(run, a, b, &r);
     report.legs.push_back(std::move(r));
   }
   return report;
@@ -228,77 +366,16 @@ nlohmann::json ReportJson(const Run& run, const Report& report) {
 }
 
 std::string ReportText(const Run& run, const Report& report) {
-  size_t width = 8;
-  for (const LegReport& r : report.legs) width = std::max(width, r.leg.size() + 2);
-  constexpr int kLabel = 28;
   std::string out;
   char buf[256];
   std::snprintf(buf, sizeof(buf), "%s: %s (%s on %s), %.3f .. %.3f s (%.3f s observed)\n\n", kCli,
                 run.dir.c_str(), SummaryText(run, "robot").c_str(),
                 SummaryText(run, "scene").c_str(), report.from_s, report.to_s, report.observed_s);
   out += buf;
-  auto row = [&](const std::string& label, auto value_of) {
-    std::snprintf(buf, sizeof(buf), "%-*s", kLabel, label.c_str());
-    out += buf;
-    for (const LegReport& r : report.legs) {
-      std::snprintf(buf, sizeof(buf), "%*s", static_cast<int>(width), value_of(r).c_str());
-      out += buf;
-    }
-    out += "\n";
-  };
-  auto opt = [](const std::optional<double>& v, const char* f) {
-    return v ? Num(*v, f) : std::string("-");
-  };
-  auto count_rows = [&](const std::string& label, auto total, auto map_of) {
-    row(label, [&](const LegReport& r) { return std::to_string(total(r)); });
-    std::set<std::string> keys;
-    for (const LegReport& r : report.legs) {
-      for (const auto& [k, n] : map_of(r)) keys.insert(k);
-    }
-    for (const std::string& k : keys) {
-      row("  " + k, [&](const LegReport& r) {
-        const auto& m = map_of(r);
-        const auto it = m.find(k);
-        return std::to_string(it == m.end() ? 0 : it->second);
-      });
-    }
-  };
-  row("leg", [](const LegReport& r) { return r.leg; });
-  row("touchdowns", [](const LegReport& r) { return std::to_string(r.touchdowns); });
-  row("attachments", [](const LegReport& r) { return std::to_string(r.attachments); });
-  count_rows(
-      "rejected attaches", [](const LegReport& r) { return r.rejected; },
-      [](const LegReport& r) -> const std::map<std::string, int>& { return r.rejected_by; });
-  count_rows(
-      "touchdowns unanswered", [](const LegReport& r) { return r.unanswered_touchdowns; },
-      [](const LegReport& r) -> const std::map<std::string, int>& { return r.unanswered_by; });
-  count_rows(
-      "detaches", [](const LegReport& r) { return r.detaches; },
-      [](const LegReport& r) -> const std::map<std::string, int>& { return r.detached_by; });
-  row("bonds-lost steps", [](const LegReport& r) { return std::to_string(r.bonds_lost_steps); });
-  row("stances (complete)", [](const LegReport& r) { return std::to_string(r.complete_stances); });
-  row("stance mean (s)", [&](const LegReport& r) { return opt(r.mean_stance_s, "%.3f"); });
-  row("stance shortest (s)", [&](const LegReport& r) { return opt(r.shortest_stance_s, "%.3f"); });
-  row("attached (s)", [](const LegReport& r) { return Num(r.attached_s); });
-  row("duty factor", [](const LegReport& r) { return Num(r.duty_factor); });
-  row("peak normal load (N)", [&](const LegReport& r) { return opt(r.peak_normal_n, "%.3f"); });
-  row("peak shear load (N)", [&](const LegReport& r) { return opt(r.peak_shear_n, "%.3f"); });
-  row("lowest bonded fraction",
-      [&](const LegReport& r) { return opt(r.lowest_bonded_fraction, "%.3f"); });
-  row("peak utilisation", [&](const LegReport& r) { return opt(r.peak_utilisation, "%.3f"); });
-  std::set<std::string> reflexes;
-  for (const LegReport& r : report.legs) {
-    for (const auto& [k, n] : r.reflexes) reflexes.insert(k);
-  }
-  if (!reflexes.empty()) {
-    out += "reflexes fired\n";
-    for (const std::string& k : reflexes) {
-      row("  " + k, [&](const LegReport& r) {
-        const auto it = r.reflexes.find(k);
-        return std::to_string(it == r.reflexes.end() ? 0 : it->second);
-      });
-    }
-  }
+  LegTable table(report, &out);
+  EventRows(&table);
+  StanceAndLoadRows(&table);
+  ReflexRows(report, &table, &out);
   out +=
       "\nstance = attach .. detach; mean and shortest over stances whole inside the window;\n"
       "duty factor = attached time / observed time; loads (pad frame, normal + pulls off) are\n"
