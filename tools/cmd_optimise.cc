@@ -27,10 +27,10 @@ void AddOptimiseCommand(CLI::App& app) {
   cmd->add_option("--threads", threads,
                   "worker threads per process (default: the cores, shared by the MPI ranks on "
                   "the machine); the result does not depend on it")
-      ->check(CLI::Range(0, 1024));
+      ->check(InRange(optimise::kThreadsRange));
   cmd->add_option("--max-evaluations", max_evaluations,
                   "override optimise.max_evaluations (evaluations in all, at least 1)")
-      ->check(CLI::Range(1, 100000000));
+      ->check(InRange(optimise::kMaxEvaluationsRange));
   cmd->add_flag("--resume", resume,
                 "continue from DIR/checkpoint.json after a kill (same end result as an "
                 "uninterrupted run)");
