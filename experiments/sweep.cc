@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <cmath>
+#include <stdexcept>
 
 #include "optimise/comm.h"
 #include "experiments/experiments.h"
@@ -29,12 +30,21 @@ sim::RunResult FromJson(const nlohmann::json& j) {
   return r;
 }
 
-// A point's scenario refused, as bad input at the swept key.
+// A point's scenario refused, as bad input at the swept key: the module's error names the
+// key it refused, this names the file and the swept value that led there.
 InputError PointError(const std::string& file, const SweepOptions& o, double v,
                       const InputError& e) {
   return InputError(file, 0, 0, o.key,
                     o.key + " = " + sim::ExactNumber(v) + " gives an invalid scenario: " + e.key() +
                         " " + e.message());
+}
+
+// The same for a refusal that is not an InputError (a module's std::invalid_argument).
+InputError PointError(const std::string& file, const SweepOptions& o, double v,
+                      const std::invalid_argument& e) {
+  return InputError(file, 0, 0, o.key,
+                    o.key + " = " + sim::ExactNumber(v) + " gives an invalid scenario: " +
+                        e.what());
 }
 
 // Builds every point's simulation (and drops it) before any runs: a value the loader takes
@@ -49,6 +59,8 @@ void CheckPointsBuild(const std::vector<std::string>& files, const std::vector<d
                      try {
                        sim::Simulation run(scenarios[f][i], cache.For(scenarios[f][i]));
                      } catch (const InputError& e) {
+                       throw PointError(files[f], o, values[i], e);
+                     } catch (const std::invalid_argument& e) {
                        throw PointError(files[f], o, values[i], e);
                      }
                    });
@@ -68,6 +80,7 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOp
     sim::ParseScenario(root, files[f]);  // the file itself first, with its places
     for (double v : values) {
       YAML::Node tree = YAML::Clone(root);
+      // SetDottedKey names the part of the key that does not fit; the file is added here.
       try {
         SetDottedKey(tree, o.key, v);
       } catch (const std::invalid_argument& e) {
