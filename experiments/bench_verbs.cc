@@ -4,31 +4,17 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdarg>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
 #include "common/common.h"
 #include "experiments/bench_speed.h"
+#include "optimise/text.h"
 #include "sim/sim.h"
 
 namespace climbsim::optimise {
 namespace {
-
-// printf onto the end of *out.
-__attribute__((format(printf, 2, 3))) void Appendf(std::string* out, const char* format, ...) {
-  va_list args, again;
-  va_start(args, format);
-  va_copy(again, args);
-  const int n = std::vsnprintf(nullptr, 0, format, args);
-  va_end(args);
-  std::string text(static_cast<size_t>(std::max(n, 0)) + 1, '\0');
-  std::vsnprintf(text.data(), text.size(), format, again);
-  va_end(again);
-  text.resize(static_cast<size_t>(std::max(n, 0)));
-  *out += text;
-}
 
 // The profile part of bench speed's text: time inside each part of the step.
 std::string ProfileText(const sim::SpeedReport& r) {

@@ -59,8 +59,9 @@ std::string Csv(const std::vector<Row>& rows, bool bonds, bool mujoco, double ca
 
 // The gnuplot script, run inside the output folder; `data` and `output` are gnuplot string
 // literals of plain file names there.
-std::string Script(const PulloffExperimentOptions& o, const std::string& data, const std::string& output,
-                   bool bonds, bool mujoco, double capacity_n, double y_max) {
+std::string Script(const PulloffExperimentOptions& o, const std::string& data,
+                   const std::string& output, bool bonds, bool mujoco, double capacity_n,
+                   double y_max) {
   const adhesion::PadParams& pad = o.rig.pad;
   char title[256];
   std::snprintf(title, sizeof(title),

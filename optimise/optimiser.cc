@@ -19,6 +19,7 @@
 #include "optimise/evaluator.h"
 #include "optimise/optimise.h"
 #include "optimise/starts.h"
+#include "optimise/text.h"
 
 namespace climbsim::optimise {
 namespace {
@@ -363,6 +364,22 @@ void ParallelRollouts(int count, int threads,
   });
 }
 
+
+std::string ResultText(const Result& r, const std::string& out_dir) {
+  std::string out;
+  Appendf(&out, "climbsim optimise: %zu evaluations (%d computed) in %.1f s, %d process%s\n",
+          r.history.size(), r.evaluations_computed, r.wall_time_s, r.processes,
+          r.processes == 1 ? "" : "es");
+  Appendf(&out, "  rollouts %d computed, stopped early: %d stalled, %d bound (%.0f s simulated)\n",
+          r.rollouts_computed, r.rollouts_stalled, r.rollouts_bounded, r.simulated_s);
+  Appendf(&out, "  start  J %.6f m/s, speed %.4f m/s\n", r.start_objective,
+          r.history.front().nominal.speed_mps);
+  Appendf(&out, "  best   J %.6f m/s, speed %.4f m/s (start %d, evaluation %d)\n",
+          r.best.objective, r.best.nominal.speed_mps, r.best.start, r.best.index);
+  Appendf(&out, "  outputs %s/{best.yaml,history.csv,convergence.png,summary.json}\n",
+          out_dir.c_str());
+  return out;
+}
 
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress) {
