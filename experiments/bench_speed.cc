@@ -30,18 +30,11 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
-SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions,
-                       double profile_from_s) {
-  if (!(profile_from_s >= 0.0 && profile_from_s < duration_s)) {
-    throw std::invalid_argument("the profile must start in [0, duration): " +
-                                std::to_string(profile_from_s) + " s");
-  }
-  Scenario base = full;
-  base.duration_s = duration_s;
-  base.fall.stop = false;
-  const auto model = CompileScenario(base);
+namespace {
 
-  // The cumulative variants, each a scenario with a prefix of the effects.
+// The cumulative variants, each a scenario with a prefix of the effects: what each effect
+// adds to the step's cost is the difference between neighbours.
+std::vector<std::pair<std::string, Scenario>> CumulativeVariants(const Scenario& base) {
   std::vector<std::pair<std::string, Scenario>> variants;
   Scenario s = base;
   s.adhesion.reset();
@@ -75,57 +68,84 @@ SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions,
     s.outputs = base.outputs;
     variants.push_back({"+trajectory", s});
   }
+  return variants;
+}
 
-  SpeedReport report;
-  report.repetitions = repetitions;
-  report.variants.push_back({"bare mj_step", {}, 0.0, 0.0});
-  for (const auto& v : variants) report.variants.push_back({v.first, {}, 0.0, 0.0});
+// Bare mj_step over duration_s: the same model copy and the same options as every
+// Simulation gets. Returns steps per second; `steps` is the step count.
+double BareStepsPerS(const CompiledModel& model, const Scenario& base, double duration_s,
+                     long* steps) {
+  World world(model, base);
+  mj_resetData(world.model(), world.data());
+  *steps = std::lround(duration_s / world.model()->opt.timestep);
+  const double t0 = ThreadClock::Now();
+  for (long i = 0; i < *steps; ++i) mj_step(world.model(), world.data());
+  const double dt = ThreadClock::Now() - t0;
+  return *steps / dt;
+}
 
-  for (int rep = 0; rep < repetitions; ++rep) {
-    // Bare: the same model copy and the same options as every Simulation gets.
-    {
-      World world(*model, base);
-      mj_resetData(world.model(), world.data());
-      const long steps = std::lround(duration_s / world.model()->opt.timestep);
-      const double t0 = ThreadClock::Now();
-      for (long i = 0; i < steps; ++i) mj_step(world.model(), world.data());
-      const double dt = ThreadClock::Now() - t0;
-      report.variants[0].steps_per_s.push_back(steps / dt);
-      report.steps = steps;
-    }
-    for (size_t k = 0; k < variants.size(); ++k) {
-      Simulation sim(variants[k].second, *model);
-      const double t0 = ThreadClock::Now();
-      const long steps = sim.steps_total();
-      for (long i = 0; i < steps; ++i) sim.Step();
-      const double dt = ThreadClock::Now() - t0;
-      report.variants[k + 1].steps_per_s.push_back(steps / dt);
-    }
-  }
-  for (auto& v : report.variants) v.median_steps_per_s = Median(v.steps_per_s);
-  for (auto& v : report.variants) {
-    v.overhead = report.variants[0].median_steps_per_s / v.median_steps_per_s - 1.0;
-  }
+double VariantStepsPerS(const Scenario& variant, const CompiledModel& model) {
+  Simulation sim(variant, model);
+  const double t0 = ThreadClock::Now();
+  const long steps = sim.steps_total();
+  for (long i = 0; i < steps; ++i) sim.Step();
+  const double dt = ThreadClock::Now() - t0;
+  return steps / dt;
+}
 
-  // Profile of the full scenario.
-  Simulation sim(variants.back().second, *model);
+// Profile of the full scenario from profile_from_s into `report`.
+void ProfileFull(const Scenario& full, const CompiledModel& model, double profile_from_s,
+                 SpeedReport* report) {
+  Simulation sim(full, model);
   Simulation::Profile p;
   const double dt = sim.world().model()->opt.timestep;
-  report.profile_from_s = profile_from_s;
+  report->profile_from_s = profile_from_s;
   for (long i = 0; i < sim.steps_total(); ++i) {
     // Step i starts at i·dt: profiled from the first step that starts at or after the window.
     if (i * dt + 0.5 * dt < profile_from_s) {
       sim.Step();
     } else {
       sim.StepProfiled(&p);
-      ++report.profiled_steps;
+      ++report->profiled_steps;
     }
   }
-  report.mj_step_s = p.mj_step_s;
-  report.monitor_s = p.monitor_s;
+  report->mj_step_s = p.mj_step_s;
+  report->monitor_s = p.monitor_s;
   for (size_t i = 0; i < sim.effects().size(); ++i) {
-    report.effect_s.push_back({sim.effects()[i]->name(), p.effect_s[i]});
+    report->effect_s.push_back({sim.effects()[i]->name(), p.effect_s[i]});
   }
+}
+
+}  // namespace
+
+SpeedReport BenchSpeed(const Scenario& full, double duration_s, int repetitions,
+                       double profile_from_s) {
+  if (!(profile_from_s >= 0.0 && profile_from_s < duration_s)) {
+    throw std::invalid_argument("the profile must start in [0, duration): " +
+                                std::to_string(profile_from_s) + " s");
+  }
+  Scenario base = full;
+  base.duration_s = duration_s;
+  base.fall.stop = false;
+  const auto model = CompileScenario(base);
+  const std::vector<std::pair<std::string, Scenario>> variants = CumulativeVariants(base);
+
+  SpeedReport report;
+  report.repetitions = repetitions;
+  report.variants.push_back({"bare mj_step", {}, 0.0, 0.0});
+  for (const auto& v : variants) report.variants.push_back({v.first, {}, 0.0, 0.0});
+  for (int rep = 0; rep < repetitions; ++rep) {
+    report.variants[0].steps_per_s.push_back(
+        BareStepsPerS(*model, base, duration_s, &report.steps));
+    for (size_t k = 0; k < variants.size(); ++k) {
+      report.variants[k + 1].steps_per_s.push_back(VariantStepsPerS(variants[k].second, *model));
+    }
+  }
+  for (auto& v : report.variants) v.median_steps_per_s = Median(v.steps_per_s);
+  for (auto& v : report.variants) {
+    v.overhead = report.variants[0].median_steps_per_s / v.median_steps_per_s - 1.0;
+  }
+  ProfileFull(variants.back().second, *model, profile_from_s, &report);
   return report;
 }
 

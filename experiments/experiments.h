@@ -26,6 +26,11 @@ struct SweepRow {
   double value = 0.0;
   std::vector<sim::RunResult> results;  // one per scenario, in the order given
 };
+// The most values a sweep may take.
+inline constexpr int kMaxSweepValues = 10000;
+// Throws InputError ("climbsim sweep" at --from, --to or --step) for a range that is not
+// finite, runs backwards, or holds more than kMaxSweepValues values.
+void CheckSweepRange(const SweepOptions& options);
 // Throws InputError for a key the files cannot hold or a value that makes a scenario invalid
 // (checked for every value before anything runs).
 std::vector<SweepRow> Sweep(const std::vector<std::string>& scenario_files,
@@ -34,6 +39,11 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& scenario_files,
 // Returns the plot's warning ("" when drawn).
 std::string WriteSweep(const std::string& dir, const std::vector<std::string>& scenario_files,
                        const SweepOptions& options, const std::vector<SweepRow>& rows);
+
+// The terminal table (per value, each file's speed or fall time) and the outputs line.
+std::string SweepTable(const std::vector<std::string>& scenario_files, const SweepOptions& options,
+                       const std::vector<SweepRow>& rows, const std::string& out_dir,
+                       const std::string& plot_warning);
 
 // ---- What accuracy costs in time -------------------------------------------------------
 // `climbsim bench accuracy`: one knob at a time (time step; MuJoCo integrator; solver

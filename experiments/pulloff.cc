@@ -59,8 +59,9 @@ std::string Csv(const std::vector<Row>& rows, bool bonds, bool mujoco, double ca
 
 // The gnuplot script, run inside the output folder; `data` and `output` are gnuplot string
 // literals of plain file names there.
-std::string Script(const PulloffExperimentOptions& o, const std::string& data, const std::string& output,
-                   bool bonds, bool mujoco, double capacity_n, double y_max) {
+std::string Script(const PulloffExperimentOptions& o, const std::string& data,
+                   const std::string& output, bool bonds, bool mujoco, double capacity_n,
+                   double y_max) {
   const adhesion::PadParams& pad = o.rig.pad;
   char title[256];
   std::snprintf(title, sizeof(title),
@@ -114,49 +115,31 @@ void Check(bool ok, const std::string& option, const std::string& message) {
 
 }  // namespace
 
-bool RunPulloffExperiment(PulloffExperimentOptions o) {
-  adhesion::PulloffRigParams& p = o.rig;
-  p.pad.length_m = o.length_m.value_or(p.pad.width_m);
-  if (o.grid > 0) p.pad.grid_x = p.pad.grid_y = o.grid;
-  if (o.law == "frictional") {  // both laws quasi-static on one plot (RunPulloffLaws)
-    Check(o.range.from_deg <= o.range.to_deg, "--from-deg", "must be <= --to-deg");
-    Check(p.pad.min_bonds <= p.pad.grid_x * p.pad.grid_y, "--min-bonds",
-          "must be <= grid_x * grid_y");
-    PulloffLawOptions l;
-    l.out_dir = o.out_dir, l.force = o.force, l.quiet = o.quiet;
-    l.keep_other_files = o.keep_other_files;
-    l.pad = p.pad;
-    l.law = o.frictional;
-    l.law.grip_x = std::cos(o.grip_deg * kDeg);
-    l.law.grip_y = std::sin(o.grip_deg * kDeg);
-    l.arm_m = p.arm_m;
-    l.from_deg = o.range.from_deg, l.to_deg = o.range.to_deg, l.step_deg = o.range.step_deg;
-    l.max_force_factor = p.max_force_factor;
-    return RunPulloffLaws(l);
-  }
-  p.azimuth_rad = o.azimuth_deg * kDeg;
-  Check(o.range.from_deg <= o.range.to_deg, "--from-deg", "must be <= --to-deg");
-  Check(p.pad.min_bonds <= p.pad.grid_x * p.pad.grid_y, "--min-bonds",
-        "must be <= grid_x * grid_y");
-  const bool bonds = o.model != "mujoco", mujoco = o.model != "bonds";
-  std::vector<double> angles_deg;
-  try {
-    adhesion::ValidatePulloffRigParams(p);
-    angles_deg = adhesion::SweepAnglesDeg(o.range);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("pulloff", 0, 0, "", e.what());
-  }
+namespace {
 
-  // The output folder: checked and locked before anything runs; it appears whole.
-  sim::RunFolder folder(
-      o.out_dir, {.made_by = "pulloff", .force = o.force, .keep_other_files = o.keep_other_files});
-  const std::string dir = folder.path();
+// --law frictional: the quasi-static laws' options from the rig's.
+PulloffLawOptions LawOptions(const PulloffExperimentOptions& o) {
+  const adhesion::PulloffRigParams& p = o.rig;
+  PulloffLawOptions l;
+  l.out_dir = o.out_dir, l.force = o.force, l.quiet = o.quiet;
+  l.keep_other_files = o.keep_other_files;
+  l.pad = p.pad;
+  l.law = o.frictional;
+  l.law.grip_x = std::cos(o.grip_deg * kDeg);
+  l.law.grip_y = std::sin(o.grip_deg * kDeg);
+  l.arm_m = p.arm_m;
+  l.from_deg = o.range.from_deg, l.to_deg = o.range.to_deg, l.step_deg = o.range.step_deg;
+  l.max_force_factor = p.max_force_factor;
+  return l;
+}
 
+// The rows at `angles_deg`: the MuJoCo rigs' runs and the quasi-static and closed-form
+// forces. Both rigs are compiled here (MuJoCo's loader is not thread-safe), then each model
+// sweeps on its own thread; an exception in either reaches the caller.
+std::vector<Row> SweepRigs(const adhesion::PulloffRigParams& p,
+                           const std::vector<double>& angles_deg, bool bonds, bool mujoco) {
   std::vector<Row> rows(angles_deg.size());
   for (size_t k = 0; k < rows.size(); ++k) rows[k].angle_deg = angles_deg[k];
-
-  // Both rigs are compiled here (MuJoCo's loader is not thread-safe), then each model sweeps
-  // on its own thread.
   std::unique_ptr<adhesion::PulloffRig> bond_rig, mujoco_rig;
   if (bonds) bond_rig = std::make_unique<adhesion::PulloffRig>(adhesion::AdhesionModel::kBonds, p);
   if (mujoco) {
@@ -164,8 +147,7 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
   }
   const double capacity = p.pad.sigma_t_pa * p.pad.width_m * p.pad.length_m;
   const double gain = p.gain_n > 0 ? p.gain_n : capacity;
-  const auto started = std::chrono::steady_clock::now();
-  // Task 1 sweeps the MuJoCo rig on a second thread; an exception in either reaches the caller.
+  // Task 1 sweeps the MuJoCo rig on a second thread.
   common::ParallelFor(2, 2, [&](int task) {
     if (task == 1) {
       if (!mujoco_rig) return;
@@ -188,12 +170,16 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
           adhesion::MujocoPulloffClosedForm(gain, p.friction, p.pad.width_m, p.arm_m, theta);
     }
   });
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return rows;
+}
 
-  // Files: the CSV and the script first, then the plot.
-  const std::string csv_path = dir + "/pulloff.csv";
-  common::WriteFileAtomic(csv_path, Csv(rows, bonds, mujoco, capacity));
+// pulloff.csv, pulloff.gp and pulloff.png in `dir`; returns why the plot is missing ("" when
+// drawn).
+std::string WriteRigFiles(const std::string& dir, const PulloffExperimentOptions& o,
+                          const std::vector<Row>& rows, bool bonds, bool mujoco,
+                          double capacity) {
+  // The CSV and the script first, then the plot.
+  common::WriteFileAtomic(dir + "/pulloff.csv", Csv(rows, bonds, mujoco, capacity));
   double y_max = 0.0;
   for (const Row& r : rows) {
     for (double f :
@@ -208,31 +194,65 @@ bool RunPulloffExperiment(PulloffExperimentOptions o) {
       dir + "/pulloff.gp",
       "# cd into this folder and run: gnuplot pulloff.gp\n" +
           Script(o, data, common::GnuplotQuote("pulloff.png"), bonds, mujoco, capacity, y_max));
-  const std::string error = common::RunGnuplot(
+  return common::RunGnuplot(
       dir, Script(o, data, "OUTPUT(0)", bonds, mujoco, capacity, y_max), {"pulloff.png"});
-  folder.Commit();
+}
 
-  if (!o.quiet) {
-    std::printf("climbsim pulloff: %zu angles in %.2f s; sigma_T*A = %.4g N\n", rows.size(), wall_s,
-                capacity);
-    std::printf("%9s %11s %11s %8s %11s %11s %9s\n", "angle_deg", "bonds_n", "quasi_st_n", "diff_%",
-                "mujoco_n", "mj_closed_n", "diff_%");
-    for (const Row& r : rows) {
-      const double d1 = 100.0 * (r.bonds.force_n / r.quasi_static_n - 1.0);
-      const double d2 = 100.0 * (r.mujoco.force_n / r.mujoco_closed_n - 1.0);
-      std::printf("%9g %11s %11s %8s %11s %11s %9s\n", r.angle_deg,
-                  bonds ? Num(r.bonds.force_n).c_str() : "-", Num(r.quasi_static_n).c_str(),
-                  bonds && std::isfinite(d1) ? Num(d1).c_str() : "-",
-                  mujoco ? Num(r.mujoco.force_n).c_str() : "-", Num(r.mujoco_closed_n).c_str(),
-                  mujoco && std::isfinite(d2) ? Num(d2).c_str() : "-");
-    }
-    std::printf("  outputs %s/{pulloff.csv,pulloff.gp%s}\n", o.out_dir.c_str(),
-                error.empty() ? ",pulloff.png" : "");
+void PrintRigTable(const PulloffExperimentOptions& o, const std::vector<Row>& rows, bool bonds,
+                   bool mujoco, double capacity, double wall_s, const std::string& error) {
+  std::printf("climbsim pulloff: %zu angles in %.2f s; sigma_T*A = %.4g N\n", rows.size(), wall_s,
+              capacity);
+  std::printf("%9s %11s %11s %8s %11s %11s %9s\n", "angle_deg", "bonds_n", "quasi_st_n", "diff_%",
+              "mujoco_n", "mj_closed_n", "diff_%");
+  for (const Row& r : rows) {
+    const double d1 = 100.0 * (r.bonds.force_n / r.quasi_static_n - 1.0);
+    const double d2 = 100.0 * (r.mujoco.force_n / r.mujoco_closed_n - 1.0);
+    std::printf("%9g %11s %11s %8s %11s %11s %9s\n", r.angle_deg,
+                bonds ? Num(r.bonds.force_n).c_str() : "-", Num(r.quasi_static_n).c_str(),
+                bonds && std::isfinite(d1) ? Num(d1).c_str() : "-",
+                mujoco ? Num(r.mujoco.force_n).c_str() : "-", Num(r.mujoco_closed_n).c_str(),
+                mujoco && std::isfinite(d2) ? Num(d2).c_str() : "-");
   }
+  std::printf("  outputs %s/{pulloff.csv,pulloff.gp%s}\n", o.out_dir.c_str(),
+              error.empty() ? ",pulloff.png" : "");
+}
+
+}  // namespace
+
+bool RunPulloffExperiment(PulloffExperimentOptions o) {
+  adhesion::PulloffRigParams& p = o.rig;
+  p.pad.length_m = o.length_m.value_or(p.pad.width_m);
+  if (o.grid > 0) p.pad.grid_x = p.pad.grid_y = o.grid;
+  Check(o.range.from_deg <= o.range.to_deg, "--from-deg", "must be <= --to-deg");
+  Check(p.pad.min_bonds <= p.pad.grid_x * p.pad.grid_y, "--min-bonds",
+        "must be <= grid_x * grid_y");
+  // Both laws quasi-static on one plot.
+  if (o.law == "frictional") return RunPulloffLaws(LawOptions(o));
+  p.azimuth_rad = o.azimuth_deg * kDeg;
+  const bool bonds = o.model != "mujoco", mujoco = o.model != "bonds";
+  std::vector<double> angles_deg;
+  // The adhesion module's checks name the parameter; "pulloff" says where it came from.
+  try {
+    adhesion::ValidatePulloffRigParams(p);
+    angles_deg = adhesion::SweepAnglesDeg(o.range);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("pulloff", 0, 0, "", e.what());
+  }
+
+  // The output folder: checked and locked before anything runs; it appears whole.
+  sim::RunFolder folder(
+      o.out_dir, {.made_by = "pulloff", .force = o.force, .keep_other_files = o.keep_other_files});
+  const auto started = std::chrono::steady_clock::now();
+  const std::vector<Row> rows = SweepRigs(p, angles_deg, bonds, mujoco);
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double capacity = p.pad.sigma_t_pa * p.pad.width_m * p.pad.length_m;
+  const std::string error = WriteRigFiles(folder.path(), o, rows, bonds, mujoco, capacity);
+  folder.Commit();
+  if (!o.quiet) PrintRigTable(o, rows, bonds, mujoco, capacity, wall_s, error);
   if (!error.empty()) std::fprintf(stderr, "climbsim pulloff: no plot: %s\n", error.c_str());
   return error.empty();
 }
-
 
 // ---- --law frictional ------------------------------------------------------------------
 
@@ -313,17 +333,20 @@ std::string Script(const PulloffLawOptions& o, const std::string& data, const st
 
 }  // namespace
 
-bool RunPulloffLaws(const PulloffLawOptions& o) {
-  adhesion::ValidatePadParams(o.pad);
-  const adhesion::FrictionalLaw law(o.law);
-  sim::RunFolder folder(
-      o.out_dir, {.made_by = "pulloff", .force = o.force, .keep_other_files = o.keep_other_files});
-  const std::string dir = folder.path();
+namespace {
 
-  const double area = o.pad.width_m * o.pad.length_m;
-  const double capacity = o.pad.sigma_t_pa * area;
-  const double shear = o.law.shear_limit_pa * area;
-  const double grip = std::atan2(law.grip_y(), law.grip_x());
+// The pad's forces and limits, each law's computed once.
+struct LawSetup {
+  double area = 0.0;      // pad area, m²
+  double capacity = 0.0;  // sigma_T A, N
+  double shear = 0.0;     // tau_max A, N
+  double grip = 0.0;      // the grip direction's azimuth, rad
+};
+
+// One row per angle from o.from_deg to o.to_deg: both laws along and against the grip on
+// the bond grid, and their closed forms for a central pull.
+std::vector<LawRow> LawRows(const PulloffLawOptions& o, const adhesion::FrictionalLaw& law,
+                            const LawSetup& u) {
   adhesion::PulloffOptions qs;
   qs.max_force_factor = o.max_force_factor;
   std::vector<LawRow> rows;
@@ -333,43 +356,51 @@ bool RunPulloffLaws(const PulloffLawOptions& o) {
     LawRow r;
     r.angle_deg = std::min(a, o.to_deg);
     const double theta = r.angle_deg * kDeg;
-    const adhesion::PullSetup along{.angle_rad = theta, .azimuth_rad = grip, .arm_m = o.arm_m};
+    const adhesion::PullSetup along{.angle_rad = theta, .azimuth_rad = u.grip, .arm_m = o.arm_m};
     adhesion::PullSetup against = along;
     against.azimuth_rad += M_PI;
     r.frictional_n = adhesion::FrictionalPullOff(o.pad, o.law, along, qs).force_n;
     r.reversed_n = adhesion::FrictionalPullOff(o.pad, o.law, against, qs).force_n;
     r.von_mises_n = adhesion::PullOff(o.pad, along, qs).force_n;
     if (o.arm_m == 0.0) {
-      r.frictional_closed_n = law.PulloffClosedForm(area, theta, along.azimuth_rad);
-      r.reversed_closed_n = law.PulloffClosedForm(area, theta, against.azimuth_rad);
-      r.von_mises_closed_n = adhesion::VonMisesPulloffClosedForm(capacity, theta, o.pad.mu);
+      r.frictional_closed_n = law.PulloffClosedForm(u.area, theta, along.azimuth_rad);
+      r.reversed_closed_n = law.PulloffClosedForm(u.area, theta, against.azimuth_rad);
+      r.von_mises_closed_n = adhesion::VonMisesPulloffClosedForm(u.capacity, theta, o.pad.mu);
     }
     rows.push_back(r);
   }
+  return rows;
+}
 
-  // pulloff.csv
+std::string LawCsv(const std::vector<LawRow>& rows, const LawSetup& u) {
   std::string csv =
       "angle_deg,frictional_n,frictional_closed_n,frictional_reversed_n,"
       "frictional_reversed_closed_n,von_mises_n,von_mises_closed_n,capacity_n,shear_limit_n\n";
   for (const LawRow& r : rows) {
     csv += Num(r.angle_deg) + ',' + Num(r.frictional_n) + ',' + Num(r.frictional_closed_n) + ',' +
            Num(r.reversed_n) + ',' + Num(r.reversed_closed_n) + ',' + Num(r.von_mises_n) + ',' +
-           Num(r.von_mises_closed_n) + ',' + Num(capacity) + ',' + Num(shear) + '\n';
+           Num(r.von_mises_closed_n) + ',' + Num(u.capacity) + ',' + Num(u.shear) + '\n';
   }
-  // limit.csv: four blocks (gnuplot index 0..3).
-  const double clip = 3.0 * std::max(capacity, shear);
+  return csv;
+}
+
+// limit.csv: five blocks (gnuplot index 0..4), the limit curves and the closed forms.
+std::string LimitCsv(const PulloffLawOptions& o, const adhesion::FrictionalLaw& law,
+                     const std::vector<LawRow>& rows, const LawSetup& u) {
+  const double clip = 3.0 * std::max(u.capacity, u.shear);
   std::ostringstream limit;
   limit << "# index 0: frictional limit boundary, closed form (ft_n, fn_n)\n";
-  for (const auto& v : adhesion::FrictionalLimitBoundary(law, area, 2.0 * std::max(capacity, shear))) {
+  for (const auto& v :
+       adhesion::FrictionalLimitBoundary(law, u.area, 2.0 * std::max(u.capacity, u.shear))) {
     limit << Num(v.ft_n) << ',' << Num(v.fn_n) << '\n';
   }
   limit << "\n\n# index 1: von Mises limit curve, closed form (central pull, fine grid)\n";
   for (int k = 1800; k >= 0; --k) {  // against d, from pushing to pulling off
-    Point(&limit, adhesion::VonMisesPulloffClosedForm(capacity, k * 0.1 * kDeg, o.pad.mu),
+    Point(&limit, adhesion::VonMisesPulloffClosedForm(u.capacity, k * 0.1 * kDeg, o.pad.mu),
           k * 0.1 * kDeg, -1.0, clip);
   }
   for (int k = 0; k <= 1800; ++k) {
-    Point(&limit, adhesion::VonMisesPulloffClosedForm(capacity, k * 0.1 * kDeg, o.pad.mu),
+    Point(&limit, adhesion::VonMisesPulloffClosedForm(u.capacity, k * 0.1 * kDeg, o.pad.mu),
           k * 0.1 * kDeg, 1.0, clip);
   }
   limit << "\n\n# index 2: frictional pull-off vectors on the bond grid\n";
@@ -389,60 +420,77 @@ bool RunPulloffLaws(const PulloffLawOptions& o) {
     for (int k = 0;; ++k) {
       const double a = o.from_deg + 0.25 * k;
       if (a > o.to_deg) break;
-      const double f = law.PulloffClosedForm(area, a * kDeg, grip);
-      const double v = adhesion::VonMisesPulloffClosedForm(capacity, a * kDeg, o.pad.mu);
+      const double f = law.PulloffClosedForm(u.area, a * kDeg, u.grip);
+      const double v = adhesion::VonMisesPulloffClosedForm(u.capacity, a * kDeg, o.pad.mu);
       limit << Num(a) << ',' << (f <= clip ? Num(f) : "") << ',' << (v <= clip ? Num(v) : "")
             << '\n';
     }
   }
-  const std::string csv_path = dir + "/pulloff.csv";
-  const std::string limit_path = dir + "/limit.csv";
-  common::WriteFileAtomic(csv_path, csv);
-  common::WriteFileAtomic(limit_path, limit.str());
+  return limit.str();
+}
+
+void PrintLawTable(const PulloffLawOptions& o, const std::vector<LawRow>& rows,
+                   const LawSetup& u, const std::string& error) {
+  std::printf(
+      "climbsim pulloff --law frictional: %zu angles; sigma_T*A = %.4g N, tau_max*A = %.4g N, "
+      "alpha* = %g deg\n",
+      rows.size(), u.capacity, u.shear, o.law.critical_angle_deg);
+  std::printf("%9s %12s %12s %8s %12s %12s %12s %8s\n", "angle_deg", "frictional_n",
+              "closed_n", "diff_%", "reversed_n", "von_mises_n", "vm_closed_n", "diff_%");
+  for (const LawRow& r : rows) {
+    const auto diff = [](double a, double b) -> std::string {
+      if (a == 0.0 && b == 0.0) return "0";
+      if (std::isinf(a) && std::isinf(b)) return "0";
+      const double d = 100.0 * (a / b - 1.0);
+      return std::isfinite(d) ? Num(d) : "-";
+    };
+    std::printf("%9g %12s %12s %8s %12s %12s %12s %8s\n", r.angle_deg,
+                Num(r.frictional_n).c_str(), Num(r.frictional_closed_n).c_str(),
+                diff(r.frictional_n, r.frictional_closed_n).c_str(), Num(r.reversed_n).c_str(),
+                Num(r.von_mises_n).c_str(), Num(r.von_mises_closed_n).c_str(),
+                diff(r.von_mises_n, r.von_mises_closed_n).c_str());
+  }
+  std::printf("  outputs %s/{pulloff.csv,limit.csv,pulloff.gp%s}\n", o.out_dir.c_str(),
+              error.empty() ? ",pulloff.png" : "");
+}
+
+}  // namespace
+
+bool RunPulloffLaws(const PulloffLawOptions& o) {
+  adhesion::ValidatePadParams(o.pad);
+  const adhesion::FrictionalLaw law(o.law);
+  sim::RunFolder folder(
+      o.out_dir, {.made_by = "pulloff", .force = o.force, .keep_other_files = o.keep_other_files});
+  const std::string dir = folder.path();
+
+  LawSetup u;
+  u.area = o.pad.width_m * o.pad.length_m;
+  u.capacity = o.pad.sigma_t_pa * u.area;
+  u.shear = o.law.shear_limit_pa * u.area;
+  u.grip = std::atan2(law.grip_y(), law.grip_x());
+  const std::vector<LawRow> rows = LawRows(o, law, u);
+  common::WriteFileAtomic(dir + "/pulloff.csv", LawCsv(rows, u));
+  common::WriteFileAtomic(dir + "/limit.csv", LimitCsv(o, law, rows, u));
   double y_max = 0.0;
   for (const LawRow& r : rows) {
     for (double f : {r.frictional_n, r.reversed_n, r.von_mises_n}) {
       if (std::isfinite(f)) y_max = std::max(y_max, f);
     }
   }
-  y_max = std::min(3.0 * std::max(capacity, shear), 1.15 * y_max);
+  y_max = std::min(3.0 * std::max(u.capacity, u.shear), 1.15 * y_max);
   // pulloff.gp names no folder: a user runs it where it lies, as gnuplot runs it here.
   const std::string data = common::GnuplotQuote("pulloff.csv");
   const std::string limits = common::GnuplotQuote("limit.csv");
-  common::WriteFileAtomic(
-      dir + "/pulloff.gp",
-      "# cd into this folder and run: gnuplot pulloff.gp\n" +
-          Script(o, data, limits, common::GnuplotQuote("pulloff.png"), capacity, shear, y_max));
+  common::WriteFileAtomic(dir + "/pulloff.gp",
+                          "# cd into this folder and run: gnuplot pulloff.gp\n" +
+                              Script(o, data, limits, common::GnuplotQuote("pulloff.png"),
+                                     u.capacity, u.shear, y_max));
   const std::string error = common::RunGnuplot(
-      dir, Script(o, data, limits, "OUTPUT(0)", capacity, shear, y_max), {"pulloff.png"});
+      dir, Script(o, data, limits, "OUTPUT(0)", u.capacity, u.shear, y_max), {"pulloff.png"});
   folder.Commit();
-
-  if (!o.quiet) {
-    std::printf(
-        "climbsim pulloff --law frictional: %zu angles; sigma_T*A = %.4g N, tau_max*A = %.4g N, "
-        "alpha* = %g deg\n",
-        rows.size(), capacity, shear, o.law.critical_angle_deg);
-    std::printf("%9s %12s %12s %8s %12s %12s %12s %8s\n", "angle_deg", "frictional_n",
-                "closed_n", "diff_%", "reversed_n", "von_mises_n", "vm_closed_n", "diff_%");
-    for (const LawRow& r : rows) {
-      const auto diff = [](double a, double b) -> std::string {
-        if (a == 0.0 && b == 0.0) return "0";
-        if (std::isinf(a) && std::isinf(b)) return "0";
-        const double d = 100.0 * (a / b - 1.0);
-        return std::isfinite(d) ? Num(d) : "-";
-      };
-      std::printf("%9g %12s %12s %8s %12s %12s %12s %8s\n", r.angle_deg,
-                  Num(r.frictional_n).c_str(), Num(r.frictional_closed_n).c_str(),
-                  diff(r.frictional_n, r.frictional_closed_n).c_str(), Num(r.reversed_n).c_str(),
-                  Num(r.von_mises_n).c_str(), Num(r.von_mises_closed_n).c_str(),
-                  diff(r.von_mises_n, r.von_mises_closed_n).c_str());
-    }
-    std::printf("  outputs %s/{pulloff.csv,limit.csv,pulloff.gp%s}\n", o.out_dir.c_str(),
-                error.empty() ? ",pulloff.png" : "");
-  }
+  if (!o.quiet) PrintLawTable(o, rows, u, error);
   if (!error.empty()) std::fprintf(stderr, "climbsim pulloff: no plot: %s\n", error.c_str());
   return error.empty();
 }
-
 
 }  // namespace climbsim::optimise

@@ -236,11 +236,10 @@ void CheckOptions(const Setup& u, const RobustnessOptions& options) {
 
 }  // namespace
 
-RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
-                                 const std::function<void(double)>& progress) {
-  const sim::Scenario base = sim::LoadScenario(file);
-  const Setup u = MakeSetup(base, options);
-  CheckOptions(u, options);
+namespace {
+
+// The families asked for (all when none are named) that the scenario can take, in table order.
+std::vector<RobustnessFamily> WantedFamilies(const Setup& u, const RobustnessOptions& options) {
   std::vector<RobustnessFamily> families;
   for (const auto& f : AllFamilies(u.robot_mass_kg)) {
     const bool wanted = options.families.empty() ||
@@ -248,14 +247,167 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
                             options.families.end();
     if (wanted && Applicable(u, f.name)) families.push_back(f);
   }
-  // Every family's largest case must build before anything long runs (bad input: exit 2).
-  {
-    ModelCache cache;
-    for (const auto& f : families) {
-      const sim::Scenario s = MakeCase(u, f.name, f.hi, 0, std::max(0, options.seeds - 1), 0);
-      sim::Simulation check(s, cache.For(s));
-    }
+  return families;
+}
+
+// Every family's largest case must build before anything long runs (bad input: exit 2).
+void CheckLargestCases(const Setup& u, const std::vector<RobustnessFamily>& families) {
+  ModelCache cache;
+  for (const auto& f : families) {
+    const sim::Scenario s = MakeCase(u, f.name, f.hi, 0, std::max(0, u.options.seeds - 1), 0);
+    sim::Simulation check(s, cache.For(s));
   }
+}
+
+// Progress: each search counts its budget of evaluations (cases each), baselines one run.
+// Called from the pool's threads, one at a time.
+class Progress {
+ public:
+  Progress(const RobustnessOptions& options, const std::vector<RobustnessFamily>& families,
+           int modes, const std::function<void(double)>& progress)
+      : options_(options), progress_(progress) {
+    total_ = modes * options.seeds;
+    for (const auto& f : families) total_ += modes * Budget(f);
+  }
+
+  // The evaluations a search of `f` may spend, in runs: the two ends and the bisection.
+  int Budget(const RobustnessFamily& f) const {
+    const double steps =
+        std::ceil(std::log2(std::log(f.hi / f.lo) / std::log1p(options_.tolerance)));
+    return (2 + std::max(0, static_cast<int>(steps))) *
+           (f.name.rfind("push_", 0) == 0 ? options_.seeds * options_.phases : options_.seeds);
+  }
+
+  void Advance(double runs) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    done_ += runs;
+    if (progress_) progress_(std::min(1.0, done_ / total_));
+  }
+
+ private:
+  const RobustnessOptions& options_;
+  const std::function<void(double)>& progress_;
+  std::mutex mutex_;
+  double total_ = 0;
+  double done_ = 0;
+};
+
+// One family's search in one mode: the largest magnitude every case (seed, push phase)
+// survives, bisected geometrically between the family's lo and hi to the tolerance.
+class Search {
+ public:
+  Search(const Setup& u, const RobustnessFamily& f, int mode,
+         const std::vector<double>& baseline_m, ModelCache* cache, Progress* progress)
+      : u_(u), f_(f), mode_(mode), baseline_m_(baseline_m), cache_(cache), progress_(progress),
+        push_(f.name.rfind("push_", 0) == 0), phases_(push_ ? u.options.phases : 1) {
+    row_.family = f.name;
+    row_.unit = f.unit;
+    row_.mode = mode == 0 ? "reflexes" : "spindle_gto_off";
+    row_.lo = f.lo;
+    row_.hi = f.hi;
+  }
+
+  RobustnessRow Run() {
+    if (Evaluate(f_.hi)) {
+      row_.survived = f_.hi;
+      row_.failed = std::numeric_limits<double>::infinity();
+    } else {
+      const std::string hi_case = fail_case_, hi_how = fail_how_;
+      if (!Evaluate(f_.lo)) {
+        row_.survived = 0.0;
+        row_.failed = f_.lo;
+        row_.failing_case = fail_case_;
+        row_.failing_how = fail_how_;
+      } else {
+        Bisect(hi_case, hi_how);
+      }
+    }
+    // The budget not spent still counts, so the bar ends full.
+    const int spent = row_.evaluations * u_.options.seeds * phases_;
+    progress_->Advance(std::max(0, progress_->Budget(f_) - spent));
+    return row_;
+  }
+
+ private:
+  // lo survives, hi fails (with hi_case, hi_how): narrows [a, b] at the geometric mean.
+  void Bisect(const std::string& hi_case, const std::string& hi_how) {
+    double a = f_.lo, b = f_.hi;
+    std::string b_case = hi_case, b_how = hi_how;
+    while (b > a * (1.0 + u_.options.tolerance)) {
+      const double c = std::sqrt(a * b);
+      if (Evaluate(c)) {
+        a = c;
+      } else {
+        b = c;
+        b_case = fail_case_;
+        b_how = fail_how_;
+      }
+    }
+    row_.survived = a;
+    row_.failed = b;
+    row_.failing_case = b_case;
+    row_.failing_how = b_how;
+  }
+
+  // Whether every case survives magnitude m; the first that does not is kept in fail_*_.
+  bool Evaluate(double m) {
+    ++row_.evaluations;
+    bool ok = true;
+    for (int seed = 0; seed < u_.options.seeds && ok; ++seed) {
+      for (int phase = 0; phase < phases_ && ok; ++phase) {
+        ++row_.runs;
+        std::string how;
+        if (!Survives(MakeCase(u_, f_.name, m, mode_, seed, phase), baseline_m_[seed], cache_,
+                      &how)) {
+          ok = false;
+          fail_case_ =
+              "seed " + std::to_string(seed) + (push_ ? " phase " + std::to_string(phase) : "");
+          fail_how_ = how;
+        }
+      }
+    }
+    progress_->Advance(u_.options.seeds * phases_);
+    return ok;
+  }
+
+  const Setup& u_;
+  const RobustnessFamily& f_;
+  const int mode_;
+  const std::vector<double>& baseline_m_;
+  ModelCache* cache_;
+  Progress* progress_;
+  const bool push_;
+  const int phases_;
+  RobustnessRow row_;
+  std::string fail_case_, fail_how_;
+};
+
+// The report's rows: per family, the reflexes' row then the spindle + GTO off one (a copy
+// of the first when one search served both modes).
+std::vector<RobustnessRow> PairedRows(std::vector<RobustnessRow> rows, size_t families,
+                                      bool same) {
+  std::vector<RobustnessRow> out;
+  for (size_t i = 0; i < families; ++i) {
+    if (same) {
+      rows[2 * i + 1] = rows[2 * i];
+      rows[2 * i + 1].mode = "spindle_gto_off";
+      rows[2 * i + 1].same_as_reflexes = true;
+    }
+    out.push_back(rows[2 * i]);
+    out.push_back(rows[2 * i + 1]);
+  }
+  return out;
+}
+
+}  // namespace
+
+RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
+                                 const std::function<void(double)>& progress) {
+  const sim::Scenario base = sim::LoadScenario(file);
+  const Setup u = MakeSetup(base, options);
+  CheckOptions(u, options);
+  const std::vector<RobustnessFamily> families = WantedFamilies(u, options);
+  CheckLargestCases(u, families);
   // Spindle and GTO already off (or no reflexes): mode 1 is mode 0, searched once.
   const bool same = sim::ScenarioToYamlText(MakeCase(u, "", 0, 0, 0, 0)) ==
                     sim::ScenarioToYamlText(MakeCase(u, "", 0, 1, 0, 0));
@@ -265,24 +417,7 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
   report.scenario_file = file;
   report.options = options;
   report.robot_mass_kg = u.robot_mass_kg;
-
-  // Progress: each search counts its budget of evaluations (cases each), baselines one run.
-  std::mutex mu;
-  const int push_cases = options.seeds * options.phases;
-  auto budget = [&](const RobustnessFamily& f) {
-    const double steps =
-        std::ceil(std::log2(std::log(f.hi / f.lo) / std::log1p(options.tolerance)));
-    return (2 + std::max(0, static_cast<int>(steps))) *
-           (f.name.rfind("push_", 0) == 0 ? push_cases : options.seeds);
-  };
-  double total = modes * options.seeds;
-  for (const auto& f : families) total += modes * budget(f);
-  double done = 0;
-  auto advance = [&](double runs) {
-    std::lock_guard<std::mutex> lock(mu);
-    done += runs;
-    if (progress) progress(std::min(1.0, done / total));
-  };
+  Progress bar(options, families, modes, progress);
 
   // Undisturbed distances.
   report.baseline_m.assign(2, std::vector<double>(options.seeds, 0.0));
@@ -291,88 +426,20 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
     const sim::Scenario s = MakeCase(u, "", 0, mode, seed, 0);
     sim::Simulation run(s, cache->For(s));
     report.baseline_m[mode][seed] = run.Run().distance_m;
-    advance(1);
+    bar.Advance(1);
   });
   if (same) report.baseline_m[1] = report.baseline_m[0];
 
-  // The searches.
-  const int searches = static_cast<int>(families.size()) * modes;
+  // The searches, one task per family and mode.
   std::vector<RobustnessRow> rows(families.size() * 2);
-  ForEachCase(searches, options.threads, [&](int t, ModelCache* cache) {
-    const RobustnessFamily& f = families[t / modes];
-    const int mode = t % modes;
-    const bool push = f.name.rfind("push_", 0) == 0;
-    const int phases = push ? options.phases : 1;
-    RobustnessRow row;
-    row.family = f.name;
-    row.unit = f.unit;
-    row.mode = mode == 0 ? "reflexes" : "spindle_gto_off";
-    row.lo = f.lo;
-    row.hi = f.hi;
-    std::string fail_case, fail_how;
-    auto evaluate = [&](double m) {
-      ++row.evaluations;
-      int ran = 0;
-      bool ok = true;
-      for (int seed = 0; seed < options.seeds && ok; ++seed) {
-        for (int phase = 0; phase < phases && ok; ++phase) {
-          ++row.runs;
-          ++ran;
-          std::string how;
-          if (!Survives(MakeCase(u, f.name, m, mode, seed, phase), report.baseline_m[mode][seed],
-                        cache, &how)) {
-            ok = false;
-            fail_case =
-                "seed " + std::to_string(seed) + (push ? " phase " + std::to_string(phase) : "");
-            fail_how = how;
-          }
-        }
-      }
-      advance(options.seeds * phases);
-      return ok;
-    };
-    if (evaluate(f.hi)) {
-      row.survived = f.hi;
-      row.failed = std::numeric_limits<double>::infinity();
-    } else {
-      std::string hi_case = fail_case, hi_how = fail_how;
-      if (!evaluate(f.lo)) {
-        row.survived = 0.0;
-        row.failed = f.lo;
-        row.failing_case = fail_case;
-        row.failing_how = fail_how;
-      } else {
-        double a = f.lo, b = f.hi;
-        std::string b_case = hi_case, b_how = hi_how;
-        while (b > a * (1.0 + options.tolerance)) {
-          const double c = std::sqrt(a * b);
-          if (evaluate(c)) {
-            a = c;
-          } else {
-            b = c;
-            b_case = fail_case;
-            b_how = fail_how;
-          }
-        }
-        row.survived = a;
-        row.failed = b;
-        row.failing_case = b_case;
-        row.failing_how = b_how;
-      }
-    }
-    const int spent = row.evaluations * options.seeds * phases;
-    advance(std::max(0, budget(f) - spent));
-    rows[2 * (t / modes) + mode] = row;
-  });
-  for (size_t i = 0; i < families.size(); ++i) {
-    if (same) {
-      rows[2 * i + 1] = rows[2 * i];
-      rows[2 * i + 1].mode = "spindle_gto_off";
-      rows[2 * i + 1].same_as_reflexes = true;
-    }
-    report.rows.push_back(rows[2 * i]);
-    report.rows.push_back(rows[2 * i + 1]);
-  }
+  ForEachCase(static_cast<int>(families.size()) * modes, options.threads,
+              [&](int t, ModelCache* cache) {
+                const int mode = t % modes;
+                rows[2 * (t / modes) + mode] =
+                    Search(u, families[t / modes], mode, report.baseline_m[mode], cache, &bar)
+                        .Run();
+              });
+  report.rows = PairedRows(std::move(rows), families.size(), same);
   if (progress) progress(1.0);
   return report;
 }
@@ -422,13 +489,16 @@ std::string RobustnessTable(const RobustnessReport& r) {
   return out;
 }
 
-std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
-  std::filesystem::create_directories(dir);
-  auto quote = [](const std::string& s) {
-    std::string q = "\"";
-    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-  };
+namespace {
+
+std::string CsvQuote(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+// robustness.csv: one line per row of the report.
+std::string RobustnessCsv(const RobustnessReport& r) {
   std::string csv =
       "family,unit,mode,survived,failed,lo,hi,evaluations,runs,failing_case,failing_how,"
       "same_as_reflexes\n";
@@ -436,13 +506,14 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
     csv += row.family + "," + row.unit + "," + row.mode + "," + Num(row.survived) + "," +
            (std::isinf(row.failed) ? std::string("inf") : Num(row.failed)) + "," + Num(row.lo) +
            "," + Num(row.hi) + "," + std::to_string(row.evaluations) + "," +
-           std::to_string(row.runs) + "," + quote(row.failing_case) + "," + quote(row.failing_how) +
-           "," + (row.same_as_reflexes ? "1" : "0") + "\n";
+           std::to_string(row.runs) + "," + CsvQuote(row.failing_case) + "," +
+           CsvQuote(row.failing_how) + "," + (row.same_as_reflexes ? "1" : "0") + "\n";
   }
-  common::WriteFileAtomic(dir + "/robustness.csv", csv);
+  return csv;
+}
 
-  // One panel per family: survived magnitude as a share of the family's range top, on a log
-  // axis from lo/hi to 1; two bars, reflexes and spindle + GTO off.
+// robustness.dat: per family a block of two bars, reflexes and spindle + GTO off.
+std::string RobustnessDat(const RobustnessReport& r) {
   std::string data;
   const int n = static_cast<int>(r.rows.size() / 2);
   for (int i = 0; i < n; ++i) {
@@ -451,8 +522,12 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
     data += "0 \"reflexes\" " + Num(std::max(on.survived, on.lo * 0.5)) + "\n";
     data += "1 \"spindle+GTO off\" " + Num(std::max(off.survived, off.lo * 0.5)) + "\n\n\n";
   }
-  common::WriteFileAtomic(dir + "/robustness.dat", data);
-  if (n == 0) return "no family to plot";
+  return data;
+}
+
+// The gnuplot script of robustness.png for n > 0 families: one panel each, survived
+// magnitude on a log axis from lo to hi.
+std::string RobustnessScript(const RobustnessReport& r, int n) {
   const int cols = std::min(n, 4), rows = (n + cols - 1) / cols;
   // Two lines: the file name single-quoted (inert), joined to climbsim's own "\n" (only a
   // double-quoted string turns it into a line break).
@@ -486,8 +561,18 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
         std::to_string(i) +
         " using 1:3:($1 == 0 ? 0x3070c0 : 0xc05030):xtic(2) with boxes lc rgb variable\n";
   }
-  script += "unset multiplot\n";
-  return common::RunGnuplot(dir, script, {"robustness.png"});
+  return script + "unset multiplot\n";
+}
+
+}  // namespace
+
+std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
+  std::filesystem::create_directories(dir);
+  common::WriteFileAtomic(dir + "/robustness.csv", RobustnessCsv(r));
+  common::WriteFileAtomic(dir + "/robustness.dat", RobustnessDat(r));
+  const int n = static_cast<int>(r.rows.size() / 2);
+  if (n == 0) return "no family to plot";
+  return common::RunGnuplot(dir, RobustnessScript(r, n), {"robustness.png"});
 }
 
 }  // namespace climbsim::optimise

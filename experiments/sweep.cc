@@ -1,8 +1,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <cmath>
+#include <stdexcept>
 
 #include "optimise/comm.h"
+#include "optimise/text.h"
 #include "experiments/experiments.h"
 #include "common/common.h"
 
@@ -29,12 +31,21 @@ sim::RunResult FromJson(const nlohmann::json& j) {
   return r;
 }
 
-// A point's scenario refused, as bad input at the swept key.
+// A point's scenario refused, as bad input at the swept key: the module's error names the
+// key it refused, this names the file and the swept value that led there.
 InputError PointError(const std::string& file, const SweepOptions& o, double v,
                       const InputError& e) {
   return InputError(file, 0, 0, o.key,
                     o.key + " = " + sim::ExactNumber(v) + " gives an invalid scenario: " + e.key() +
                         " " + e.message());
+}
+
+// The same for a refusal that is not an InputError (a module's std::invalid_argument).
+InputError PointError(const std::string& file, const SweepOptions& o, double v,
+                      const std::invalid_argument& e) {
+  return InputError(file, 0, 0, o.key,
+                    o.key + " = " + sim::ExactNumber(v) + " gives an invalid scenario: " +
+                        e.what());
 }
 
 // Builds every point's simulation (and drops it) before any runs: a value the loader takes
@@ -50,11 +61,59 @@ void CheckPointsBuild(const std::vector<std::string>& files, const std::vector<d
                        sim::Simulation run(scenarios[f][i], cache.For(scenarios[f][i]));
                      } catch (const InputError& e) {
                        throw PointError(files[f], o, values[i], e);
+                     } catch (const std::invalid_argument& e) {
+                       throw PointError(files[f], o, values[i], e);
                      }
                    });
 }
 
 }  // namespace
+
+void CheckSweepRange(const SweepOptions& o) {
+  const auto bad = [](const char* flag, const std::string& m) {
+    return InputError("climbsim sweep", 0, 0, flag, m);
+  };
+  if (!std::isfinite(o.from)) throw bad("--from", "must be a finite number");
+  if (!std::isfinite(o.to)) throw bad("--to", "must be a finite number");
+  if (!std::isfinite(o.step)) throw bad("--step", "must be a finite number");
+  if (o.to < o.from) throw bad("--to", "must not be below --from");
+  const double values = std::floor((o.to - o.from) / o.step + 1e-9) + 1;
+  if (!(values <= kMaxSweepValues)) {
+    throw bad("--step", "gives " + sim::ExactNumber(values) +
+                            " values from --from to --to; at most " +
+                            std::to_string(kMaxSweepValues) + " are allowed");
+  }
+}
+
+std::string SweepTable(const std::vector<std::string>& files, const SweepOptions& o,
+                       const std::vector<SweepRow>& rows, const std::string& out_dir,
+                       const std::string& warning) {
+  std::string out;
+  Appendf(&out, "%12s", o.key.c_str());
+  for (const auto& f : files) {
+    Appendf(&out, "  %26s", std::filesystem::path(f).stem().string().c_str());
+  }
+  Appendf(&out, "\n%12s", "");
+  for (size_t f = 0; f < files.size(); ++f) {
+    Appendf(&out, "  %14s %11s", "speed [cm/s]", "fell at [s]");
+  }
+  Appendf(&out, "\n");
+  for (const auto& r : rows) {
+    Appendf(&out, "%12g", r.value);
+    for (const auto& res : r.results) {
+      const double v = res.mean_speed_mps();
+      if (res.fell) {
+        Appendf(&out, "  %14s %11.2f", "-", res.fall_time_s);
+      } else {
+        Appendf(&out, "  %14.2f %11s", 100 * v, "-");
+      }
+    }
+    Appendf(&out, "\n");
+  }
+  Appendf(&out, "  outputs %s/{sweep.csv,sweep.png}%s%s\n", out_dir.c_str(),
+          warning.empty() ? "" : "  (plot: ", warning.empty() ? "" : (warning + ")").c_str());
+  return out;
+}
 
 std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOptions& o) {
   std::vector<double> values;
@@ -68,6 +127,7 @@ std::vector<SweepRow> Sweep(const std::vector<std::string>& files, const SweepOp
     sim::ParseScenario(root, files[f]);  // the file itself first, with its places
     for (double v : values) {
       YAML::Node tree = YAML::Clone(root);
+      // SetDottedKey names the part of the key that does not fit; the file is added here.
       try {
         SetDottedKey(tree, o.key, v);
       } catch (const std::invalid_argument& e) {

@@ -46,6 +46,56 @@ Eigen::Vector3d BasePosition(const sim::Simulation& sim) {
   return {q[0], q[1], q[2]};
 }
 
+// The stall rule: the distance at the last stall_window_s of checks, kept in a ring
+// allocated here, not in the step loop.
+class StallRule {
+ public:
+  // Checks `every` steps of `dt`.
+  StallRule(const sim::ObjectiveParams& o, long every, double dt)
+      : on_(o.stall_window_s > 0),
+        window_(on_ ? static_cast<size_t>(std::ceil(o.stall_window_s / (every * dt))) : 0),
+        distance_m_(o.stall_distance_m),
+        ring_(window_ + 1, 0.0) {}
+
+  // A check at distance d: whether less than stall_distance_m was climbed in the window.
+  bool Stalled(double d) {
+    if (on_) {
+      ring_[checks_ % ring_.size()] = d;
+      // d `window` checks ago is the oldest entry of the ring once it is full.
+      if (checks_ >= window_ && d - ring_[(checks_ - window_) % ring_.size()] < distance_m_) {
+        return true;
+      }
+    }
+    ++checks_;
+    return false;
+  }
+
+ private:
+  const bool on_;
+  const size_t window_;
+  const double distance_m_;
+  std::vector<double> ring_;
+  size_t checks_ = 0;
+};
+
+// The bound rule at simulated time t, distance d: even at max_speed_mps from now on, with
+// no penalty added, J stays above bound_j. Then *stop is the rollout's cost, that lower
+// bound (wall time not set).
+bool BoundReached(const sim::Simulation& sim, double d, double t, const sim::ObjectiveParams& o,
+                  double bound_j, Cost* stop) {
+  const double T = sim.scenario().duration_s;
+  const Cost now = CostOf(sim, d, o);
+  const double lower =
+      -(d + o.max_speed_mps * (T - t)) / T + now.fall_penalty + now.overload_penalty;
+  if (!(lower > bound_j)) return false;
+  *stop = now;
+  stop->energy_penalty = 0.0;
+  stop->total = lower;
+  stop->early_stop = "bound";
+  stop->stop_time_s = t;
+  return true;
+}
+
 }  // namespace
 
 Cost RolloutCost(const sim::Simulation& sim, const sim::ObjectiveParams& o) {
@@ -60,20 +110,17 @@ Cost NominalCost(const sim::Simulation& sim) {
 Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& o, double bound_j) {
   const auto t0 = std::chrono::steady_clock::now();
   const double dt = sim.world().model()->opt.timestep;
-  const double T = sim.scenario().duration_s;
   const long total = sim.steps_total();
   const Eigen::Vector3d start = BasePosition(sim);
   const Eigen::Vector3d travel = sim.world().scene().travel;
   auto distance = [&] { return travel.dot(BasePosition(sim) - start); };
+  const auto wall_s = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
 
-  // The rules are checked every 50 ms of simulated time; the stall rule keeps the distance
-  // of the last stall_window_s at those checks in a ring (allocated here, not in the loop).
+  // The rules are checked every 50 ms of simulated time.
   const long every = std::max<long>(1, std::lround(0.05 / dt));
-  const bool stall_on = o.stall_window_s > 0;
-  const size_t window =
-      stall_on ? static_cast<size_t>(std::ceil(o.stall_window_s / (every * dt))) : 0;
-  std::vector<double> ring(window + 1, 0.0);
-  size_t checks = 0;
+  StallRule stall(o, every, dt);
   const bool bound_on = o.max_speed_mps > 0 && std::isfinite(bound_j);
 
   std::string rule;
@@ -85,39 +132,21 @@ Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& o, double boun
     if (!go) break;  // fell (fall.stop is set) or numerically bad: exact
     if (step % every != 0 || step == total) continue;
     d = distance();
-    if (stall_on) {
-      ring[checks % ring.size()] = d;
-      // d `window` checks ago is the oldest entry of the ring once it is full.
-      if (checks >= window && d - ring[(checks - window) % ring.size()] < o.stall_distance_m) {
-        rule = "stalled";
-        break;
-      }
+    if (stall.Stalled(d)) {
+      rule = "stalled";
+      break;
     }
-    ++checks;
-    if (bound_on) {
-      // Even at max_speed_mps from now on, with no penalty added, J stays above the bound.
-      const double t = step * dt;
-      const Cost now = CostOf(sim, d, o);
-      const double lower =
-          -(d + o.max_speed_mps * (T - t)) / T + now.fall_penalty + now.overload_penalty;
-      if (lower > bound_j) {
-        rule = "bound";
-        Cost c = now;
-        c.energy_penalty = 0.0;
-        c.total = lower;
-        c.early_stop = rule;
-        c.stop_time_s = t;
-        c.wall_time_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        return c;
-      }
+    Cost stop;
+    if (bound_on && BoundReached(sim, d, step * dt, o, bound_j, &stop)) {
+      stop.wall_time_s = wall_s();
+      return stop;
     }
   }
   if (rule.empty()) d = distance();
   Cost c = CostOf(sim, d, o);
   c.early_stop = rule;
   c.stop_time_s = step * dt;
-  c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  c.wall_time_s = wall_s();
   return c;
 }
 

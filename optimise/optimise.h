@@ -109,9 +109,10 @@ class ModelCache {
 
 // The rollout pool of sweep, bench accuracy and bench robustness (and of optimise's recheck
 // of a resumed best; its queue's workers run on common::ParallelFor too): task(i, cache) for
-// i in [0, count) on common::ParallelFor's threads (`threads` clamped to [1, count]). Each running task holds a cache no other running task holds; caches are kept
-// across tasks (at most one per thread), so a model compiles about once per thread. A task's
-// exception reaches the caller (the lowest failing i's) after the running tasks finish.
+// i in [0, count) on common::ParallelFor's threads (`threads` clamped to [1, count]). Each
+// running task holds a cache no other running task holds; caches are kept across tasks (at
+// most one per thread), so a model compiles about once per thread. A task's exception
+// reaches the caller (the lowest failing i's) after the running tasks finish.
 void ParallelRollouts(int count, int threads,
                       const std::function<void(int task, ModelCache& cache)>& task);
 
@@ -164,6 +165,10 @@ bool BuiltWithMpi();
 // at a time, from the thread that completed it.
 Result Optimise(const std::string& scenario_file, const Options& options,
                 const std::function<void(double, double)>& progress = {});
+
+// What `climbsim optimise` prints after a run: evaluations, rollouts, start and best J,
+// the outputs in out_dir.
+std::string ResultText(const Result& result, const std::string& out_dir);
 
 // The cost of a nominal rollout of a scenario with an optimise block: what `climbsim
 // simulate` reports as "objective" for best.yaml.

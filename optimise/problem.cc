@@ -32,6 +32,7 @@ Problem::Problem(const YAML::Node& root, const std::string& file)
     const std::string where = "optimise.parameters[" + std::to_string(i) + "].key";
     for (double v : {ps[i].start, ps[i].min, ps[i].max}) {
       YAML::Node tree = YAML::Clone(root_);
+      // SetDottedKey names the part of the key that does not fit; `where` the parameter.
       try {
         SetDottedKey(tree, ps[i].key, v);
       } catch (const std::invalid_argument& e) {

@@ -21,6 +21,7 @@
 
 #include "adhesion/adhesion.h"
 #include "experiments/experiments.h"
+#include "experiments/option_ranges.h"
 #include "python/tick_objects.h"
 #include "sim/sim.h"
 #include "sim/trajectory.h"
@@ -39,15 +40,6 @@ using sim::StartPose;
 
 py::object FromJson(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
-}
-
-// A number argument in [lo, hi], the range the CLI gives the same option.
-void CheckRange(const char* where, const char* key, double v, double lo, double hi) {
-  if (!(v >= lo && v <= hi)) {
-    throw InputError(
-        where, 0, 0, key,
-        "must be in [" + ExactNumber(lo) + ", " + ExactNumber(hi) + "], got " + ExactNumber(v));
-  }
 }
 
 void CheckFinite(const char* where, const char* key, double v) {
@@ -455,9 +447,10 @@ void BindSimulation(py::module_& m) {
 py::dict Optimise(const std::string& scenario_file, const std::string& out_dir, long long threads,
                   std::optional<long long> max_evaluations) {
   // The ranges of `climbsim optimise --threads / --max-evaluations` (None: the file's).
-  CheckRange("climbsim.optimise", "threads", threads, 0, 1024);
+  optimise::CheckInRange("climbsim.optimise", "threads", threads, optimise::kThreadsRange);
   if (max_evaluations) {
-    CheckRange("climbsim.optimise", "max_evaluations", *max_evaluations, 1, 100000000);
+    optimise::CheckInRange("climbsim.optimise", "max_evaluations", *max_evaluations,
+                           optimise::kMaxEvaluationsRange);
   }
   optimise::Options o;
   o.out_dir = out_dir;
@@ -487,13 +480,14 @@ adhesion::PulloffRigParams PulloffParams(double width_m, std::optional<double> l
                                          long long grid, double sigma_t_pa, double mu, double arm_m,
                                          double ramp_time_s) {
   const char* where = "climbsim.pulloff";
-  CheckRange(where, "width_m", width_m, 1e-4, 1.0);
-  if (length_m) CheckRange(where, "length_m", *length_m, 1e-4, 1.0);
-  CheckRange(where, "grid", grid, 1, 1024);
-  CheckRange(where, "sigma_t_pa", sigma_t_pa, 1e-3, 1e12);
-  CheckRange(where, "mu", mu, 0.0, 1e3);
-  CheckRange(where, "arm_m", arm_m, 0.0, 1.0);
-  CheckRange(where, "ramp_time_s", ramp_time_s, 1e-3, 1e3);
+  using optimise::CheckInRange;
+  CheckInRange(where, "width_m", width_m, optimise::kPadWidthRangeM);
+  if (length_m) CheckInRange(where, "length_m", *length_m, optimise::kPadWidthRangeM);
+  CheckInRange(where, "grid", grid, optimise::kGridRange);
+  CheckInRange(where, "sigma_t_pa", sigma_t_pa, optimise::kSigmaTRangePa);
+  CheckInRange(where, "mu", mu, optimise::kMuRange);
+  CheckInRange(where, "arm_m", arm_m, optimise::kArmRangeM);
+  CheckInRange(where, "ramp_time_s", ramp_time_s, optimise::kRampTimeRangeS);
   adhesion::PulloffRigParams p;
   p.pad.width_m = width_m;
   p.pad.length_m = length_m.value_or(width_m);
@@ -508,7 +502,8 @@ adhesion::PulloffRigParams PulloffParams(double width_m, std::optional<double> l
 py::dict Pulloff(double angle_deg, const std::string& model, double width_m,
                  std::optional<double> length_m, long long grid, double sigma_t_pa, double mu,
                  double arm_m, double ramp_time_s) {
-  CheckRange("climbsim.pulloff", "angle_deg", angle_deg, 0.0, 180.0);  // --from-deg, --to-deg
+  optimise::CheckInRange("climbsim.pulloff", "angle_deg", angle_deg,
+                         optimise::kPullAngleRangeDeg);  // --from-deg, --to-deg
   if (model != "bonds" && model != "mujoco") {
     throw InputError("climbsim.pulloff", 0, 0, "model", "must be bonds or mujoco, got " + model);
   }

@@ -3,6 +3,8 @@
 // into DIR/best_run) or a pulloff folder (its pulloff.csv is shown).
 #include <cstdio>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "inspect/inspect.h"
 #include "common/common.h"
@@ -11,6 +13,42 @@
 #include "tools/progress.h"
 
 namespace climbsim::tools {
+namespace {
+
+// A pulloff folder: its pulloff.csv as a table or JSON (--leg and --plots do not apply).
+void InspectPulloff(const std::string& dir, bool json, bool leg_given, bool plots) {
+  if (leg_given || plots) {
+    throw InputError("climbsim inspect", 0, 0, !leg_given ? "--plots" : "--leg",
+                     "does not apply to a pulloff folder (it holds pulloff.csv and "
+                     "pulloff.png)");
+  }
+  const inspect::TextTable table = inspect::ReadTextCsv(dir + "/pulloff.csv");
+  if (json) {
+    std::printf("%s\n", inspect::PulloffJson(dir, table).dump(2).c_str());
+  } else {
+    std::fputs(inspect::PulloffText(table).c_str(), stdout);
+  }
+}
+
+// The plots go beside the run's data, never over it nor over a user's file, under the run
+// folder's lock, and are recorded in its marker as climbsim's. Their list goes to `out`.
+void WritePlotsBesideRun(const inspect::Run& run, const inspect::Report& report, FILE* out) {
+  std::vector<std::string> names{"gait", "path"}, paths;
+  for (const auto& l : run.legs) names.push_back("pad_" + l);
+  for (const auto& n : names) {
+    for (const char* ext : {".png", ".svg"}) paths.push_back(run.dir + "/" + n + ext);
+  }
+  sim::RunFolderAdditions added(paths, "--plots");
+  std::vector<std::string> notes;
+  const auto files = inspect::WritePlots(run, report, run.dir, &notes);
+  added.Commit();
+  std::fprintf(out, "\nplots:");
+  for (const auto& f : files) std::fprintf(out, " %s", f.c_str());
+  std::fprintf(out, "\n");
+  for (const auto& n : notes) std::fprintf(out, "  note: %s\n", n.c_str());
+}
+
+}  // namespace
 
 void AddInspectCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
@@ -38,20 +76,7 @@ void AddInspectCommand(CLI::App& app) {
   cmd->callback([] {
     const inspect::Window window{from_s, to_s};
     const inspect::RunKind kind = inspect::DetectRunKind(dir);
-    if (kind == inspect::RunKind::kPulloff) {
-      if (!leg.empty() || plots) {
-        throw InputError("climbsim inspect", 0, 0, leg.empty() ? "--plots" : "--leg",
-                         "does not apply to a pulloff folder (it holds pulloff.csv and "
-                         "pulloff.png)");
-      }
-      const inspect::TextTable table = inspect::ReadTextCsv(dir + "/pulloff.csv");
-      if (json) {
-        std::printf("%s\n", inspect::PulloffJson(dir, table).dump(2).c_str());
-      } else {
-        std::fputs(inspect::PulloffText(table).c_str(), stdout);
-      }
-      return;
-    }
+    if (kind == inspect::RunKind::kPulloff) return InspectPulloff(dir, json, !leg.empty(), plots);
     std::string run_dir = dir;
     if (kind == inspect::RunKind::kOptimise) {
       bool replayed = false;
@@ -76,24 +101,7 @@ void AddInspectCommand(CLI::App& app) {
                              : inspect::LegEventsText(run, leg, window).c_str(),
                  stdout);
     }
-    if (plots) {
-      // The plots go beside the run's data, never over it nor over a user's file, under the
-      // run folder's lock, and are recorded in its marker as climbsim's.
-      std::vector<std::string> names{"gait", "path"}, paths;
-      for (const auto& l : run.legs) names.push_back("pad_" + l);
-      for (const auto& n : names) {
-        for (const char* ext : {".png", ".svg"}) paths.push_back(run.dir + "/" + n + ext);
-      }
-      sim::RunFolderAdditions added(paths, "--plots");
-      std::vector<std::string> notes;
-      const auto files = inspect::WritePlots(run, report, run.dir, &notes);
-      added.Commit();
-      FILE* out = json ? stderr : stdout;
-      std::fprintf(out, "\nplots:");
-      for (const auto& f : files) std::fprintf(out, " %s", f.c_str());
-      std::fprintf(out, "\n");
-      for (const auto& n : notes) std::fprintf(out, "  note: %s\n", n.c_str());
-    }
+    if (plots) WritePlotsBesideRun(run, report, json ? stderr : stdout);
   });
 }
 

@@ -27,10 +27,10 @@ void AddOptimiseCommand(CLI::App& app) {
   cmd->add_option("--threads", threads,
                   "worker threads per process (default: the cores, shared by the MPI ranks on "
                   "the machine); the result does not depend on it")
-      ->check(CLI::Range(0, 1024));
+      ->check(InRange(optimise::kThreadsRange));
   cmd->add_option("--max-evaluations", max_evaluations,
                   "override optimise.max_evaluations (evaluations in all, at least 1)")
-      ->check(CLI::Range(1, 100000000));
+      ->check(InRange(optimise::kMaxEvaluationsRange));
   cmd->add_flag("--resume", resume,
                 "continue from DIR/checkpoint.json after a kill (same end result as an "
                 "uninterrupted run)");
@@ -65,17 +65,7 @@ void AddOptimiseCommand(CLI::App& app) {
       ExitCode() = 1;
     }
     if (quiet || !root) return;
-    std::printf("climbsim optimise: %zu evaluations (%d computed) in %.1f s, %d process%s\n",
-                r.history.size(), r.evaluations_computed, r.wall_time_s, r.processes,
-                r.processes == 1 ? "" : "es");
-    std::printf("  rollouts %d computed, stopped early: %d stalled, %d bound (%.0f s simulated)\n",
-                r.rollouts_computed, r.rollouts_stalled, r.rollouts_bounded, r.simulated_s);
-    std::printf("  start  J %.6f m/s, speed %.4f m/s\n", r.start_objective,
-                r.history.front().nominal.speed_mps);
-    std::printf("  best   J %.6f m/s, speed %.4f m/s (start %d, evaluation %d)\n",
-                r.best.objective, r.best.nominal.speed_mps, r.best.start, r.best.index);
-    std::printf("  outputs %s/{best.yaml,history.csv,convergence.png,summary.json}\n",
-                out_dir.c_str());
+    std::fputs(optimise::ResultText(r, out_dir).c_str(), stdout);
   });
 }
 

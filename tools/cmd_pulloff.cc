@@ -27,59 +27,59 @@ void AddPulloffCommand(CLI::App& app) {
       ->check(CLI::IsMember({"both", "bonds", "mujoco"}))
       ->capture_default_str();
   cmd->add_option("--width-m", o.rig.pad.width_m, "pad width b (m), along x")
-      ->check(CLI::Range(1e-4, 1.0))
+      ->check(InRange(optimise::kPadWidthRangeM))
       ->capture_default_str();
   cmd->add_option("--length-m", o.length_m, "pad length h (m), along y; default: the width")
-      ->check(CLI::Range(1e-4, 1.0));
+      ->check(InRange(optimise::kPadWidthRangeM));
   cmd->add_option("--grid", o.grid, "bonds per side (sets --grid-x and --grid-y)")
-      ->check(CLI::Range(1, 1024));
+      ->check(InRange(optimise::kGridRange));
   cmd->add_option("--grid-x", o.rig.pad.grid_x, "bonds across the width")
-      ->check(CLI::Range(1, 1024))
+      ->check(InRange(optimise::kGridRange))
       ->capture_default_str();
   cmd->add_option("--grid-y", o.rig.pad.grid_y, "bonds along the length")
-      ->check(CLI::Range(1, 1024))
+      ->check(InRange(optimise::kGridRange))
       ->capture_default_str();
   cmd->add_option("--sigma-t-pa", o.rig.pad.sigma_t_pa, "rupture threshold sigma_T (Pa)")
-      ->check(CLI::Range(1e-3, 1e12))
+      ->check(InRange(optimise::kSigmaTRangePa))
       ->capture_default_str();
   cmd->add_option("--mu", o.rig.pad.mu, "gain of compression on the shear threshold (>= 0)")
-      ->check(CLI::Range(0.0, 1e3))
+      ->check(InRange(optimise::kMuRange))
       ->capture_default_str();
   cmd->add_option("--min-bonds", o.rig.pad.min_bonds, "the pad detaches below this many bonds")
-      ->check(CLI::Range(1, 1 << 20))
+      ->check(InRange(optimise::kMinBondsRange))
       ->capture_default_str();
   cmd->add_option("--arm-m", o.rig.arm_m, "lever: height of the pull point above the pad face (m)")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(InRange(optimise::kArmRangeM))
       ->capture_default_str();
   cmd->add_option("--azimuth-deg", o.azimuth_deg,
                   "direction of the pull's in-plane part, from +x towards +y (deg)")
-      ->check(CLI::Range(-360.0, 360.0))
+      ->check(InRange(optimise::kAzimuthRangeDeg))
       ->capture_default_str();
   cmd->add_option("--from-deg", o.range.from_deg, "first pull angle (deg from the surface normal)")
-      ->check(CLI::Range(0.0, 180.0))
+      ->check(InRange(optimise::kPullAngleRangeDeg))
       ->capture_default_str();
   cmd->add_option("--to-deg", o.range.to_deg, "last pull angle (deg)")
-      ->check(CLI::Range(0.0, 180.0))
+      ->check(InRange(optimise::kPullAngleRangeDeg))
       ->capture_default_str();
   cmd->add_option("--step-deg", o.range.step_deg, "angle step (deg)")
-      ->check(CLI::Range(0.01, 180.0))
+      ->check(InRange(optimise::kStepRangeDeg))
       ->capture_default_str();
   cmd->add_option("--ramp-time-s", o.rig.ramp_time_s,
                   "time for the pull to rise to sigma_T*A (s): slower is more quasi-static")
-      ->check(CLI::Range(1e-3, 1e3))
+      ->check(InRange(optimise::kRampTimeRangeS))
       ->capture_default_str();
   cmd->add_option("--timestep-s", o.rig.timestep_s, "MuJoCo time step (s)")
-      ->check(CLI::Range(1e-5, 0.01))
+      ->check(InRange(optimise::kTimestepRangeS))
       ->capture_default_str();
   cmd->add_option("--gain-n", o.rig.gain_n,
                   "MuJoCo adhesion-actuator gain (N); default sigma_T times the pad area")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(InRange(optimise::kGainRangeN));
   cmd->add_option("--friction", o.rig.friction, "pad friction for the actuator model")
-      ->check(CLI::Range(1e-3, 10.0))
+      ->check(InRange(optimise::kFrictionRange))
       ->capture_default_str();
   cmd->add_option("--max-force-factor", o.rig.max_force_factor,
                   "stop pulling at this many sigma_T*A: the block never lets go (written inf)")
-      ->check(CLI::Range(1.01, 1e3))
+      ->check(InRange(optimise::kMaxForceFactorRange))
       ->capture_default_str();
   cmd->add_flag("--quiet", o.quiet, "no table on the terminal");
   cmd->add_option("--law", o.law,
@@ -91,19 +91,19 @@ void AddPulloffCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--critical-angle-deg", o.frictional.critical_angle_deg,
                   "frictional: critical angle alpha* (deg)")
-      ->check(CLI::Range(0.01, 89.99))
+      ->check(InRange(optimise::kCriticalAngleRangeDeg))
       ->capture_default_str();
   cmd->add_option("--shear-limit-pa", o.frictional.shear_limit_pa,
                   "frictional: shear limit tau_max (Pa); F_t,max = tau_max * A")
-      ->check(CLI::Range(1e-3, 1e12))
+      ->check(InRange(optimise::kShearLimitRangePa))
       ->capture_default_str();
   cmd->add_option("--friction-mu", o.frictional.friction_mu,
                   "frictional: Coulomb friction of a pressed pad")
-      ->check(CLI::Range(0.0, 1e3))
+      ->check(InRange(optimise::kFrictionMuRange))
       ->capture_default_str();
   cmd->add_option("--grip-deg", o.grip_deg,
                   "frictional: gripping direction in the pad plane, from +x towards +y (deg)")
-      ->check(CLI::Range(-360.0, 360.0))
+      ->check(InRange(optimise::kAzimuthRangeDeg))
       ->capture_default_str();
   cmd->footer(
       "pulloff.csv: angle_deg, force_n (bond model in MuJoCo), cause (peel or overload),\n"

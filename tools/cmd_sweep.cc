@@ -1,8 +1,6 @@
 // climbsim sweep SCENARIO... --key KEY --from A --to B --step S --out DIR
 // Under mpirun the runs are spread over the ranks; rank 0 writes DIR and prints.
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 
 #include "experiments/experiments.h"
@@ -10,9 +8,6 @@
 #include "tools/commands.h"
 
 namespace climbsim::tools {
-namespace {
-constexpr int kMaxSweepValues = 10000;  // values of the swept key
-}  // namespace
 
 void AddSweepCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
@@ -41,19 +36,7 @@ void AddSweepCommand(CLI::App& app) {
       "Example:\n  climbsim sweep examples/gecko_incline.yaml examples/spider_incline.yaml "
       "--key scene.incline_deg --from 0 --to 180 --step 15 --out runs/incline");
   cmd->callback([] {
-    const auto bad = [](const char* flag, const std::string& m) {
-      return InputError("climbsim sweep", 0, 0, flag, m);
-    };
-    if (!std::isfinite(o.from)) throw bad("--from", "must be a finite number");
-    if (!std::isfinite(o.to)) throw bad("--to", "must be a finite number");
-    if (!std::isfinite(o.step)) throw bad("--step", "must be a finite number");
-    if (o.to < o.from) throw bad("--to", "must not be below --from");
-    const double values = std::floor((o.to - o.from) / o.step + 1e-9) + 1;
-    if (!(values <= kMaxSweepValues)) {
-      throw bad("--step", "gives " + sim::ExactNumber(values) +
-                              " values from --from to --to; at most " +
-                              std::to_string(kMaxSweepValues) + " are allowed");
-    }
+    optimise::CheckSweepRange(o);
     // The output folder is checked and locked before anything runs; it appears whole.
     // Under mpirun rank 0 alone owns it.
     std::vector<std::string> inputs = files;
@@ -68,28 +51,7 @@ void AddSweepCommand(CLI::App& app) {
     if (optimise::ProcessRank() != 0) return;  // under mpirun rank 0 writes and prints
     const std::string warning = optimise::WriteSweep(folder->path(), files, o, rows);
     folder->Commit();
-    std::printf("%12s", o.key.c_str());
-    for (const auto& f : files) {
-      std::printf("  %26s", std::filesystem::path(f).stem().string().c_str());
-    }
-    std::printf("\n%12s", "");
-    for (size_t f = 0; f < files.size(); ++f)
-      std::printf("  %14s %11s", "speed [cm/s]", "fell at [s]");
-    std::printf("\n");
-    for (const auto& r : rows) {
-      std::printf("%12g", r.value);
-      for (const auto& res : r.results) {
-        const double v = res.mean_speed_mps();
-        if (res.fell) {
-          std::printf("  %14s %11.2f", "-", res.fall_time_s);
-        } else {
-          std::printf("  %14.2f %11s", 100 * v, "-");
-        }
-      }
-      std::printf("\n");
-    }
-    std::printf("  outputs %s/{sweep.csv,sweep.png}%s%s\n", out_dir.c_str(),
-                warning.empty() ? "" : "  (plot: ", warning.empty() ? "" : (warning + ")").c_str());
+    std::fputs(optimise::SweepTable(files, o, rows, out_dir, warning).c_str(), stdout);
   });
 }
 

@@ -6,7 +6,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include "experiments/option_ranges.h"
+
 namespace climbsim::tools {
+
+// The CLI11 check of a range the library declares (experiments/option_ranges.h).
+template <class T>
+CLI::Range InRange(const optimise::OptionRange<T>& range) {
+  return CLI::Range(range.lo, range.hi);
+}
 
 // Exit code the chosen verb asked for.
 int& ExitCode();
