@@ -108,9 +108,11 @@ std::string LegChain::Problem(const mjModel* m, const RobotInfo& robot, int leg)
     return "leg " + info.name + ": its ankle site must be in the pad body";
   }
   if (const int boxes = Boxes(m, info.pad_body); boxes != 1) {
+    // adhesion::ReadPadGeometry's words, which the constructor would otherwise throw.
     const char* name = mj_id2name(m, mjOBJ_BODY, info.pad_body);
-    return "pad body '" + (name != nullptr ? std::string(name) : "#" + std::to_string(info.pad_body)) +
-           "' must hold exactly one box geom, has " + std::to_string(boxes);
+    const std::string body = name != nullptr ? name : "#" + std::to_string(info.pad_body);
+    return "pad body '" + body + "' must hold exactly one box geom, has " +
+           std::to_string(boxes);
   }
   return "";
 }

@@ -155,11 +155,11 @@ std::vector<std::array<double, 3>> LegIk::LegTable(const mjModel* m, mjData* d,
   const std::vector<int> chain = ChainTo(m, m->site_bodyid[leg.pad_face_site]);
   const Eigen::Vector3d neutral = FootInBase(m, d, leg, base, chain, {0, 0, 0});
   const FootSolver solver{m, d, leg, base, chain, lo, hi};
-  std::vector<std::array<double, 3>> table(n * n);
-  // Row by row from the neutral pose outwards, each cell seeded by a solved neighbour.
-  const auto solve = [&](const Eigen::Vector3d& target, std::array<double, 3> q) {
+  const auto solve = [&](const Eigen::Vector3d& target, const std::array<double, 3>& q) {
     return solver.Solve(target, q);
   };
+  std::vector<std::array<double, 3>> table(n * n);
+  // Row by row from the neutral pose outwards, each cell seeded by a solved neighbour.
   const int ix0 = static_cast<int>(std::lround((0 - x0_) / (x1_ - x0_) * cells_));
   const int iz0 = static_cast<int>(std::lround((0 - z0_) / (z1_ - z0_) * cells_));
   auto target = [&](int ix, int iz) {

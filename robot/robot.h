@@ -1,6 +1,7 @@
 // The robot as a model holds it: the contract of mjcf/README.md (legs, joints, servos, pads)
 // resolved to MuJoCo ids once, so the step never looks up a name, and the servos' stiffness.
-// ReadRobot reads it (sim/world.cc composes the model and calls it). The leg chains (leg_chain.h) and the legs' inverse kinematics (leg_ik.h) build on it.
+// ReadRobot reads it (sim/world.cc composes the model and calls it). The leg chains
+// (leg_chain.h) and the legs' inverse kinematics (leg_ik.h) build on it.
 #ifndef CLIMBSIM_ROBOT_ROBOT_H_
 #define CLIMBSIM_ROBOT_ROBOT_H_
 
