@@ -1,7 +1,7 @@
-// The geometry of a surface transition (sim/transition_effect.h runs it): a sharp 90-degree
+// The geometry of a surface transition (manoeuvre.h runs it): a sharp 90-degree
 // corner between the surface the robot stands on (old, normal n0) and the one ahead (new),
 // the path of the body round it, and where each foot may stand. Pure kinematics on the legs'
-// chains (sim/leg_chain.h): no mjData, no allocation after construction, so a plan can be
+// chains (robot/leg_chain.h): no mjData, no allocation after construction, so a plan can be
 // tried without simulating it (CornerPlan::DryRun, tests/sim/corner_plan_test.cc).
 //
 // FRAME. The corner: a point o on it, t0 the old surface's direction towards it (the way the
