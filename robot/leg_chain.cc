@@ -48,76 +48,134 @@ Eigen::Vector3d RotateAboutUnit(int k, double sign, double angle, const Eigen::V
   return out;
 }
 
-}  // namespace
-
-LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
-  const LegInfo& info = robot.legs[leg];
-  // Bodies from the base's child down to the pad body.
+// The bodies from the base's child down to leg `info`'s pad body (not below the base: the
+// first one's parent is not the base).
+std::vector<int> ChainBodies(const mjModel* m, const RobotInfo& robot, const LegInfo& info) {
   std::vector<int> bodies;
   for (int b = info.pad_body; b > 0 && b != robot.base_body; b = m->body_parentid[b]) {
     bodies.push_back(b);
   }
   std::reverse(bodies.begin(), bodies.end());
+  return bodies;
+}
+
+// The role of joint j in leg `info`: 0..2 hip_yaw, hip_pitch, knee; 3 the tilt; −1 passive.
+int RoleOf(const LegInfo& info, int j) {
+  int role = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (j == info.joint[k]) role = k;
+  }
+  if (j == info.tilt_joint) role = 3;
+  return role;
+}
+
+// How many box geoms body b holds (a pad body holds exactly one: adhesion::ReadPadGeometry).
+int Boxes(const mjModel* m, int b) {
+  int boxes = 0;
+  for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    if (m->geom_type[g] == mjGEOM_BOX) ++boxes;
+  }
+  return boxes;
+}
+
+}  // namespace
+
+std::string LegChain::Problem(const mjModel* m, const RobotInfo& robot, int leg) {
+  const LegInfo& info = robot.legs[leg];
+  const std::vector<int> bodies = ChainBodies(m, robot, info);
   if (bodies.empty() || m->body_parentid[bodies.front()] != robot.base_body) {
-    throw std::invalid_argument("leg " + info.name + ": the pad body is not below the base");
+    return "leg " + info.name + ": the pad body is not below the base";
   }
   int found = 0;
   for (int b : bodies) {
+    for (int j = m->body_jntadr[b]; j >= 0 && j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
+      const int role = RoleOf(info, j);
+      if (role >= 0 && m->jnt_type[j] != mjJNT_HINGE) {
+        return "leg " + info.name + ": its joints must be hinges";
+      }
+      if (m->jnt_type[j] != mjJNT_HINGE) continue;
+      if (role >= 0 && role < 3) ++found;
+      if (role == 3 && b != info.pad_body) {
+        return "leg " + info.name + ": the ankle tilt must turn the pad body";
+      }
+    }
+  }
+  if (found != 3) {
+    return "leg " + info.name + ": hip_yaw, hip_pitch and knee must lie on the chain from the "
+           "base to the pad";
+  }
+  if (m->site_bodyid[info.ankle_site] != info.pad_body) {
+    return "leg " + info.name + ": its ankle site must be in the pad body";
+  }
+  if (const int boxes = Boxes(m, info.pad_body); boxes != 1) {
+    // adhesion::ReadPadGeometry's words, which the constructor would otherwise throw.
+    const char* name = mj_id2name(m, mjOBJ_BODY, info.pad_body);
+    const std::string body = name != nullptr ? name : "#" + std::to_string(info.pad_body);
+    return "pad body '" + body + "' must hold exactly one box geom, has " +
+           std::to_string(boxes);
+  }
+  return "";
+}
+
+LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
+  if (const std::string problem = Problem(m, robot, leg); !problem.empty()) {
+    throw std::invalid_argument(problem);
+  }
+  const LegInfo& info = robot.legs[leg];
+  for (int b : ChainBodies(m, robot, info)) {
     Link l;
     l.pos = Eigen::Vector3d(m->body_pos[3 * b], m->body_pos[3 * b + 1], m->body_pos[3 * b + 2]);
     l.rot = QuatMat(m->body_quat + 4 * b);
     l.identity = l.rot == Eigen::Matrix3d::Identity();
     l.first_joint = static_cast<int>(joints_.size());
     for (int j = m->body_jntadr[b]; j >= 0 && j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
-      Joint jt;
-      for (int k = 0; k < 3; ++k) {
-        if (j == info.joint[k]) jt.role = k;
-      }
-      if (j == info.tilt_joint) jt.role = 3;
-      if (jt.role >= 0 && m->jnt_type[j] != mjJNT_HINGE) {
-        throw std::invalid_argument("leg " + info.name + ": its joints must be hinges");
-      }
-      if (m->jnt_type[j] != mjJNT_HINGE) continue;  // none on the bundled legs
-      jt.axis = Eigen::Vector3d(m->jnt_axis[3 * j], m->jnt_axis[3 * j + 1], m->jnt_axis[3 * j + 2]);
-      jt.anchor = Eigen::Vector3d(m->jnt_pos[3 * j], m->jnt_pos[3 * j + 1], m->jnt_pos[3 * j + 2]);
-      jt.unit = UnitAxis(jt.axis);
-      jt.at_origin = jt.anchor.isZero(0.0);
-      if (jt.role >= 0 && jt.role < 3) {
-        ++found;
-        lo_[jt.role] = m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI;
-        hi_[jt.role] = m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI;
-      }
-      if (jt.role == 3) {
-        if (b != info.pad_body) {
-          throw std::invalid_argument("leg " + info.name + ": the ankle tilt must turn the pad body");
-        }
-        tilt_index_ = static_cast<int>(joints_.size());
-        tilt_axis_ = jt.axis;
-        tilt_lo_ = m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI;
-        tilt_hi_ = m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI;
-      }
-      joints_.push_back(jt);
-      ++l.joints;
+      if (AddJoint(m, info, j)) ++l.joints;
     }
     links_.push_back(l);
   }
-  if (found != 3) {
-    throw std::invalid_argument("leg " + info.name + ": hip_yaw, hip_pitch and knee must lie on "
-                                "the chain from the base to the pad");
-  }
   const int s = info.ankle_site;
   site_pos_ = Eigen::Vector3d(m->site_pos[3 * s], m->site_pos[3 * s + 1], m->site_pos[3 * s + 2]);
-  if (m->site_bodyid[s] != info.pad_body) {
-    throw std::invalid_argument("leg " + info.name + ": its ankle site must be in the pad body");
-  }
   const adhesion::PadGeometry pad = adhesion::ReadPadGeometry(m, info.pad_body);
   face_normal_ = pad.face_rot_body.col(2);
   post_m_ = std::abs((pad.face_pos_body - site_pos_).dot(face_normal_));
   neutral_ankle_ = Ankle({0, 0, 0}, 0.0);
-  // The joints' anchors in the base frame, joints at 0: the hip is the yaw joint's. The reach:
-  // from it through the pitch and knee anchors to the ankle, each piece rigid between its
-  // joints (the tilt and the passive joints at 0, as in Solve), so no q puts the ankle further
-  // from the hip than their sum (the triangle inequality).
+  // The reach: from the hip (the yaw joint's anchor) through the pitch and knee anchors to the
+  // ankle, each piece rigid between its joints (the tilt and the passive joints at 0, as in
+  // Solve), so no q puts the ankle further from the hip than their sum (the triangle
+  // inequality).
+  const std::array<Eigen::Vector3d, 3> anchor_w = JointAnchors();
+  reach_m_ = (anchor_w[1] - anchor_w[0]).norm() + (anchor_w[2] - anchor_w[1]).norm() +
+             (neutral_ankle_ - anchor_w[2]).norm();
+  hip_ = anchor_w[0];
+  // A turn of joint k by δ moves the ankle at most its distance from the joint's anchor times
+  // δ: these bound those distances (rigid pieces, as the reach).
+  BuildReachMap({reach_m_, (anchor_w[2] - anchor_w[1]).norm() + (neutral_ankle_ - anchor_w[2]).norm(),
+                 (neutral_ankle_ - anchor_w[2]).norm()});
+}
+
+bool LegChain::AddJoint(const mjModel* m, const LegInfo& info, int j) {
+  if (m->jnt_type[j] != mjJNT_HINGE) return false;  // none on the bundled legs
+  Joint jt;
+  jt.role = RoleOf(info, j);
+  jt.axis = Eigen::Vector3d(m->jnt_axis[3 * j], m->jnt_axis[3 * j + 1], m->jnt_axis[3 * j + 2]);
+  jt.anchor = Eigen::Vector3d(m->jnt_pos[3 * j], m->jnt_pos[3 * j + 1], m->jnt_pos[3 * j + 2]);
+  jt.unit = UnitAxis(jt.axis);
+  jt.at_origin = jt.anchor.isZero(0.0);
+  if (jt.role >= 0 && jt.role < 3) {
+    lo_[jt.role] = m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI;
+    hi_[jt.role] = m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI;
+  }
+  if (jt.role == 3) {
+    tilt_index_ = static_cast<int>(joints_.size());
+    tilt_axis_ = jt.axis;
+    tilt_lo_ = m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI;
+    tilt_hi_ = m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI;
+  }
+  joints_.push_back(jt);
+  return true;
+}
+
+std::array<Eigen::Vector3d, 3> LegChain::JointAnchors() const {
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   std::array<Eigen::Vector3d, 3> anchor_w;
@@ -128,43 +186,13 @@ LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
       if (joints_[j].role >= 0 && joints_[j].role < 3) anchor_w[joints_[j].role] = r * joints_[j].anchor + p;
     }
   }
-  reach_m_ = (anchor_w[1] - anchor_w[0]).norm() + (anchor_w[2] - anchor_w[1]).norm() +
-             (neutral_ankle_ - anchor_w[2]).norm();
-  hip_ = anchor_w[0];
-  // A turn of joint k by δ moves the ankle at most its distance from the joint's anchor times
-  // δ: these bound those distances (rigid pieces, as the reach).
-  BuildReachMap({reach_m_, (anchor_w[2] - anchor_w[1]).norm() + (neutral_ankle_ - anchor_w[2]).norm(),
-                 (neutral_ankle_ - anchor_w[2]).norm()});
+  return anchor_w;
 }
 
 void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
-  // The joints' grid: every q in the ranges is within half a spacing of a grid point in each
-  // joint, so its ankle is within cover_m of that point's (one joint at a time, each moving
-  // the ankle at most lever × its share).
-  constexpr double kCoverM = 0.008;
-  std::array<int, 3> n{};
-  std::array<double, 3> step{};
   double cover_m = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double range = hi_[k] - lo_[k];
-    const double want = 2.0 * kCoverM / (3.0 * std::max(lever_m[k], 1e-6));
-    n[k] = std::max(2, static_cast<int>(std::ceil(range / want)) + 1);
-    step[k] = range / (n[k] - 1);
-    cover_m += 0.5 * lever_m[k] * step[k];
-  }
-  std::vector<Eigen::Vector3d> samples;
-  samples.reserve(static_cast<size_t>(n[0]) * n[1] * n[2]);
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = Eigen::Vector3d::Constant(-1e9);
-  for (int a = 0; a < n[0]; ++a) {
-    for (int b = 0; b < n[1]; ++b) {
-      for (int c = 0; c < n[2]; ++c) {
-        const Eigen::Vector3d x =
-            Ankle({lo_[0] + a * step[0], lo_[1] + b * step[1], lo_[2] + c * step[2]}, 0.0);
-        samples.push_back(x);
-        lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-      }
-    }
-  }
+  Eigen::Vector3d lo, hi;
+  const std::vector<Eigen::Vector3d> samples = SampleAnkles(lever_m, &cover_m, &lo, &hi);
   // A target within r = cover + tolerance of a sample lies in a voxel whose box is within r of
   // the sample: each sample marks exactly those voxels (their box's distance to it, not their
   // centres', so no voxel diagonal is added to the growth).
@@ -175,26 +203,60 @@ void LegChain::BuildReachMap(const std::array<double, 3>& lever_m) {
   }
   const size_t cells = static_cast<size_t>(map_n_[0]) * map_n_[1] * map_n_[2];
   map_.assign((cells + 63) / 64, 0);
-  for (const Eigen::Vector3d& x : samples) {
-    const std::array<int, 3> v0 = Voxel(x - Eigen::Vector3d::Constant(r));
-    const std::array<int, 3> v1 = Voxel(x + Eigen::Vector3d::Constant(r));
-    // Distance from x to the slab of voxels `v` along axis k.
-    const auto gap = [&](int k, int v) {
-      const double box_lo = map_lo_[k] + v * kVoxelM;
-      return std::max({0.0, box_lo - x[k], x[k] - (box_lo + kVoxelM)});
-    };
-    for (int a = std::max(0, v0[0]); a <= std::min(map_n_[0] - 1, v1[0]); ++a) {
-      const double da = gap(0, a);
-      for (int b = std::max(0, v0[1]); b <= std::min(map_n_[1] - 1, v1[1]); ++b) {
-        const double db = gap(1, b), left = r * r - da * da - db * db;
-        if (left < 0.0) continue;
-        // Along z (the map's fastest index) the voxels within r form one run.
-        const double rz = std::sqrt(left);
-        const int c0 = std::max(0, static_cast<int>(std::floor((x[2] - rz - map_lo_[2]) / kVoxelM)));
-        const int c1 = std::min(map_n_[2] - 1,
-                                static_cast<int>(std::floor((x[2] + rz - map_lo_[2]) / kVoxelM)));
-        if (c1 >= c0) SetRun(MapIndex({a, b, c0}), MapIndex({a, b, c1}));
+  for (const Eigen::Vector3d& x : samples) MarkBall(x, r);
+}
+
+std::vector<Eigen::Vector3d> LegChain::SampleAnkles(const std::array<double, 3>& lever_m,
+                                                    double* cover_m, Eigen::Vector3d* lo,
+                                                    Eigen::Vector3d* hi) const {
+  // The joints' grid: every q in the ranges is within half a spacing of a grid point in each
+  // joint, so its ankle is within cover_m of that point's (one joint at a time, each moving
+  // the ankle at most lever × its share).
+  constexpr double kCoverM = 0.008;
+  std::array<int, 3> n{};
+  std::array<double, 3> step{};
+  for (int k = 0; k < 3; ++k) {
+    const double range = hi_[k] - lo_[k];
+    const double want = 2.0 * kCoverM / (3.0 * std::max(lever_m[k], 1e-6));
+    n[k] = std::max(2, static_cast<int>(std::ceil(range / want)) + 1);
+    step[k] = range / (n[k] - 1);
+    *cover_m += 0.5 * lever_m[k] * step[k];
+  }
+  std::vector<Eigen::Vector3d> samples;
+  samples.reserve(static_cast<size_t>(n[0]) * n[1] * n[2]);
+  *lo = Eigen::Vector3d::Constant(1e9), *hi = Eigen::Vector3d::Constant(-1e9);
+  for (int a = 0; a < n[0]; ++a) {
+    for (int b = 0; b < n[1]; ++b) {
+      for (int c = 0; c < n[2]; ++c) {
+        const Eigen::Vector3d x =
+            Ankle({lo_[0] + a * step[0], lo_[1] + b * step[1], lo_[2] + c * step[2]}, 0.0);
+        samples.push_back(x);
+        *lo = lo->cwiseMin(x), *hi = hi->cwiseMax(x);
       }
+    }
+  }
+  return samples;
+}
+
+void LegChain::MarkBall(const Eigen::Vector3d& x, double r) {
+  const std::array<int, 3> v0 = Voxel(x - Eigen::Vector3d::Constant(r));
+  const std::array<int, 3> v1 = Voxel(x + Eigen::Vector3d::Constant(r));
+  // Distance from x to the slab of voxels `v` along axis k.
+  const auto gap = [&](int k, int v) {
+    const double box_lo = map_lo_[k] + v * kVoxelM;
+    return std::max({0.0, box_lo - x[k], x[k] - (box_lo + kVoxelM)});
+  };
+  for (int a = std::max(0, v0[0]); a <= std::min(map_n_[0] - 1, v1[0]); ++a) {
+    const double da = gap(0, a);
+    for (int b = std::max(0, v0[1]); b <= std::min(map_n_[1] - 1, v1[1]); ++b) {
+      const double db = gap(1, b), left = r * r - da * da - db * db;
+      if (left < 0.0) continue;
+      // Along z (the map's fastest index) the voxels within r form one run.
+      const double rz = std::sqrt(left);
+      const int c0 = std::max(0, static_cast<int>(std::floor((x[2] - rz - map_lo_[2]) / kVoxelM)));
+      const int c1 = std::min(map_n_[2] - 1,
+                              static_cast<int>(std::floor((x[2] + rz - map_lo_[2]) / kVoxelM)));
+      if (c1 >= c0) SetRun(MapIndex({a, b, c0}), MapIndex({a, b, c1}));
     }
   }
 }

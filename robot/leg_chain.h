@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "robot/robot.h"
@@ -23,9 +24,12 @@ class LegChain {
  public:
   using Q = std::array<double, 3>;  // hip_yaw, hip_pitch, knee
 
-  // Leg `leg` of `robot`. Throws std::invalid_argument when a leg joint is not a hinge on the
-  // chain from the base to the pad body.
+  // Leg `leg` of `robot`. Throws std::invalid_argument with Problem's text when it has one.
   LegChain(const mjModel* model, const RobotInfo& robot, int leg);
+  // Why leg `leg`'s chain cannot be read ("" when it can): its pad body not below the base, a
+  // leg joint not a hinge on the chain from the base to the pad body, the tilt not turning the
+  // pad body, the ankle site outside it, or a pad body without exactly one box geom.
+  static std::string Problem(const mjModel* model, const RobotInfo& robot, int leg);
 
   // The ankle centre (site L_ankle) in the base frame for joint angles q and ankle tilt `tilt`
   // (0 without a tilt servo); optionally the pad body's orientation in the base frame with
@@ -113,6 +117,18 @@ class LegChain {
   // The reach map (Unreachable): voxels of kVoxelM from map_lo_, map_n_ of them along each
   // base axis, one bit each, set where a target may be within kMapTolM of the ankle.
   void BuildReachMap(const std::array<double, 3>& lever_m);
+  // The ankles on a grid of the joints' ranges (tilt 0), their box (*lo, *hi) and how far any
+  // q's ankle may be from the nearest of them (*cover_m, added to).
+  std::vector<Eigen::Vector3d> SampleAnkles(const std::array<double, 3>& lever_m,
+                                            double* cover_m, Eigen::Vector3d* lo,
+                                            Eigen::Vector3d* hi) const;
+  // Sets every voxel whose box lies within r of x.
+  void MarkBall(const Eigen::Vector3d& x, double r);
+  // Reads joint j into joints_ (with its range, or the tilt's); false for a joint that is not
+  // a hinge (the chain holds those at 0).
+  bool AddJoint(const mjModel* m, const LegInfo& info, int j);
+  // The anchors of hip_yaw, hip_pitch and knee in the base frame, joints at 0.
+  std::array<Eigen::Vector3d, 3> JointAnchors() const;
   std::array<int, 3> Voxel(const Eigen::Vector3d& x) const;  // may lie outside the map
   size_t MapIndex(const std::array<int, 3>& v) const;         // v inside the map
   bool MapSet(const std::array<int, 3>& v) const;

@@ -91,6 +91,42 @@ Eigen::Vector3d FootInBase(const mjModel* m, mjData* d, const LegInfo& leg, int 
   return rot.transpose() * (site - origin);
 }
 
+// One leg's joints that put its foot at `target` (base frame), damped least squares from q.
+struct FootSolver {
+  const mjModel* m;
+  mjData* d;
+  const LegInfo& leg;
+  int base;
+  const std::vector<int>& chain;
+  std::array<double, 3> lo, hi;  // the joints' ranges
+
+  std::array<double, 3> Solve(const Eigen::Vector3d& target, std::array<double, 3> q) const {
+    // The foot position is a function of q alone, so it is computed once per iterate
+    // (for the error and as the finite differences' base), and an iterate that does not
+    // move q (held at a joint limit) would repeat itself to the 100th: it ends the loop.
+    for (int it = 0; it < 100; ++it) {
+      const Eigen::Vector3d foot = FootInBase(m, d, leg, base, chain, q);
+      const Eigen::Vector3d e = target - foot;
+      if (e.norm() < 1e-9) break;
+      Eigen::Matrix3d jac;
+      const double h = 1e-6;
+      for (int k = 0; k < 3; ++k) {
+        std::array<double, 3> qp = q;
+        qp[k] += h;
+        jac.col(k) = (FootInBase(m, d, leg, base, chain, qp) - foot) / h;
+      }
+      // Damped least squares: stays finite near singular poses and at the joint limits.
+      const Eigen::Vector3d dq =
+          jac.transpose() *
+          (jac * jac.transpose() + 1e-6 * Eigen::Matrix3d::Identity()).ldlt().solve(e);
+      const std::array<double, 3> before = q;
+      for (int k = 0; k < 3; ++k) q[k] = std::clamp(q[k] + dq[k], lo[k], hi[k]);
+      if (q == before) break;
+    }
+    return q;
+  }
+};
+
 }  // namespace
 
 LegIk::LegIk(const mjModel* m, const RobotInfo& robot, double reach_x_m, double reach_below_m,
@@ -99,71 +135,54 @@ LegIk::LegIk(const mjModel* m, const RobotInfo& robot, double reach_x_m, double 
   mjData* d = mj_makeData(m);
   mju_copy(d->qpos, m->qpos0, m->nq);  // base at its spawn pose, every joint at zero
   mj_kinematics(m, d);  // the world body's pose (and every other) for ChainKinematics
-  const int n = cells_ + 1;
   for (const LegInfo& leg : robot.legs) {
-    std::array<double, 3> lo, hi;
-    for (int k = 0; k < 3; ++k) {
-      const int j = leg.joint[k];
-      lo[k] = m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI;
-      hi[k] = m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI;
-    }
-    const std::vector<int> chain = ChainTo(m, m->site_bodyid[leg.pad_face_site]);
-    const Eigen::Vector3d neutral = FootInBase(m, d, leg, robot.base_body, chain, {0, 0, 0});
-    std::vector<std::array<double, 3>> table(n * n);
-    // Row by row from the neutral pose outwards, each cell seeded by a solved neighbour.
-    auto solve = [&](const Eigen::Vector3d& target, std::array<double, 3> q) {
-      // The foot position is a function of q alone, so it is computed once per iterate
-      // (for the error and as the finite differences' base), and an iterate that does not
-      // move q (held at a joint limit) would repeat itself to the 100th: it ends the loop.
-      for (int it = 0; it < 100; ++it) {
-        const Eigen::Vector3d foot = FootInBase(m, d, leg, robot.base_body, chain, q);
-        const Eigen::Vector3d e = target - foot;
-        if (e.norm() < 1e-9) break;
-        Eigen::Matrix3d jac;
-        const double h = 1e-6;
-        for (int k = 0; k < 3; ++k) {
-          std::array<double, 3> qp = q;
-          qp[k] += h;
-          jac.col(k) = (FootInBase(m, d, leg, robot.base_body, chain, qp) - foot) / h;
-        }
-        // Damped least squares: stays finite near singular poses and at the joint limits.
-        const Eigen::Vector3d dq =
-            jac.transpose() *
-            (jac * jac.transpose() + 1e-6 * Eigen::Matrix3d::Identity()).ldlt().solve(e);
-        const std::array<double, 3> before = q;
-        for (int k = 0; k < 3; ++k) q[k] = std::clamp(q[k] + dq[k], lo[k], hi[k]);
-        if (q == before) break;
-      }
-      return q;
-    };
-    const int ix0 = static_cast<int>(std::lround((0 - x0_) / (x1_ - x0_) * cells_));
-    const int iz0 = static_cast<int>(std::lround((0 - z0_) / (z1_ - z0_) * cells_));
-    auto target = [&](int ix, int iz) {
-      return Eigen::Vector3d(neutral.x() + x0_ + (x1_ - x0_) * ix / cells_, neutral.y(),
-                             neutral.z() + z0_ + (z1_ - z0_) * iz / cells_);
-    };
-    auto at = [&](int ix, int iz) -> std::array<double, 3>& { return table[iz * n + ix]; };
-    at(ix0, iz0) = solve(target(ix0, iz0), {0, 0, 0});
-    for (int ix = ix0 + 1; ix < n; ++ix) at(ix, iz0) = solve(target(ix, iz0), at(ix - 1, iz0));
-    for (int ix = ix0 - 1; ix >= 0; --ix) at(ix, iz0) = solve(target(ix, iz0), at(ix + 1, iz0));
-    for (int iz = iz0 + 1; iz < n; ++iz) {
-      for (int ix = 0; ix < n; ++ix) at(ix, iz) = solve(target(ix, iz), at(ix, iz - 1));
-    }
-    for (int iz = iz0 - 1; iz >= 0; --iz) {
-      for (int ix = 0; ix < n; ++ix) at(ix, iz) = solve(target(ix, iz), at(ix, iz + 1));
-    }
-    for (int iz = 0; iz < n; ++iz) {
-      for (int ix = 0; ix < n; ++ix) {
-        const double err =
-            (FootInBase(m, d, leg, robot.base_body, chain, at(ix, iz)) - target(ix, iz)).norm();
-        worst_error_m_ = std::max(worst_error_m_, err);
-      }
-    }
+    table_.push_back(LegTable(m, d, leg, robot.base_body));
     // Back to zero for the next leg.
     for (int k = 0; k < 3; ++k) d->qpos[leg.qpos_adr[k]] = 0.0;
-    table_.push_back(std::move(table));
   }
   mj_deleteData(d);
+}
+
+std::vector<std::array<double, 3>> LegIk::LegTable(const mjModel* m, mjData* d,
+                                                   const LegInfo& leg, int base) {
+  const int n = cells_ + 1;
+  std::array<double, 3> lo, hi;
+  for (int k = 0; k < 3; ++k) {
+    const int j = leg.joint[k];
+    lo[k] = m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI;
+    hi[k] = m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI;
+  }
+  const std::vector<int> chain = ChainTo(m, m->site_bodyid[leg.pad_face_site]);
+  const Eigen::Vector3d neutral = FootInBase(m, d, leg, base, chain, {0, 0, 0});
+  const FootSolver solver{m, d, leg, base, chain, lo, hi};
+  const auto solve = [&](const Eigen::Vector3d& target, const std::array<double, 3>& q) {
+    return solver.Solve(target, q);
+  };
+  std::vector<std::array<double, 3>> table(n * n);
+  // Row by row from the neutral pose outwards, each cell seeded by a solved neighbour.
+  const int ix0 = static_cast<int>(std::lround((0 - x0_) / (x1_ - x0_) * cells_));
+  const int iz0 = static_cast<int>(std::lround((0 - z0_) / (z1_ - z0_) * cells_));
+  auto target = [&](int ix, int iz) {
+    return Eigen::Vector3d(neutral.x() + x0_ + (x1_ - x0_) * ix / cells_, neutral.y(),
+                           neutral.z() + z0_ + (z1_ - z0_) * iz / cells_);
+  };
+  auto at = [&](int ix, int iz) -> std::array<double, 3>& { return table[iz * n + ix]; };
+  at(ix0, iz0) = solve(target(ix0, iz0), {0, 0, 0});
+  for (int ix = ix0 + 1; ix < n; ++ix) at(ix, iz0) = solve(target(ix, iz0), at(ix - 1, iz0));
+  for (int ix = ix0 - 1; ix >= 0; --ix) at(ix, iz0) = solve(target(ix, iz0), at(ix + 1, iz0));
+  for (int iz = iz0 + 1; iz < n; ++iz) {
+    for (int ix = 0; ix < n; ++ix) at(ix, iz) = solve(target(ix, iz), at(ix, iz - 1));
+  }
+  for (int iz = iz0 - 1; iz >= 0; --iz) {
+    for (int ix = 0; ix < n; ++ix) at(ix, iz) = solve(target(ix, iz), at(ix, iz + 1));
+  }
+  for (int iz = 0; iz < n; ++iz) {
+    for (int ix = 0; ix < n; ++ix) {
+      const double err = (FootInBase(m, d, leg, base, chain, at(ix, iz)) - target(ix, iz)).norm();
+      worst_error_m_ = std::max(worst_error_m_, err);
+    }
+  }
+  return table;
 }
 
 std::array<double, 3> LegIk::Solve(int leg, double dx_m, double dz_m) const {

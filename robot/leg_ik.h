@@ -41,6 +41,11 @@ class LegIk {
   }
 
  private:
+  // Leg `leg`'s table, solved on scratch data d (its joints left as the last solve put them);
+  // raises worst_error_m_ to the table's worst entry.
+  std::vector<std::array<double, 3>> LegTable(const mjModel* m, mjData* d, const LegInfo& leg,
+                                              int base);
+
   int cells_;
   double x0_, x1_, z0_, z1_;
   std::vector<std::vector<std::array<double, 3>>> table_;  // [leg][iz * (cells+1) + ix]

@@ -1,6 +1,7 @@
 // The robot as a model holds it: the contract of mjcf/README.md (legs, joints, servos, pads)
 // resolved to MuJoCo ids once, so the step never looks up a name, and the servos' stiffness.
-// The leg chains (leg_chain.h) and the legs' inverse kinematics (leg_ik.h) build on it.
+// ReadRobot reads it (sim/world.cc composes the model and calls it). The leg chains
+// (leg_chain.h) and the legs' inverse kinematics (leg_ik.h) build on it.
 #ifndef CLIMBSIM_ROBOT_ROBOT_H_
 #define CLIMBSIM_ROBOT_ROBOT_H_
 
@@ -37,6 +38,11 @@ struct RobotInfo {
   std::vector<LegInfo> legs;           // order of the custom text "climbsim_legs"
   double mass_kg = 0.0;
 };
+
+// The robot contract of a compiled model (mjcf/README.md): the base with its free joint
+// "root", and for each leg of the custom text "climbsim_legs" its joints, servos, pad and
+// sites. Throws std::invalid_argument naming the first item the model lacks.
+RobotInfo ReadRobot(const mjModel* model);
 
 // A position servo's stiffness (force = gain·ctrl + bias1·q + bias2·q̇ with gain = kp and
 // bias1 = −kp): read, and set at run time (the run's own model copy; both terms together).

@@ -112,6 +112,41 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
                        std::shared_ptr<Controller> controller)
     : scenario_(scenario), world_(compiled, scenario_) {
   InstallMujocoHandlers();
+  const double steps = CheckRunSize();
+  legs_.resize(world_.robot().legs.size());
+  // scenario.yaml records every physics option the run used, the scene's included.
+  const bool timestep_given = scenario_.physics.timestep_s.has_value();
+  scenario_.physics = PhysicsOf(world_.model());
+  CheckCpgPeriod(timestep_given);
+
+  // Effects in pipeline order; only those the scenario names.
+  if (scenario_.adhesion) {
+    effects_.push_back(std::make_unique<AdhesionEffect>(scenario_, *scenario_.adhesion, world_));
+  }
+  AdhesionEffect* adhesion = FindAdhesion(effects_);
+  std::vector<std::string> pad_names;
+  const std::vector<int> leg_event_pad = EventPads(adhesion, &pad_names);
+  if (scenario_.reflex && !scenario_.cpg) {
+    throw ScenarioError(scenario_, "reflex", "needs the cpg block: reflexes act on its gait");
+  }
+  if (scenario_.transition && !scenario_.cpg) {
+    throw ScenarioError(scenario_, "transition",
+                        "needs the cpg block: the robot walks to the corner with its gait");
+  }
+  AddController(std::move(controller), adhesion, leg_event_pad);
+  AddRecorders();
+
+  // Room for a few adhesion and reflex events per pad per stride at up to 10 strides a second,
+  // at most a million rows (a longer run counts the rest in events_dropped).
+  const size_t capacity = static_cast<size_t>(
+      std::min(1e6, 64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size())));
+  events_.Configure(std::move(pad_names), capacity);
+
+  steps_total_ = std::lround(steps);
+  Reset();
+}
+
+double Simulation::CheckRunSize() const {
   // Bounds before anything is sized for the run: steps (10^9 steps of 1 ns would run for days
   // and write nothing; the step may be the scene's), and rows of trajectory.csv.
   const double steps = scenario_.duration_s / world_.model()->opt.timestep;
@@ -134,46 +169,39 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
                               ": lower the rate (0 records none) or shorten the run");
     }
   }
-  const RobotInfo& robot = world_.robot();
-  legs_.resize(robot.legs.size());
-  // scenario.yaml records every physics option the run used, the scene's included.
-  const bool timestep_given = scenario_.physics.timestep_s.has_value();
-  scenario_.physics = PhysicsOf(world_.model());
-  if (scenario_.cpg && scenario_.cpg->control_period_s) {
-    const double ratio = *scenario_.cpg->control_period_s / world_.model()->opt.timestep;
-    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
-      throw ScenarioError(scenario_, "cpg.control_period_s",
-                          "must be a whole multiple of physics.timestep_s (" +
-                              ExactNumber(world_.model()->opt.timestep) + " s, " +
-                              (timestep_given ? "given" : "the scene's") + ")");
-    }
-  }
+  return steps;
+}
 
-  // Effects in pipeline order; only those the scenario names.
-  if (scenario_.adhesion) {
-    effects_.push_back(std::make_unique<AdhesionEffect>(scenario_, *scenario_.adhesion, world_));
+void Simulation::CheckCpgPeriod(bool timestep_given) const {
+  if (!scenario_.cpg || !scenario_.cpg->control_period_s) return;
+  const double ratio = *scenario_.cpg->control_period_s / world_.model()->opt.timestep;
+  if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
+    throw ScenarioError(scenario_, "cpg.control_period_s",
+                        "must be a whole multiple of physics.timestep_s (" +
+                            ExactNumber(world_.model()->opt.timestep) + " s, " +
+                            (timestep_given ? "given" : "the scene's") + ")");
   }
+}
+
+std::vector<int> Simulation::EventPads(const AdhesionEffect* adhesion,
+                                       std::vector<std::string>* pad_names) const {
   // Events name the sticky pads first (the adhesion effect's indices), then any other leg pad
   // (reflex events go to the leg's pad).
-  std::vector<std::string> pad_names;
-  AdhesionEffect* adhesion = FindAdhesion(effects_);
   if (adhesion != nullptr) {
-    for (int i = 0; i < adhesion->pad_count(); ++i) pad_names.push_back(adhesion->pad_name(i));
+    for (int i = 0; i < adhesion->pad_count(); ++i) pad_names->push_back(adhesion->pad_name(i));
   }
   std::vector<int> leg_event_pad;
-  for (const LegInfo& l : robot.legs) {
+  for (const LegInfo& l : world_.robot().legs) {
     const std::string name = mj_id2name(world_.model(), mjOBJ_BODY, l.pad_body);
-    const auto it = std::find(pad_names.begin(), pad_names.end(), name);
-    leg_event_pad.push_back(static_cast<int>(it - pad_names.begin()));
-    if (it == pad_names.end()) pad_names.push_back(name);
+    const auto it = std::find(pad_names->begin(), pad_names->end(), name);
+    leg_event_pad.push_back(static_cast<int>(it - pad_names->begin()));
+    if (it == pad_names->end()) pad_names->push_back(name);
   }
-  if (scenario_.reflex && !scenario_.cpg) {
-    throw ScenarioError(scenario_, "reflex", "needs the cpg block: reflexes act on its gait");
-  }
-  if (scenario_.transition && !scenario_.cpg) {
-    throw ScenarioError(scenario_, "transition",
-                        "needs the cpg block: the robot walks to the corner with its gait");
-  }
+  return leg_event_pad;
+}
+
+void Simulation::AddController(std::shared_ptr<Controller> controller, AdhesionEffect* adhesion,
+                               const std::vector<int>& leg_event_pad) {
   // The controllers: the built-in CPG + reflexes when the scenario has a cpg block, then the
   // user's; one effect runs the chain at the control period (sim/controller.h).
   std::vector<std::shared_ptr<Controller>> chain;
@@ -199,14 +227,16 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
         world_, ctx_, std::move(cpg), std::move(reflex), std::move(transition)));
   }
   if (controller) chain.push_back(std::move(controller));
-  if (!chain.empty()) {
-    const int period_steps =
-        std::max(1, static_cast<int>(std::lround(period_s / world_.model()->opt.timestep)));
-    auto effect = std::make_unique<ControllerEffect>(world_, std::move(chain), period_steps,
-                                                     adhesion, scenario_.cpg.has_value());
-    controller_ = effect.get();
-    effects_.push_back(std::move(effect));
-  }
+  if (chain.empty()) return;
+  const int period_steps =
+      std::max(1, static_cast<int>(std::lround(period_s / world_.model()->opt.timestep)));
+  auto effect = std::make_unique<ControllerEffect>(world_, std::move(chain), period_steps,
+                                                   adhesion, scenario_.cpg.has_value());
+  controller_ = effect.get();
+  effects_.push_back(std::move(effect));
+}
+
+void Simulation::AddRecorders() {
   if (!scenario_.perturbations.empty()) {
     effects_.push_back(std::make_unique<PerturbationEffect>(scenario_, world_));
   }
@@ -222,15 +252,6 @@ Simulation::Simulation(const Scenario& scenario, const CompiledModel& compiled,
     if (e->has_before_step()) before_.push_back(e.get());
     if (e->has_after_step()) after_.push_back(e.get());
   }
-
-  // Room for a few adhesion and reflex events per pad per stride at up to 10 strides a second,
-  // at most a million rows (a longer run counts the rest in events_dropped).
-  const size_t capacity = static_cast<size_t>(
-      std::min(1e6, 64 + 400.0 * scenario_.duration_s * std::max<size_t>(1, pad_names.size())));
-  events_.Configure(std::move(pad_names), capacity);
-
-  steps_total_ = std::lround(steps);
-  Reset();
 }
 
 Simulation::~Simulation() = default;

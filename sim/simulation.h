@@ -105,6 +105,19 @@ class Simulation {
   std::string EventsCsv() const;
 
  private:
+  // The construction's checks and wiring, in this order.
+  // The run's steps (checked against kMaxScenarioSteps, and its trajectory rows).
+  double CheckRunSize() const;
+  // cpg.control_period_s a whole multiple of the time step.
+  void CheckCpgPeriod(bool timestep_given) const;
+  // Each leg's pad in the EventLog; *pad_names: the sticky pads first, then the other legs'.
+  std::vector<int> EventPads(const AdhesionEffect* adhesion,
+                             std::vector<std::string>* pad_names) const;
+  // The controller chain's effect: the built-in CPG, reflexes and transition, then the user's.
+  void AddController(std::shared_ptr<Controller> controller, AdhesionEffect* adhesion,
+                     const std::vector<int>& leg_event_pad);
+  // The perturbations and the trajectory recorder; then the step's hook lists.
+  void AddRecorders();
   bool Monitor();  // false to stop; fills result_
   double Heading() const;  // deg, forward axis about the start normal
 

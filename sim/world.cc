@@ -21,21 +21,6 @@
 namespace climbsim::sim {
 namespace {
 
-
-int Id(const mjModel* m, mjtObj type, const std::string& name) {
-  return mj_name2id(m, type, name.c_str());
-}
-
-// The custom text "climbsim_legs": leg names separated by spaces.
-std::vector<std::string> LegNames(const mjModel* m) {
-  const int id = Id(m, mjOBJ_TEXT, "climbsim_legs");
-  if (id < 0) return {};
-  std::istringstream in(std::string(m->text_data + m->text_adr[id]));
-  std::vector<std::string> names;
-  for (std::string n; in >> n;) names.push_back(n);
-  return names;
-}
-
 // A path as an XML attribute value: & < > " and ' as entities (a folder may be named so).
 std::string XmlAttribute(const std::string& text) {
   std::string out;
@@ -299,8 +284,9 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
                                                     const MjcfAdditions& additions) {
   std::unique_ptr<CompiledModel> c(new CompiledModel());
   std::string error;
+  // Self-contained: what is compiled here is what the run folder's model.xml holds. A file
+  // that cannot be read is reported at the robot key (its file and the scenario's line).
   try {
-    // Self-contained: what is compiled here is what the run folder's model.xml holds.
     c->xml_ = ExpandIncludes(ComposeMjcf(RobotFile(s), SceneFile(s), additions), "");
   } catch (const std::exception& e) {
     throw ScenarioError(s, "robot", e.what());
@@ -320,45 +306,13 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
     for (int i = 0; i < 3; ++i) c->spawn_offset_[i] = v[i];
   }
 
-  // Robot contract.
-  RobotInfo& r = c->robot_;
-  auto need = [&](mjtObj type, const std::string& name) {
-    const int id = Id(m, type, name);
-    if (id < 0) {
-      throw ScenarioError(s, "robot",
-                          "the robot model lacks '" + name + "' (see mjcf/README.md, contract)");
-    }
-    return id;
-  };
-  r.base_body = need(mjOBJ_BODY, "base");
-  const int root = need(mjOBJ_JOINT, "root");
-  if (m->jnt_type[root] != mjJNT_FREE) {
-    throw ScenarioError(s, "robot", "the robot's joint 'root' must be a free joint");
+  // Robot contract (robot/robot.h); its messages name the robot key's file.
+  try {
+    c->robot_ = ReadRobot(m);
+  } catch (const std::invalid_argument& e) {
+    throw ScenarioError(s, "robot", e.what());
   }
-  r.root_qpos_adr = m->jnt_qposadr[root];
-  r.root_dof_adr = m->jnt_dofadr[root];
-  r.mass_kg = m->body_subtreemass[r.base_body];
-  const char* joint_suffix[3] = {"_hip_yaw", "_hip_pitch", "_knee"};
-  for (const std::string& leg : LegNames(m)) {
-    LegInfo l;
-    l.name = leg;
-    for (int k = 0; k < 3; ++k) {
-      l.joint[k] = need(mjOBJ_JOINT, leg + joint_suffix[k]);
-      l.qpos_adr[k] = m->jnt_qposadr[l.joint[k]];
-      l.dof_adr[k] = m->jnt_dofadr[l.joint[k]];
-      l.actuator[k] = need(mjOBJ_ACTUATOR, leg + joint_suffix[k]);
-    }
-    l.pad_body = need(mjOBJ_BODY, leg + "_pad");
-    l.pad_geom = need(mjOBJ_GEOM, leg + "_pad");
-    l.ankle_site = need(mjOBJ_SITE, leg + "_ankle");
-    l.pad_face_site = need(mjOBJ_SITE, leg + "_pad_face");
-    l.tilt_joint = Id(m, mjOBJ_JOINT, leg + "_ankle_tilt");
-    if (l.tilt_joint >= 0) {
-      l.tilt_qpos_adr = m->jnt_qposadr[l.tilt_joint];
-      l.tilt_actuator = need(mjOBJ_ACTUATOR, leg + "_ankle_tilt");
-    }
-    r.legs.push_back(std::move(l));
-  }
+  const RobotInfo& r = c->robot_;
 
   // Spawn: the robot file's base position moved by the scene's offset.
   for (int i = 0; i < 3; ++i) m->qpos0[r.root_qpos_adr + i] += c->spawn_offset_[i];

@@ -61,6 +61,14 @@ Eigen::Vector3d RotationLog(const Eigen::Matrix3d& r) {
   return aa.angle() * aa.axis();
 }
 
+std::string CornerPlan::Problem(const mjModel* m, const RobotInfo& robot) {
+  for (size_t i = 0; i < robot.legs.size(); ++i) {
+    std::string problem = LegChain::Problem(m, robot, static_cast<int>(i));
+    if (!problem.empty()) return problem;
+  }
+  return "";
+}
+
 CornerPlan::CornerPlan(const mjModel* m, const RobotInfo& robot, const TransitionParams& params)
     : params_(params) {
   for (size_t i = 0; i < robot.legs.size(); ++i) {
@@ -205,6 +213,73 @@ int CornerPlan::SurfaceOf(const Eigen::Vector3d& n) const {
   return n.dot(n_[1]) > c ? 1 : n.dot(n_[0]) > c ? 0 : -1;
 }
 
+Eigen::Vector3d CornerPlan::Below(const Eigen::Vector3d& a, int k) const {
+  Eigen::Vector3d below = a - (a - origin_).dot(n_[k]) * n_[k];
+  const double clear = pad_half_m_ + kCornerClearance;
+  const double along = (below - origin_).dot(away_[k]);
+  if (along < clear) below += (clear - along) * away_[k];
+  return below;
+}
+
+double CornerPlan::Follow(int i, double sigma, const Foothold& h) const {
+  const Eigen::Vector3d ankle = StanceAnkle(i, h.face, h.normal);
+  double reach = 0.0;
+  LegChain::Q q = h.q;
+  double tilt = 0.0;
+  while (reach < kReachMax) {
+    const BodyPose pose = Pose(sigma + reach + kReachStep);
+    if (OutOfReach(i, pose, ankle) ||
+        Margin(i, pose, ankle, h.normal, &q, &tilt, kStanceTurn) < params_.margin_rad) {
+      break;
+    }
+    reach += kReachStep;
+  }
+  return reach;
+}
+
+double CornerPlan::Approach(int i, const BodyPose& now, const Eigen::Vector3d& f, int k,
+                            const LegChain::Q& q) const {
+  for (double share : {1.0, 0.6, 0.35}) {
+    LegChain::Q qa = q;
+    double ta = 0.0;
+    const double lift = share * params_.lift_m;
+    const Eigen::Vector3d above = StanceAnkle(i, f, n_[k]) + (lift + params_.press_m) * n_[k];
+    if (!OutOfReach(i, now, above) && Margin(i, now, above, n_[k], &qa, &ta, kLandingTurn) >= 0.0) {
+      return lift;
+    }
+  }
+  return -1.0;
+}
+
+void CornerPlan::Landings(int i, const BodyPose& now, const Eigen::Vector3d& below, int k,
+                          const LegChain::Q& warm, Candidate* flat, Candidate* tilt_one) const {
+  // The leg's joints roll the pad about its own axis, which the one tilt axis cannot undo: a
+  // foot placed a little wider or narrower lands flatter.
+  for (int s = 0; s < static_cast<int>(std::size(kSideOffsets)); ++s) {
+    const double side = kSideOffsets[s];
+    const Eigen::Vector3d f = below + side * y0_;
+    LegChain::Q q = warm;
+    double tilt = 0.0, left = 0.0;
+    // Landing: reachable pressed into the surface as far as a placed foot is. (Out of the
+    // leg's reach Margin would say so after a full solve: skipped, the same answer.)
+    const Eigen::Vector3d landing = StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k];
+    if (OutOfReach(i, now, landing)) continue;
+    const double m = Margin(i, now, landing, n_[k], &q, &tilt, kLandingTurn, &left);
+    const double need = params_.margin_rad + kLandingMargin;
+    if (m < need) continue;
+    const bool is_flat = left <= kFlatLanding;
+    const double score = left + 0.3 * std::abs(side);
+    if (score >= tilt_one->left && !(is_flat && score < flat->left)) continue;
+    // And lowered onto it from off it (the approach: lift_m, or less where the leg cannot
+    // reach that far out), in the same branch of the leg's kinematics.
+    const double approach = Approach(i, now, f, k, q);
+    if (approach < 0.0) continue;
+    const Foothold h{f, n_[k], k, m, 0.0, q, approach};
+    if (score < tilt_one->left) *tilt_one = {h, score, s};
+    if (is_flat && score < flat->left) *flat = {h, score, s};
+  }
+}
+
 Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegChain::Q& warm,
                           bool old_only) const {
   // A pad that lands flat attaches at once; one that lands on an edge may not flatten in time
@@ -212,28 +287,6 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
   // (kLandingTurn) only when there is no flat one. One sweep serves both: a candidate's solve
   // does not depend on how far off flat it may land, only its acceptance does.
   const LegChain& c = chains_[i];
-  struct Candidate {
-    Foothold h;
-    double left = 1e9;  // angle left to the ankle, plus a little for each cm sideways
-    int side = -1;
-    double reach = -1.0;  // σ the body may go on with it; < 0 not yet followed
-  };
-  // How long a foothold keeps the foot: the body goes on until the leg would be out of margin.
-  const auto follow = [&](const Candidate& h) {
-    const Eigen::Vector3d ankle = StanceAnkle(i, h.h.face, h.h.normal);
-    double reach = 0.0;
-    LegChain::Q q = h.h.q;
-    double tilt = 0.0;
-    while (reach < kReachMax) {
-      const BodyPose pose = Pose(sigma + reach + kReachStep);
-      if (OutOfReach(i, pose, ankle) ||
-          Margin(i, pose, ankle, h.h.normal, &q, &tilt, kStanceTurn) < params_.margin_rad) {
-        break;
-      }
-      reach += kReachStep;
-    }
-    return reach;
-  };
   // The best of one kind (flat or tilted) over the look-ahead.
   struct Best {
     Foothold h;
@@ -247,7 +300,9 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
       if (best->h.margin < 0 || cand.left < best->score) best->h = cand.h, best->score = cand.left;
       return;
     }
-    if (cand.reach < 0) cand.reach = follow(cand);
+    // How long a foothold keeps the foot: the body goes on until the leg would be out of
+    // margin.
+    if (cand.reach < 0) cand.reach = Follow(i, sigma, cand.h);
     cand.h.reach = cand.reach;
     // A step must buy the body some way along.
     if (cand.reach < kShortestReach) return;
@@ -263,48 +318,8 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
     const BodyPose ahead = here ? now : Pose(sigma + la);
     const Eigen::Vector3d a = ahead.p + ahead.r * c.neutral_ankle();
     for (int k = 0; k < (old_only ? 1 : 2); ++k) {
-      Eigen::Vector3d below = a - (a - origin_).dot(n_[k]) * n_[k];
-      const double clear = pad_half_m_ + kCornerClearance;
-      const double along = (below - origin_).dot(away_[k]);
-      if (along < clear) below += (clear - along) * away_[k];
-      // The leg's joints roll the pad about its own axis, which the one tilt axis cannot
-      // undo: a foot placed a little wider or narrower lands flatter.
       Candidate flat, tilt_one;
-      for (int s = 0; s < static_cast<int>(std::size(kSideOffsets)); ++s) {
-        const double side = kSideOffsets[s];
-        const Eigen::Vector3d f = below + side * y0_;
-        LegChain::Q q = warm;
-        double tilt = 0.0, left = 0.0;
-        // Landing: reachable pressed into the surface as far as a placed foot is. (Out of the
-        // leg's reach Margin would say so after a full solve: skipped, the same answer.)
-        const Eigen::Vector3d landing = StanceAnkle(i, f, n_[k]) - params_.place_depth_m * n_[k];
-        if (OutOfReach(i, now, landing)) continue;
-        const double m = Margin(i, now, landing, n_[k], &q, &tilt, kLandingTurn, &left);
-        const double need = params_.margin_rad + kLandingMargin;
-        if (m < need) continue;
-        const bool is_flat = left <= kFlatLanding;
-        const double score = left + 0.3 * std::abs(side);
-        if (score >= tilt_one.left && !(is_flat && score < flat.left)) continue;
-        // And lowered onto it from off it (the approach: lift_m, or less where the leg cannot
-        // reach that far out), in the same branch of the leg's kinematics.
-        double approach = -1.0;
-        for (double share : {1.0, 0.6, 0.35}) {
-          LegChain::Q qa = q;
-          double ta = 0.0;
-          const double lift = share * params_.lift_m;
-          const Eigen::Vector3d above =
-              StanceAnkle(i, f, n_[k]) + (lift + params_.press_m) * n_[k];
-          if (!OutOfReach(i, now, above) &&
-              Margin(i, now, above, n_[k], &qa, &ta, kLandingTurn) >= 0.0) {
-            approach = lift;
-            break;
-          }
-        }
-        if (approach < 0.0) continue;
-        const Foothold h{f, n_[k], k, m, 0.0, q, approach};
-        if (score < tilt_one.left) tilt_one = {h, score, s};
-        if (is_flat && score < flat.left) flat = {h, score, s};
-      }
+      Landings(i, now, Below(a, k), k, warm, &flat, &tilt_one);
       consider(flat, &flat_best);
       // The same candidate as the flat one: followed once.
       if (tilt_one.side == flat.side) tilt_one.reach = flat.reach;
@@ -320,19 +335,67 @@ Foothold CornerPlan::Next(int i, double sigma, const BodyPose& now, const LegCha
   return tilted_best.h;
 }
 
+// A dry run's legs: where each foot stands, which wait in the air, and their last joints.
+struct CornerPlan::DryLegs {
+  std::vector<Foothold> feet;
+  std::vector<uint8_t> idle;
+  std::vector<LegChain::Q> q;
+};
+
+namespace {
+
+void Append(std::string* log, const char* line) {
+  if (log != nullptr) *log += line;
+}
+
+}  // namespace
+
+int CornerPlan::DryLand(double sigma, DryLegs* legs, std::string* log) const {
+  int landed = 0;
+  char line[256];
+  for (size_t i = 0; i < legs->feet.size(); ++i) {
+    if (!legs->idle[i]) continue;
+    const Foothold h = Next(static_cast<int>(i), sigma, Pose(sigma), legs->q[i], false);
+    if (h.margin < 0) continue;
+    legs->idle[i] = 0;
+    legs->feet[i] = h;
+    ++landed;
+    std::snprintf(line, sizeof(line), "sigma %.3f: idle leg %d lands on surface %d at (%.3f %.3f %.3f)\n",
+                  sigma, static_cast<int>(i), h.surface, h.face.x(), h.face.y(), h.face.z());
+    Append(log, line);
+  }
+  return landed;
+}
+
+int CornerPlan::DryWorst(const BodyPose& pose, DryLegs* legs) const {
+  double worst = 1e9;
+  int worst_leg = -1;
+  for (size_t i = 0; i < legs->feet.size(); ++i) {
+    if (legs->idle[i]) continue;
+    LegChain::Q qq = legs->q[i];
+    double tilt = 0.0;
+    const Foothold& foot = legs->feet[i];
+    const double m = Margin(static_cast<int>(i), pose,
+                            StanceAnkle(static_cast<int>(i), foot.face, foot.normal), foot.normal,
+                            &qq, &tilt, kStanceTurn);
+    if (m < worst) worst = m, worst_leg = static_cast<int>(i);
+    legs->q[i] = qq;
+  }
+  return worst >= params_.margin_rad ? -1 : worst_leg;
+}
+
 double CornerPlan::DryRun(const BodyPose& start, double beyond_m, std::string* log,
                           int* steps) const {
   CornerPlan plan = *this;
   double sigma = plan.Start(start);
   const size_t n = chains_.size();
-  std::vector<Foothold> feet(n);
-  std::vector<uint8_t> idle(n, 0);
-  std::vector<LegChain::Q> q(n, LegChain::Q{});
+  DryLegs legs{std::vector<Foothold>(n), std::vector<uint8_t>(n, 0),
+               std::vector<LegChain::Q>(n, LegChain::Q{})};
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d a = start.p + start.r * chains_[i].neutral_ankle();
-    feet[i].face = a - (a - origin_).dot(n_[0]) * n_[0];
-    feet[i].normal = n_[0];
-    feet[i].surface = 0;
+    legs.feet[i].face = a - (a - origin_).dot(n_[0]) * n_[0];
+    legs.feet[i].normal = n_[0];
+    legs.feet[i].surface = 0;
   }
   int count = 0;
   char line[256];
@@ -342,49 +405,26 @@ double CornerPlan::DryRun(const BodyPose& start, double beyond_m, std::string* l
     // An idle leg lands as soon as it has a foothold.
     if (sigma >= idle_check) {
       idle_check = sigma + 0.02;
-      for (size_t i = 0; i < n; ++i) {
-        if (!idle[i]) continue;
-        const Foothold h = plan.Next(static_cast<int>(i), sigma, plan.Pose(sigma), q[i], false);
-        if (h.margin < 0) continue;
-        idle[i] = 0;
-        feet[i] = h;
-        ++count;
-        std::snprintf(line, sizeof(line), "sigma %.3f: idle leg %d lands on surface %d at (%.3f %.3f %.3f)\n",
-                      sigma, static_cast<int>(i), h.surface, h.face.x(), h.face.y(), h.face.z());
-        if (log != nullptr) *log += line;
-      }
+      count += plan.DryLand(sigma, &legs, log);
     }
     const double next = sigma + 0.005;
-    const BodyPose pose = plan.Pose(next);
-    double worst = 1e9;
-    int worst_leg = -1;
-    for (size_t i = 0; i < n; ++i) {
-      if (idle[i]) continue;
-      LegChain::Q qq = q[i];
-      double tilt = 0.0;
-      const double m = plan.Margin(static_cast<int>(i), pose,
-                                   plan.StanceAnkle(static_cast<int>(i), feet[i].face,
-                                                    feet[i].normal),
-                                   feet[i].normal, &qq, &tilt, kStanceTurn);
-      if (m < worst) worst = m, worst_leg = static_cast<int>(i);
-      q[i] = qq;
-    }
-    if (worst >= params_.margin_rad) {
+    const int worst_leg = plan.DryWorst(plan.Pose(next), &legs);
+    if (worst_leg < 0) {
       sigma = next;
       continue;
     }
-    const Foothold h = plan.Next(worst_leg, sigma, plan.Pose(sigma), q[worst_leg], false);
+    const Foothold h = plan.Next(worst_leg, sigma, plan.Pose(sigma), legs.q[worst_leg], false);
     if (h.margin < 0) {
       int stance = 0;
-      for (size_t i = 0; i < n; ++i) stance += idle[i] ? 0 : 1;
+      for (size_t i = 0; i < n; ++i) stance += legs.idle[i] ? 0 : 1;
       if (stance - 1 >= kMinStance) {
-        idle[worst_leg] = 1;
+        legs.idle[worst_leg] = 1;
         std::snprintf(line, sizeof(line), "sigma %.3f: leg %d idles\n", sigma, worst_leg);
-        if (log != nullptr) *log += line;
+        Append(log, line);
         continue;
       }
       std::snprintf(line, sizeof(line), "sigma %.3f: leg %d has no foothold\n", sigma, worst_leg);
-      if (log != nullptr) *log += line;
+      Append(log, line);
       break;
     }
     ++count;
@@ -392,8 +432,8 @@ double CornerPlan::DryRun(const BodyPose& start, double beyond_m, std::string* l
                   "sigma %.3f: leg %d to surface %d at (%.3f %.3f %.3f), margin %.3f, reach %.2f\n",
                   sigma, worst_leg, h.surface, h.face.x(), h.face.y(), h.face.z(), h.margin,
                   h.reach);
-    if (log != nullptr) *log += line;
-    feet[worst_leg] = h;
+    Append(log, line);
+    legs.feet[worst_leg] = h;
   }
   if (steps != nullptr) *steps = count;
   return sigma;

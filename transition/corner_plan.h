@@ -1,7 +1,7 @@
-// The geometry of a surface transition (sim/transition_effect.h runs it): a sharp 90-degree
+// The geometry of a surface transition (manoeuvre.h runs it): a sharp 90-degree
 // corner between the surface the robot stands on (old, normal n0) and the one ahead (new),
 // the path of the body round it, and where each foot may stand. Pure kinematics on the legs'
-// chains (sim/leg_chain.h): no mjData, no allocation after construction, so a plan can be
+// chains (robot/leg_chain.h): no mjData, no allocation after construction, so a plan can be
 // tried without simulating it (CornerPlan::DryRun, tests/sim/corner_plan_test.cc).
 //
 // FRAME. The corner: a point o on it, t0 the old surface's direction towards it (the way the
@@ -78,8 +78,11 @@ inline constexpr int kMinStance = 3;
 
 class CornerPlan {
  public:
-  // Throws std::invalid_argument when a leg's chain cannot be read.
+  // Throws std::invalid_argument when a leg's chain cannot be read (Problem says why first).
   CornerPlan(const mjModel* model, const RobotInfo& robot, const TransitionParams& params);
+  // Why the robot's legs cannot be planned for ("" when they can): the first leg's
+  // LegChain::Problem.
+  static std::string Problem(const mjModel* model, const RobotInfo& robot);
 
   void SetCorner(const Eigen::Vector3d& origin, const Eigen::Vector3d& n0,
                  const Eigen::Vector3d& t0, bool inner);
@@ -135,6 +138,33 @@ class CornerPlan {
 
  private:
   BodyPose PathPose(double sigma) const;  // without the blend
+
+  // Next's candidates: the best landing of one surface at one look-ahead.
+  struct Candidate {
+    Foothold h;
+    double left = 1e9;  // angle left to the ankle, plus a little for each cm sideways
+    int side = -1;
+    double reach = -1.0;  // σ the body may go on with it; < 0 not yet followed
+  };
+  // Below the ankle `a` on surface k, kept clear of the corner line.
+  Eigen::Vector3d Below(const Eigen::Vector3d& a, int k) const;
+  // How far along the path (σ beyond `sigma`) leg i's foot on h stays of use: the body goes on
+  // until the leg would be out of margin.
+  double Follow(int i, double sigma, const Foothold& h) const;
+  // How far off surface k leg i can be lowered onto face point f from (the body at `now`, in
+  // the branch of q): lift_m or less; −1 when not at all.
+  double Approach(int i, const BodyPose& now, const Eigen::Vector3d& f, int k,
+                  const LegChain::Q& q) const;
+  // Leg i's best flat and best tilted landings on surface k around `below` (the lateral
+  // offsets) for the body at `now`.
+  void Landings(int i, const BodyPose& now, const Eigen::Vector3d& below, int k,
+                const LegChain::Q& warm, Candidate* flat, Candidate* tilt_one) const;
+
+  // DryRun's legs, and its steps: the idle legs that land now (logged; how many), and the leg
+  // whose margin stops the body at `pose` (−1: none; every leg's joints updated).
+  struct DryLegs;
+  int DryLand(double sigma, DryLegs* legs, std::string* log) const;
+  int DryWorst(const BodyPose& pose, DryLegs* legs) const;
 
   TransitionParams params_;
   std::vector<LegChain> chains_;

@@ -1,6 +1,6 @@
-// The kinematics behind the surface transitions: each leg's chain (sim/leg_chain.h) puts the
+// The kinematics behind the surface transitions: each leg's chain (robot/leg_chain.h) puts the
 // ankle and turns the pad exactly as MuJoCo does, its inverse kinematics and tilt reach what
-// they aim at, and the corner plan (sim/corner_plan.h) takes the robots with actuated ankles
+// they aim at, and the corner plan (transition/corner_plan.h) takes the robots with actuated ankles
 // round each corner in a dry run (no dynamics): every foot reachable with margin, three pads
 // down at every step.
 #include "transition/corner_plan.h"
