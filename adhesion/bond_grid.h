@@ -92,9 +92,12 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "keys/keys.h"
 
 namespace climbsim::adhesion {
 
@@ -117,6 +120,36 @@ struct PadParams {
                             // estimate for their dry adhesive
   double mu = 0.0;          // μ ≥ 0, gain of compression on the shear threshold
   int min_bonds = 1;        // detached when fewer bonds than this remain (1 .. N_x·N_y)
+
+  // The scenario keys adhesion.sigma_t_pa .. min_bonds (width_m and length_m are not keys:
+  // they come from each pad's box geom). keys::Validate checks them, then Validate.
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"sigma_t_pa", "Pa",
+              "sigma_T, bond rupture threshold (10 kPa: the seed authors' estimate for their dry "
+              "adhesive)",
+              Range::Positive()},
+             &sigma_t_pa);
+    a->Visit({"mu", "",
+              "gain of compression on the shear threshold: a compressed bond breaks when sqrt(3) "
+              "times its shear reaches sigma_T + mu times its compression",
+              Range::NonNegative()},
+             &mu);
+    a->Visit({"grid_x", "", "bonds across the pad width (accuracy against time)",
+              Range::Closed(1, kMaxGridSide)},
+             &grid_x);
+    a->Visit({"grid_y", "", "bonds along the pad length", Range::Closed(1, kMaxGridSide)},
+             &grid_y);
+    a->Visit({"min_bonds", "", "the pad detaches when fewer bonds than this remain",
+              Range::Closed(1, 1.0 * kMaxGridSide * kMaxGridSide)},
+             &min_bonds);
+  }
+  void Validate(const Checker& c) const {
+    if (static_cast<long>(min_bonds) > static_cast<long>(grid_x) * grid_y) {
+      c.Fail("min_bonds", "must be <= grid_x * grid_y = " + std::to_string(grid_x * grid_y) +
+                              ", got " + std::to_string(min_bonds));
+    }
+  }
 };
 
 // Throws std::invalid_argument naming the key and the value, e.g.
