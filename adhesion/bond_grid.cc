@@ -39,18 +39,8 @@ void ValidatePadParams(const PadParams& p) {
   if (!(std::isfinite(p.length_m) && p.length_m > 0.0)) {
     Reject("length_m", "> 0 and finite", p.length_m);
   }
-  if (p.grid_x < 1 || p.grid_x > kMaxGridSide) Reject("grid_x", "in [1, 1024]", p.grid_x);
-  if (p.grid_y < 1 || p.grid_y > kMaxGridSide) Reject("grid_y", "in [1, 1024]", p.grid_y);
-  const long bonds = static_cast<long>(p.grid_x) * p.grid_y;
-  if (!(std::isfinite(p.sigma_t_pa) && p.sigma_t_pa > 0.0)) {
-    Reject("sigma_t_pa", "> 0 and finite", p.sigma_t_pa);
-  }
-  if (!(std::isfinite(p.mu) && p.mu >= 0.0)) Reject("mu", ">= 0 and finite", p.mu);
-  if (p.min_bonds < 1 || p.min_bonds > bonds) {
-    std::ostringstream rule;
-    rule << "in [1, grid_x*grid_y = " << bonds << "]";
-    Reject("min_bonds", rule.str().c_str(), p.min_bonds);
-  }
+  // The keys: their declared ranges, then the rule min_bonds <= grid_x * grid_y.
+  keys::Validate(p, "adhesion");
 }
 
 PadLoad PadLoadFromSurfaceWrench(const Eigen::Vector3d& force_on_pad_pad_n,

@@ -152,10 +152,9 @@ struct PadParams {
   }
 };
 
-// Throws std::invalid_argument naming the key and the value, e.g.
-// "adhesion.sigma_t_pa must be > 0 and finite, got -3". Every key is checked for
-// finiteness; grid sides must be in [1, 1024] (kMaxGridSide); min_bonds in
-// [1, grid_x·grid_y].
+// Throws std::invalid_argument naming the key and the value: width_m and length_m must be
+// > 0 and finite; the keys are checked against their declaration (keys::Validate, e.g.
+// "adhesion.sigma_t_pa must be > 0, got -3"; min_bonds <= grid_x·grid_y).
 void ValidatePadParams(const PadParams& params);
 
 // The load the bond layer carries, pad frame, moments about the pad centroid (see the file

@@ -124,7 +124,8 @@ struct FrictionalParams {
   }
 };
 
-// Throws std::invalid_argument naming the key (adhesion.frictional.<key>) and the value.
+// Throws std::invalid_argument naming the key (adhesion.frictional.<key>) and the value: the
+// keys' declared ranges and the non-zero gripping direction (keys::Validate).
 void ValidateFrictionalParams(const FrictionalParams& params);
 
 // The pad-level law with its parameters prepared (tan α*, unit d).

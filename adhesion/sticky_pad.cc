@@ -28,20 +28,7 @@ void Check(bool ok, const char* key, const char* rule, double value) {
 }  // namespace
 
 void ValidateStickyPadParams(const StickyPadParams& p) {
-  const AttachParams& a = p.attach;
-  Check(a.min_contacts >= 1, "min_contacts", ">= 1", a.min_contacts);
-  Check(std::isfinite(a.max_approach_speed_mps) && a.max_approach_speed_mps >= 0,
-        "max_approach_speed_mps", ">= 0 and finite", a.max_approach_speed_mps);
-  Check(a.max_approach_angle_deg >= 0 && a.max_approach_angle_deg <= 180, "max_approach_angle_deg",
-        "in [0, 180]", a.max_approach_angle_deg);
-  Check(std::isfinite(a.min_preload_n) && a.min_preload_n >= 0, "min_preload_n", ">= 0 and finite",
-        a.min_preload_n);
-  Check(a.initial_fraction >= 0 && a.initial_fraction <= 1, "initial_fraction", "in [0, 1]",
-        a.initial_fraction);
-  Check(std::isfinite(a.buildup_time_s) && a.buildup_time_s >= 0, "buildup_time_s",
-        ">= 0 and finite", a.buildup_time_s);
-  Check(std::isfinite(a.attach_window_s) && a.attach_window_s >= 0, "attach_window_s",
-        ">= 0 and finite", a.attach_window_s);
+  keys::Validate(p.attach, "adhesion");
   Check(std::isfinite(p.release_contact_delay_s) && p.release_contact_delay_s >= 0,
         "release_contact_delay_s", ">= 0 and finite", p.release_contact_delay_s);
   if (p.law == PadLaw::kFrictional) ValidateFrictionalParams(p.frictional);

@@ -32,6 +32,9 @@ struct Gait {
 // Throws std::invalid_argument for an unknown name or a name not defined for num_legs (the
 // message lists the names that are).
 Gait GaitPreset(std::string_view name, int num_legs);
+// What GaitPreset would throw for (name, num_legs), or "" when the preset is defined: a
+// caller that reports errors its own way checks first instead of catching.
+std::string GaitPresetProblem(std::string_view name, int num_legs);
 
 // Names GaitPreset accepts for num_legs; empty if there are none (num_legs other than 4, 6).
 std::vector<std::string> GaitPresetNames(int num_legs);
