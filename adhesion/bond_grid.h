@@ -318,6 +318,8 @@ class BondGrid {
     double line_dx = 0.0, line_dy = 0.0;  // a line's unit direction
   };
   Bending BendingOfBondedSet() const;
+  void BendingGradient(const Bending& bend, const PadLoad& load, double* g_x, double* g_y);
+  void NormaliseShears(const PadLoad& load);
   void ClearField();
   // Breaks (and logs, with round) every bonded bond over its threshold in the current
   // field; returns how many.

@@ -19,10 +19,6 @@ Eigen::Vector3d PointVelocity(const mjModel* m, const mjData* d, int body,
   return Eigen::Vector3d(v[3], v[4], v[5]) + w.cross(p - origin);
 }
 
-}  // namespace
-
-namespace {
-
 // The body's box geoms: how many, and the last one.
 int CountBoxes(const mjModel* m, int body, int* last_box) {
   int boxes = 0;

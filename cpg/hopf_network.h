@@ -162,6 +162,9 @@ class HopfNetwork final : public OscillatorNetwork {
  private:
   // dz/dt for z = [x_0..x_{n−1}, y_0..y_{n−1}], with the feedback held in feedback_.
   void Derivative(const double* z, double* dzdt);
+  void PrepareWarp(const double* x, const double* y);
+  void CouplingTarget(int i, int j, bool warped, const double* x, const double* y,
+                      double* target_x, double* target_y) const;
   double TimePhase(double theta_rad) const;
   // phase_rad_, amplitude_ from the state; adds the wrapped phase change to unwrapped_rad_
   // if accumulate.
