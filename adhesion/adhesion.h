@@ -8,6 +8,8 @@
 //   sticky_pad.h       one pad: attach conditions, weld, build-up, load → bonds → detach, events
 //   adhesion_system.h  every pad of a model, their MJCF, surfaces, start attachment
 //   pulloff_rig.h      the figure-6 experiment in MuJoCo, both models
+//   params.h           the scenario's adhesion block (AdhesionKeys), its keys declared by the
+//                      structs above
 //
 // adhesion/README.md is the overview.
 #ifndef CLIMBSIM_ADHESION_ADHESION_H_
@@ -17,6 +19,7 @@
 #include "adhesion/bond_grid.h"
 #include "adhesion/frictional_law.h"
 #include "adhesion/pad_contact.h"
+#include "adhesion/params.h"
 #include "adhesion/pulloff.h"
 #include "adhesion/pulloff_rig.h"
 #include "adhesion/sticky_pad.h"

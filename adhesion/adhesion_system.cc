@@ -38,57 +38,63 @@ AdhesionSystem::AdhesionSystem(const mjModel* m, const AdhesionSystemParams& par
   sticks_to_.assign(m->ngeom, 0);
   std::vector<uint8_t> sticky(m->ngeom, 0);
   pads_.reserve(params_.pads.size());
-  for (const PadSpec& spec : params_.pads) {
-    const int body = mj_name2id(m, mjOBJ_BODY, spec.body.c_str());
-    if (body < 0) throw AdhesionSetupError("pads", "no body named '" + spec.body + "'");
-    for (const std::string& other : names_) {
-      if (other == spec.body) throw AdhesionSetupError("pads", "pad '" + other + "' given twice");
-    }
-    PadGeometry geometry;
-    try {
-      geometry = ReadPadGeometry(m, body);
-    } catch (const std::invalid_argument& e) {
-      throw AdhesionSetupError("pads", e.what());
-    }
-    int weld = -1, actuator = -1;
-    if (spec.params.model == AdhesionModel::kBonds) {
-      weld = mj_name2id(m, mjOBJ_EQUALITY, WeldName(spec.body).c_str());
-      if (weld < 0 || m->eq_type[weld] != mjEQ_WELD) {
-        throw AdhesionSetupError("pads", "the model lacks the weld '" + WeldName(spec.body) +
-                                             "' (add AdhesionMjcf's lines)");
-      }
-    } else {
-      actuator = mj_name2id(m, mjOBJ_ACTUATOR, AdhesionActuatorName(spec.body).c_str());
-      if (actuator < 0) {
-        throw AdhesionSetupError("pads", "the model lacks the actuator '" +
-                                             AdhesionActuatorName(spec.body) +
-                                             "' (add AdhesionMjcf's lines)");
-      }
-    }
-    pads_.emplace_back(m, static_cast<int>(pads_.size()), geometry, spec.params, weld, actuator);
-    names_.push_back(spec.body);
-    sticky[geometry.geom] = 1;
-  }
+  for (const PadSpec& spec : params_.pads) sticky[AddPad(m, spec)] = 1;
+  ResolveSurfaces(m, sticky);
+}
 
+// Resolves one pad (its body, box, and the weld or actuator AdhesionMjcf added) and builds
+// it; returns its geom.
+int AdhesionSystem::AddPad(const mjModel* m, const PadSpec& spec) {
+  const int body = mj_name2id(m, mjOBJ_BODY, spec.body.c_str());
+  if (body < 0) throw AdhesionSetupError("pads", "no body named '" + spec.body + "'");
+  for (const std::string& other : names_) {
+    if (other == spec.body) throw AdhesionSetupError("pads", "pad '" + other + "' given twice");
+  }
+  const std::string problem = PadGeometryProblem(m, body);
+  if (!problem.empty()) throw AdhesionSetupError("pads", problem);
+  const PadGeometry geometry = ReadPadGeometry(m, body);
+  int weld = -1, actuator = -1;
+  if (spec.params.model == AdhesionModel::kBonds) {
+    weld = mj_name2id(m, mjOBJ_EQUALITY, WeldName(spec.body).c_str());
+    if (weld < 0 || m->eq_type[weld] != mjEQ_WELD) {
+      throw AdhesionSetupError("pads", "the model lacks the weld '" + WeldName(spec.body) +
+                                           "' (add AdhesionMjcf's lines)");
+    }
+  } else {
+    actuator = mj_name2id(m, mjOBJ_ACTUATOR, AdhesionActuatorName(spec.body).c_str());
+    if (actuator < 0) {
+      throw AdhesionSetupError("pads", "the model lacks the actuator '" +
+                                           AdhesionActuatorName(spec.body) +
+                                           "' (add AdhesionMjcf's lines)");
+    }
+  }
+  pads_.emplace_back(m, static_cast<int>(pads_.size()), geometry, spec.params, weld, actuator);
+  names_.push_back(spec.body);
+  return geometry.geom;
+}
+
+// sticks_to_ per geom: the named bodies' geoms and the named geoms, or every geom that is not
+// a pad's (`sticky`) when none are named.
+void AdhesionSystem::ResolveSurfaces(const mjModel* m, const std::vector<uint8_t>& sticky) {
   if (params_.surfaces.empty()) {
     for (int g = 0; g < m->ngeom; ++g) sticks_to_[g] = !sticky[g];
-  } else {
-    for (const std::string& name : params_.surfaces) {
-      const int body = mj_name2id(m, mjOBJ_BODY, name.c_str());
-      const int geom = mj_name2id(m, mjOBJ_GEOM, name.c_str());
-      if (body < 0 && geom < 0) {
-        throw AdhesionSetupError("surfaces", "no body or geom named '" + name + "'");
-      }
-      if (geom >= 0) sticks_to_[geom] = 1;
-      for (int g = 0; body >= 0 && g < m->ngeom; ++g) {
-        if (m->geom_bodyid[g] == body) sticks_to_[g] = 1;
-      }
+    return;
+  }
+  for (const std::string& name : params_.surfaces) {
+    const int body = mj_name2id(m, mjOBJ_BODY, name.c_str());
+    const int geom = mj_name2id(m, mjOBJ_GEOM, name.c_str());
+    if (body < 0 && geom < 0) {
+      throw AdhesionSetupError("surfaces", "no body or geom named '" + name + "'");
     }
-    for (int g = 0; g < m->ngeom; ++g) {
-      if (sticky[g] && sticks_to_[g]) {
-        throw AdhesionSetupError("surfaces", std::string("a sticky pad cannot be a surface: '") +
-                                                 mj_id2name(m, mjOBJ_GEOM, g) + "'");
-      }
+    if (geom >= 0) sticks_to_[geom] = 1;
+    for (int g = 0; body >= 0 && g < m->ngeom; ++g) {
+      if (m->geom_bodyid[g] == body) sticks_to_[g] = 1;
+    }
+  }
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (sticky[g] && sticks_to_[g]) {
+      throw AdhesionSetupError("surfaces", std::string("a sticky pad cannot be a surface: '") +
+                                               mj_id2name(m, mjOBJ_GEOM, g) + "'");
     }
   }
 }

@@ -103,6 +103,8 @@ class AdhesionSystem {
 
  private:
   void StartAttached(mjModel* m, mjData* d, PadEventSink* sink);
+  int AddPad(const mjModel* m, const PadSpec& spec);
+  void ResolveSurfaces(const mjModel* m, const std::vector<uint8_t>& sticky);
 
   AdhesionSystemParams params_;
   std::vector<StickyPad> pads_;

@@ -39,18 +39,8 @@ void ValidatePadParams(const PadParams& p) {
   if (!(std::isfinite(p.length_m) && p.length_m > 0.0)) {
     Reject("length_m", "> 0 and finite", p.length_m);
   }
-  if (p.grid_x < 1 || p.grid_x > kMaxGridSide) Reject("grid_x", "in [1, 1024]", p.grid_x);
-  if (p.grid_y < 1 || p.grid_y > kMaxGridSide) Reject("grid_y", "in [1, 1024]", p.grid_y);
-  const long bonds = static_cast<long>(p.grid_x) * p.grid_y;
-  if (!(std::isfinite(p.sigma_t_pa) && p.sigma_t_pa > 0.0)) {
-    Reject("sigma_t_pa", "> 0 and finite", p.sigma_t_pa);
-  }
-  if (!(std::isfinite(p.mu) && p.mu >= 0.0)) Reject("mu", ">= 0 and finite", p.mu);
-  if (p.min_bonds < 1 || p.min_bonds > bonds) {
-    std::ostringstream rule;
-    rule << "in [1, grid_x*grid_y = " << bonds << "]";
-    Reject("min_bonds", rule.str().c_str(), p.min_bonds);
-  }
+  // The keys: their declared ranges, then the rule min_bonds <= grid_x * grid_y.
+  keys::Validate(p, "adhesion");
 }
 
 PadLoad PadLoadFromSurfaceWrench(const Eigen::Vector3d& force_on_pad_pad_n,
@@ -250,49 +240,11 @@ void BondGrid::ComputeField(const PadLoad& load) {
 
   const Bending bend = BendingOfBondedSet();
   const double x_c = bend.x_c, y_c = bend.y_c;
-  const double i_x = bend.i_x, i_y = bend.i_y, i_xy = bend.i_xy;
 
-  // The moments about the bonded centroid, as the right-hand side p = −M_y^c, q = M_x^c of
-  // [I_y I_xy; I_xy I_x]·(g_x, g_y) = (p, q).
   unsupported_ = false;
-  const double p = -(load.my_nm + x_c * load.fn_n);
-  const double q = load.mx_nm - y_c * load.fn_n;
   double g_x = 0.0, g_y = 0.0;  // dσ/dx, dσ/dy
-  if (bend.is_point) {
-    // A single bond: a hinge about every axis.
-    if (std::hypot(p, q) > hinge_nm_) unsupported_ = true;
-  } else if (bend.is_line) {
-    // A line with direction d: the gradient runs along d, the moment about d is unsupported.
-    const double dx = bend.line_dx, dy = bend.line_dy;
-    const double along = p * dx + q * dy;   // m·d
-    const double about = q * dx - p * dy;   // m·d⊥ = M^c·d, the moment about the line
-    if (std::abs(about) > hinge_nm_) unsupported_ = true;
-    const double lambda = i_x + i_y;        // the one nonzero eigenvalue
-    g_x = along / lambda * dx;
-    g_y = along / lambda * dy;
-  } else {
-    const double det = i_x * i_y - i_xy * i_xy;
-    g_x = (p * i_x - q * i_xy) / det;
-    g_y = (q * i_y - p * i_xy) / det;
-  }
-
-  // Parabolic shears normalised over the bonded set.
-  double sum_v = 0.0;
-  for (int ix = 0; ix < nx; ++ix) sum_v += col_count_[ix] * col_v_[ix];
-  double sum_w = 0.0;
-  for (int iy = 0; iy < ny; ++iy) sum_w += row_count_[iy] * row_w_[iy];
-  tau_x_per_w_ = 0.0;
-  if (sum_w > 0.0) {
-    tau_x_per_w_ = load.fx_n / (sum_w * da);
-  } else if (load.fx_n != 0.0) {
-    unsupported_ = true;
-  }
-  tau_y_per_v_ = 0.0;
-  if (sum_v > 0.0) {
-    tau_y_per_v_ = load.fy_n / (sum_v * da);
-  } else if (load.fy_n != 0.0) {
-    unsupported_ = true;
-  }
+  BendingGradient(bend, load, &g_x, &g_y);
+  NormaliseShears(load);
 
   // The separable parts: σ = col_sigma + row_sigma, 3τ² = col_tau3 + row_tau3.
   const double sigma0 = load.fn_n / (n * da);
@@ -309,6 +261,58 @@ void BondGrid::ComputeField(const PadLoad& load) {
     row_sigma_[iy] = g_y * (row_y_m_[iy] - y_c);
     const double tau_x = tau_x_per_w_ * row_w_[iy];
     row_tau3_[iy] = 3.0 * tau_x * tau_x;
+  }
+}
+
+// The stress gradient (g_x, g_y) that carries the moments about the bonded centroid: the
+// solve of [I_y I_xy; I_xy I_x]·(g_x, g_y) = (p, q), p = −M_y^c, q = M_x^c, with a point or a
+// line as hinges. Sets unsupported_ when a hinge must carry more than hinge_nm_.
+void BondGrid::BendingGradient(const Bending& bend, const PadLoad& load, double* g_x,
+                               double* g_y) {
+  const double x_c = bend.x_c, y_c = bend.y_c;
+  const double i_x = bend.i_x, i_y = bend.i_y, i_xy = bend.i_xy;
+  const double p = -(load.my_nm + x_c * load.fn_n);
+  const double q = load.mx_nm - y_c * load.fn_n;
+  if (bend.is_point) {
+    // A single bond: a hinge about every axis.
+    if (std::hypot(p, q) > hinge_nm_) unsupported_ = true;
+  } else if (bend.is_line) {
+    // A line with direction d: the gradient runs along d, the moment about d is unsupported.
+    const double dx = bend.line_dx, dy = bend.line_dy;
+    const double along = p * dx + q * dy;   // m·d
+    const double about = q * dx - p * dy;   // m·d⊥ = M^c·d, the moment about the line
+    if (std::abs(about) > hinge_nm_) unsupported_ = true;
+    const double lambda = i_x + i_y;        // the one nonzero eigenvalue
+    *g_x = along / lambda * dx;
+    *g_y = along / lambda * dy;
+  } else {
+    const double det = i_x * i_y - i_xy * i_xy;
+    *g_x = (p * i_x - q * i_xy) / det;
+    *g_y = (q * i_y - p * i_xy) / det;
+  }
+}
+
+// Parabolic shears normalised over the bonded set (tau_x_per_w_, tau_y_per_v_); a shear that
+// no row or column can carry sets unsupported_.
+void BondGrid::NormaliseShears(const PadLoad& load) {
+  const int nx = params_.grid_x;
+  const int ny = params_.grid_y;
+  const double da = cell_area_m2_;
+  double sum_v = 0.0;
+  for (int ix = 0; ix < nx; ++ix) sum_v += col_count_[ix] * col_v_[ix];
+  double sum_w = 0.0;
+  for (int iy = 0; iy < ny; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+  tau_x_per_w_ = 0.0;
+  if (sum_w > 0.0) {
+    tau_x_per_w_ = load.fx_n / (sum_w * da);
+  } else if (load.fx_n != 0.0) {
+    unsupported_ = true;
+  }
+  tau_y_per_v_ = 0.0;
+  if (sum_v > 0.0) {
+    tau_y_per_v_ = load.fy_n / (sum_v * da);
+  } else if (load.fy_n != 0.0) {
+    unsupported_ = true;
   }
 }
 

@@ -92,9 +92,12 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "keys/keys.h"
 
 namespace climbsim::adhesion {
 
@@ -117,12 +120,41 @@ struct PadParams {
                             // estimate for their dry adhesive
   double mu = 0.0;          // μ ≥ 0, gain of compression on the shear threshold
   int min_bonds = 1;        // detached when fewer bonds than this remain (1 .. N_x·N_y)
+
+  // The scenario keys adhesion.sigma_t_pa .. min_bonds (width_m and length_m are not keys:
+  // they come from each pad's box geom). keys::Validate checks them, then Validate.
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"sigma_t_pa", "Pa",
+              "sigma_T, bond rupture threshold (10 kPa: the seed authors' estimate for their dry "
+              "adhesive)",
+              Range::Positive()},
+             &sigma_t_pa);
+    a->Visit({"mu", "",
+              "gain of compression on the shear threshold: a compressed bond breaks when sqrt(3) "
+              "times its shear reaches sigma_T + mu times its compression",
+              Range::NonNegative()},
+             &mu);
+    a->Visit({"grid_x", "", "bonds across the pad width (accuracy against time)",
+              Range::Closed(1, kMaxGridSide)},
+             &grid_x);
+    a->Visit({"grid_y", "", "bonds along the pad length", Range::Closed(1, kMaxGridSide)},
+             &grid_y);
+    a->Visit({"min_bonds", "", "the pad detaches when fewer bonds than this remain",
+              Range::Closed(1, 1.0 * kMaxGridSide * kMaxGridSide)},
+             &min_bonds);
+  }
+  void Validate(const Checker& c) const {
+    if (static_cast<long>(min_bonds) > static_cast<long>(grid_x) * grid_y) {
+      c.Fail("min_bonds", "must be <= grid_x * grid_y = " + std::to_string(grid_x * grid_y) +
+                              ", got " + std::to_string(min_bonds));
+    }
+  }
 };
 
-// Throws std::invalid_argument naming the key and the value, e.g.
-// "adhesion.sigma_t_pa must be > 0 and finite, got -3". Every key is checked for
-// finiteness; grid sides must be in [1, 1024] (kMaxGridSide); min_bonds in
-// [1, grid_x·grid_y].
+// Throws std::invalid_argument naming the key and the value: width_m and length_m must be
+// > 0 and finite; the keys are checked against their declaration (keys::Validate, e.g.
+// "adhesion.sigma_t_pa must be > 0, got -3"; min_bonds <= grid_x·grid_y).
 void ValidatePadParams(const PadParams& params);
 
 // The load the bond layer carries, pad frame, moments about the pad centroid (see the file
@@ -286,6 +318,8 @@ class BondGrid {
     double line_dx = 0.0, line_dy = 0.0;  // a line's unit direction
   };
   Bending BendingOfBondedSet() const;
+  void BendingGradient(const Bending& bend, const PadLoad& load, double* g_x, double* g_y);
+  void NormaliseShears(const PadLoad& load);
   void ClearField();
   // Breaks (and logs, with round) every bonded bond over its threshold in the current
   // field; returns how many.

@@ -16,13 +16,6 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 // law says "holds while ≤".
 constexpr double kRoundoff = 1e-12;
 
-void Check(bool ok, const char* key, const char* rule, double value) {
-  if (ok) return;
-  std::ostringstream s;
-  s << "adhesion.frictional." << key << " must be " << rule << ", got " << value;
-  throw std::invalid_argument(s.str());
-}
-
 bool IsFinite(const PadLoad& l) {
   return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
          std::isfinite(l.mx_nm) && std::isfinite(l.my_nm);
@@ -31,18 +24,7 @@ bool IsFinite(const PadLoad& l) {
 }  // namespace
 
 void ValidateFrictionalParams(const FrictionalParams& p) {
-  Check(p.critical_angle_deg > 0.0 && p.critical_angle_deg < 90.0, "critical_angle_deg",
-        "in (0, 90)", p.critical_angle_deg);
-  Check(std::isfinite(p.shear_limit_pa) && p.shear_limit_pa > 0.0, "shear_limit_pa",
-        "> 0 and finite", p.shear_limit_pa);
-  Check(std::isfinite(p.friction_mu) && p.friction_mu >= 0.0, "friction_mu", ">= 0 and finite",
-        p.friction_mu);
-  Check(std::isfinite(p.grip_x), "grip_x", "finite", p.grip_x);
-  Check(std::isfinite(p.grip_y), "grip_y", "finite", p.grip_y);
-  Check(std::hypot(p.grip_x, p.grip_y) > 1e-9, "grip_x",
-        "part of a nonzero (grip_x, grip_y); their length is", std::hypot(p.grip_x, p.grip_y));
-  Check(p.moment_share >= 0.0 && p.moment_share <= 1.0, "moment_share", "in [0, 1]",
-        p.moment_share);
+  keys::Validate(p, "adhesion.frictional");
 }
 
 FrictionalLaw::FrictionalLaw(const FrictionalParams& params) : params_(params) {

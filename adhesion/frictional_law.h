@@ -51,10 +51,12 @@
 #ifndef CLIMBSIM_ADHESION_FRICTIONAL_LAW_H_
 #define CLIMBSIM_ADHESION_FRICTIONAL_LAW_H_
 
+#include <cmath>
 #include <vector>
 
 #include "adhesion/bond_grid.h"
 #include "adhesion/pulloff.h"
+#include "keys/keys.h"
 
 namespace climbsim::adhesion {
 
@@ -81,9 +83,49 @@ struct FrictionalParams {
   // on a rigid ankle, the moments peel it bond by bond; 0: a compliant toe or a passive ankle
   // (gecko toes, Stickybot's toes) passes no moment to the adhesive: the pad-level law.
   double moment_share = 1.0;
+
+  // The scenario keys adhesion.frictional.*; Validate holds the one rule across them.
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"critical_angle_deg", "deg",
+              "alpha*: a pulled pad holds while F_n <= F_t tan(alpha*) (Autumn et al. 2006: about "
+              "25-30 deg for geckos)",
+              Range{0.0, 90.0, true, true}},
+             &critical_angle_deg);
+    a->Visit({"shear_limit_pa", "Pa",
+              "tau_max: the shear limit F_t,max = tau_max times the pad area (also per bond)",
+              Range::Positive()},
+             &shear_limit_pa);
+    a->Visit({"friction_mu", "",
+              "Coulomb friction of a pressed pad: reversed shear up to mu C, gripping shear up to "
+              "F_t,max + mu C (C the compression)",
+              Range::NonNegative()},
+             &friction_mu);
+    a->Visit({"grip_x", "",
+              "gripping direction d in the pad frame, x component (x across the pad width, along "
+              "the heading for the bundled robots); normalised; default -1: down the wall for a "
+              "robot climbing +x",
+              Range::Any()},
+             &grip_x);
+    a->Visit({"grip_y", "",
+              "gripping direction d in the pad frame, y component (y along the pad length); a "
+              "climber's d points down the wall",
+              Range::Any()},
+             &grip_y);
+    a->Visit({"moment_share", "",
+              "share of the pad's moments the bonds carry: 1 a rigid pad on a rigid ankle (moments "
+              "peel it bond by bond); 0 a compliant toe or passive ankle (the pad-level law)",
+              Range::Closed(0, 1)},
+             &moment_share);
+  }
+  void Validate(const Checker& c) const {
+    if (!(std::hypot(grip_x, grip_y) > 1e-9))
+      c.Fail("grip_x", "the gripping direction (grip_x, grip_y) must not be zero");
+  }
 };
 
-// Throws std::invalid_argument naming the key (adhesion.frictional.<key>) and the value.
+// Throws std::invalid_argument naming the key (adhesion.frictional.<key>) and the value: the
+// keys' declared ranges and the non-zero gripping direction (keys::Validate).
 void ValidateFrictionalParams(const FrictionalParams& params);
 
 // The pad-level law with its parameters prepared (tan α*, unit d).

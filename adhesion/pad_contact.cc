@@ -19,23 +19,35 @@ Eigen::Vector3d PointVelocity(const mjModel* m, const mjData* d, int body,
   return Eigen::Vector3d(v[3], v[4], v[5]) + w.cross(p - origin);
 }
 
-}  // namespace
-
-PadGeometry ReadPadGeometry(const mjModel* m, int body) {
-  const char* name = mj_id2name(m, mjOBJ_BODY, body);
-  const std::string body_name = name != nullptr ? name : "#" + std::to_string(body);
-  PadGeometry pad;
-  pad.body = body;
+// The body's box geoms: how many, and the last one.
+int CountBoxes(const mjModel* m, int body, int* last_box) {
   int boxes = 0;
   for (int g = m->body_geomadr[body]; g >= 0 && g < m->body_geomadr[body] + m->body_geomnum[body];
        ++g) {
     if (m->geom_type[g] != mjGEOM_BOX) continue;
     ++boxes;
-    pad.geom = g;
+    *last_box = g;
   }
-  if (boxes != 1) {
-    throw std::invalid_argument("pad body '" + body_name +
-                                "' must hold exactly one box geom, has " + std::to_string(boxes));
+  return boxes;
+}
+
+}  // namespace
+
+std::string PadGeometryProblem(const mjModel* m, int body) {
+  int geom = -1;
+  const int boxes = CountBoxes(m, body, &geom);
+  if (boxes == 1) return "";
+  const char* name = mj_id2name(m, mjOBJ_BODY, body);
+  const std::string body_name = name != nullptr ? name : "#" + std::to_string(body);
+  return "pad body '" + body_name + "' must hold exactly one box geom, has " +
+         std::to_string(boxes);
+}
+
+PadGeometry ReadPadGeometry(const mjModel* m, int body) {
+  PadGeometry pad;
+  pad.body = body;
+  if (CountBoxes(m, body, &pad.geom) != 1) {
+    throw std::invalid_argument(PadGeometryProblem(m, body));
   }
   const mjtNum* size = m->geom_size + 3 * pad.geom;
   pad.width_m = 2.0 * size[0];

@@ -30,6 +30,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace climbsim::adhesion {
@@ -47,6 +48,9 @@ struct PadGeometry {
 // Reads the geometry of pad body `body`. Throws std::invalid_argument when the body does not
 // hold exactly one box geom.
 PadGeometry ReadPadGeometry(const mjModel* m, int body);
+// What ReadPadGeometry would throw for `body`, or "" when it is a pad: a caller that reports
+// errors its own way (at a scenario key) checks first instead of catching.
+std::string PadGeometryProblem(const mjModel* m, int body);
 
 // The pad frame in the world, from the current xpos/xmat of the pad body.
 struct PadFrame {

@@ -27,7 +27,43 @@ void ValidateSetup(const PullSetup& setup, const PulloffOptions& options) {
         "max_force_factor must be > 1 and finite", options.max_force_factor);
 }
 
-// Does a fully bonded grid come off under the pull F?
+// One evaluation of the search's predicate: does a fully bonded grid come off under the
+// pull force_n (the law's cascade)?
+bool Detaches(BondGrid* grid, const PulloffSearchLaw& law, double force_n,
+              PulloffResult* result) {
+  ++result->evaluations;
+  grid->BondAll();
+  return law.cascade(force_n).detached;
+}
+
+enum class Bracket { kFound, kNeverHolds, kHoldsUpToCap };
+
+// Brackets the pull-off from *hi = the capacity: [*lo, *hi] with lo holding and hi detaching,
+// halving down (to 0 for a hinge) or doubling up to cap_n.
+Bracket BracketPulloff(BondGrid* grid, const PulloffSearchLaw& law, double cap_n,
+                       PulloffResult* result, double* lo, double* hi) {
+  if (Detaches(grid, law, *hi, result)) {
+    *lo = 0.5 * *hi;
+    int halvings = 0;
+    while (Detaches(grid, law, *lo, result)) {
+      *hi = *lo;
+      *lo *= 0.5;
+      if (++halvings > law.max_halvings) {  // lets go at any force worth the name
+        if (law.zero_if_never_holds) return Bracket::kNeverHolds;
+        *lo = 0.0;  // a hinge: bisect down to the smallest force that still lets go
+        break;
+      }
+    }
+    return Bracket::kFound;
+  }
+  *lo = *hi;
+  while (true) {
+    *hi = std::min(2.0 * *lo, cap_n);
+    if (Detaches(grid, law, *hi, result)) return Bracket::kFound;
+    if (*hi >= cap_n) return Bracket::kHoldsUpToCap;
+    *lo = *hi;
+  }
+}
 
 }  // namespace
 
@@ -47,44 +83,22 @@ PulloffResult SearchPulloff(BondGrid* grid, double capacity_n, const PulloffOpti
                             const PulloffSearchLaw& law) {
   PulloffResult result;
   const double cap_n = options.max_force_factor * capacity_n;
-  const auto detaches = [&](double force_n) {
-    ++result.evaluations;
-    grid->BondAll();
-    return law.cascade(force_n).detached;
-  };
+  const auto detaches = [&](double force_n) { return Detaches(grid, law, force_n, &result); };
 
-  // Bracket [lo, hi]: lo holds, hi detaches.
   double lo = 0.0;
   double hi = capacity_n;
-  if (detaches(hi)) {
-    lo = 0.5 * hi;
-    int halvings = 0;
-    while (detaches(lo)) {
-      hi = lo;
-      lo *= 0.5;
-      if (++halvings > law.max_halvings) {  // lets go at any force worth the name
-        if (law.zero_if_never_holds) {
-          result.detaches = true;
-          return result;  // force_n = holding_force_n = 0
-        }
-        lo = 0.0;  // a hinge: bisect down to the smallest force that still lets go
-        break;
-      }
-    }
-  } else {
-    lo = hi;
-    while (true) {
-      hi = std::min(2.0 * lo, cap_n);
-      if (detaches(hi)) break;
-      if (hi >= cap_n) {
-        result.detaches = false;
-        result.force_n = std::numeric_limits<double>::infinity();
-        result.holding_force_n = cap_n;
-        result.force_per_capacity = result.force_n;
-        return result;
-      }
-      lo = hi;
-    }
+  switch (BracketPulloff(grid, law, cap_n, &result, &lo, &hi)) {
+    case Bracket::kNeverHolds:
+      result.detaches = true;
+      return result;  // force_n = holding_force_n = 0
+    case Bracket::kHoldsUpToCap:
+      result.detaches = false;
+      result.force_n = std::numeric_limits<double>::infinity();
+      result.holding_force_n = cap_n;
+      result.force_per_capacity = result.force_n;
+      return result;
+    case Bracket::kFound:
+      break;
   }
 
   // Bisection of the predicate.

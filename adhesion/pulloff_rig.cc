@@ -63,6 +63,37 @@ std::array<Eigen::Vector3d, 4> Corners(const mjData* d, const PadGeometry& g) {
   return c;
 }
 
+// kBonds: the bonds this step broke, in the run's sequence (rounds counted over the run).
+void RecordBondsLost(const StickyPad& pad, double force, int* total_rounds, PulloffRun* run) {
+  const auto broken = pad.grid().last_broken();
+  if (broken.empty() || !pad.bonds_lost_this_step()) return;
+  ++run->steps_losing_bonds;
+  int rounds = 0;
+  for (const BrokenBond& b : broken) {
+    run->sequence.push_back(
+        {pad.grid().bond_x_m(b.index), pad.grid().bond_y_m(b.index), *total_rounds + b.round});
+    run->sequence_force_n.push_back(force);
+    rounds = std::max(rounds, b.round);
+  }
+  *total_rounds += rounds;
+}
+
+// kMujoco: the pad has let go once a corner moved slip_m from where it started; how it
+// moved names the cause ("tip", "lift", "slide"). nullptr while it holds.
+const char* SlipCause(const std::array<Eigen::Vector3d, 4>& corners0,
+                      const std::array<Eigen::Vector3d, 4>& c, double slip_m) {
+  double worst = 0.0, normal = 0.0, spread = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d move = c[i] - corners0[i];
+    worst = std::max(worst, move.norm());
+    normal += move.z() / 4.0;
+  }
+  for (int i = 0; i < 4; ++i)
+    spread = std::max(spread, std::abs((c[i] - corners0[i]).z() - normal));
+  if (!(worst >= slip_m)) return nullptr;
+  return spread > 0.25 * worst ? "tip" : normal > 0.5 * worst ? "lift" : "slide";
+}
+
 }  // namespace
 
 // Records the detach cause and the broken bonds.
@@ -204,41 +235,20 @@ PulloffRun PulloffRig::Run(double angle_rad, PadEventSink* observer) {
     ++run.steps;
 
     if (model_type_ == AdhesionModel::kBonds) {
-      const auto broken = pad.grid().last_broken();
-      if (!broken.empty() && pad.bonds_lost_this_step()) {
-        ++run.steps_losing_bonds;
-        int rounds = 0;
-        for (const BrokenBond& b : broken) {
-          run.sequence.push_back(
-              {pad.grid().bond_x_m(b.index), pad.grid().bond_y_m(b.index), total_rounds + b.round});
-          run.sequence_force_n.push_back(force);
-          rounds = std::max(rounds, b.round);
-        }
-        total_rounds += rounds;
-      }
+      RecordBondsLost(pad, force, &total_rounds, &run);
       if (!pad.attached()) {
         run.detached = true;
         run.cause = PadCauseName(sink.cause);
       }
+    } else if (!pad.attached()) {
+      run.detached = true;
+      run.cause = PadCauseName(PadCause::kContactLost);
     } else {
-      if (!pad.attached()) {
+      mj_kinematics(m, d);
+      const char* slip = SlipCause(corners0, Corners(d, pad.geometry()), params_.slip_m);
+      if (slip != nullptr) {
         run.detached = true;
-        run.cause = PadCauseName(PadCause::kContactLost);
-      } else {
-        mj_kinematics(m, d);
-        const std::array<Eigen::Vector3d, 4> c = Corners(d, pad.geometry());
-        double worst = 0.0, normal = 0.0, spread = 0.0;
-        for (int i = 0; i < 4; ++i) {
-          const Eigen::Vector3d move = c[i] - corners0[i];
-          worst = std::max(worst, move.norm());
-          normal += move.z() / 4.0;
-        }
-        for (int i = 0; i < 4; ++i)
-          spread = std::max(spread, std::abs((c[i] - corners0[i]).z() - normal));
-        if (worst >= params_.slip_m) {
-          run.detached = true;
-          run.cause = spread > 0.25 * worst ? "tip" : normal > 0.5 * worst ? "lift" : "slide";
-        }
+        run.cause = slip;
       }
     }
     if (run.detached) {

@@ -11,6 +11,35 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
+// The attach condition that fails first, in their fixed order (approach speed and angle at
+// touchdown, contacts, preload now); cause kNone when all hold.
+struct FailedCondition {
+  PadCause cause = PadCause::kNone;
+  double value = 0.0;
+  long* rejected = nullptr;  // the counter of that condition
+  bool final = false;        // a failure of the approach cannot improve in this episode
+};
+
+FailedCondition FirstFailedCondition(const AttachParams& a, double touchdown_speed_mps,
+                                     double touchdown_angle_deg, const ContactSense& sense,
+                                     PadCounts* counts) {
+  FailedCondition f;
+  if (touchdown_speed_mps > a.max_approach_speed_mps) {
+    f.cause = PadCause::kApproachSpeed, f.value = touchdown_speed_mps, f.final = true;
+    f.rejected = &counts->rejected_approach_speed;
+  } else if (touchdown_angle_deg > a.max_approach_angle_deg) {
+    f.cause = PadCause::kApproachAngle, f.value = touchdown_angle_deg, f.final = true;
+    f.rejected = &counts->rejected_approach_angle;
+  } else if (sense.contacts < a.min_contacts) {
+    f.cause = PadCause::kContacts, f.value = sense.contacts;
+    f.rejected = &counts->rejected_contacts;
+  } else if (sense.preload_n < a.min_preload_n) {
+    f.cause = PadCause::kPreload, f.value = sense.preload_n;
+    f.rejected = &counts->rejected_preload;
+  }
+  return f;
+}
+
 PadParams GridParams(const StickyPadParams& p, const PadGeometry& g) {
   PadParams grid = p.bonds;
   grid.width_m = g.width_m;
@@ -28,20 +57,7 @@ void Check(bool ok, const char* key, const char* rule, double value) {
 }  // namespace
 
 void ValidateStickyPadParams(const StickyPadParams& p) {
-  const AttachParams& a = p.attach;
-  Check(a.min_contacts >= 1, "min_contacts", ">= 1", a.min_contacts);
-  Check(std::isfinite(a.max_approach_speed_mps) && a.max_approach_speed_mps >= 0,
-        "max_approach_speed_mps", ">= 0 and finite", a.max_approach_speed_mps);
-  Check(a.max_approach_angle_deg >= 0 && a.max_approach_angle_deg <= 180, "max_approach_angle_deg",
-        "in [0, 180]", a.max_approach_angle_deg);
-  Check(std::isfinite(a.min_preload_n) && a.min_preload_n >= 0, "min_preload_n", ">= 0 and finite",
-        a.min_preload_n);
-  Check(a.initial_fraction >= 0 && a.initial_fraction <= 1, "initial_fraction", "in [0, 1]",
-        a.initial_fraction);
-  Check(std::isfinite(a.buildup_time_s) && a.buildup_time_s >= 0, "buildup_time_s",
-        ">= 0 and finite", a.buildup_time_s);
-  Check(std::isfinite(a.attach_window_s) && a.attach_window_s >= 0, "attach_window_s",
-        ">= 0 and finite", a.attach_window_s);
+  keys::Validate(p.attach, "adhesion");
   Check(std::isfinite(p.release_contact_delay_s) && p.release_contact_delay_s >= 0,
         "release_contact_delay_s", ">= 0 and finite", p.release_contact_delay_s);
   if (p.law == PadLaw::kFrictional) ValidateFrictionalParams(p.frictional);
@@ -216,35 +232,19 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
     Emit(sink, time_s, PadEventKind::kTouchdown, PadCause::kNone, 0.0, false);
   }
 
-  // The conditions in their fixed order; the first that fails is the cause.
   const AttachParams& a = params_.attach;
-  PadCause cause = PadCause::kNone;
-  double value = 0.0;
-  long* rejected = nullptr;  // the counter of that condition
-  bool final = false;        // a failure of the approach cannot improve in this episode
-  if (touchdown_speed_mps_ > a.max_approach_speed_mps) {
-    cause = PadCause::kApproachSpeed, value = touchdown_speed_mps_, final = true;
-    rejected = &counts_.rejected_approach_speed;
-  } else if (touchdown_angle_deg_ > a.max_approach_angle_deg) {
-    cause = PadCause::kApproachAngle, value = touchdown_angle_deg_, final = true;
-    rejected = &counts_.rejected_approach_angle;
-  } else if (sense_.contacts < a.min_contacts) {
-    cause = PadCause::kContacts, value = sense_.contacts;
-    rejected = &counts_.rejected_contacts;
-  } else if (sense_.preload_n < a.min_preload_n) {
-    cause = PadCause::kPreload, value = sense_.preload_n;
-    rejected = &counts_.rejected_preload;
-  }
-  if (cause == PadCause::kNone) {
+  const FailedCondition failed = FirstFailedCondition(a, touchdown_speed_mps_,
+                                                      touchdown_angle_deg_, sense_, &counts_);
+  if (failed.cause == PadCause::kNone) {
     Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
            kinematics_current, sink);
     return;
   }
-  if (final || time_s - touchdown_time_s_ >= a.attach_window_s) {
+  if (failed.final || time_s - touchdown_time_s_ >= a.attach_window_s) {
     episode_ = Episode::kClosed;
     ++counts_.attach_rejected;
-    ++*rejected;
-    Emit(sink, time_s, PadEventKind::kAttachRejected, cause, value, true);
+    ++*failed.rejected;
+    Emit(sink, time_s, PadEventKind::kAttachRejected, failed.cause, failed.value, true);
   }
 }
 

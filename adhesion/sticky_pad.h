@@ -92,6 +92,39 @@ struct AttachParams {
   double initial_fraction = 0.3;         // 0 .. 1, bonded at attach
   double buildup_time_s = 0.1;           // τ ≥ 0 (0: full at once)
   double attach_window_s = 0.1;          // ≥ 0, time after touchdown for conditions 3 and 4
+
+  // The scenario keys adhesion.min_contacts .. attach_window_s.
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"min_contacts", "",
+              "attach condition: contact points with the surface (box on plane gives 4)",
+              Range::Closed(1, 1000)},
+             &min_contacts);
+    a->Visit(
+        {"max_approach_speed_mps", "m/s",
+         "attach condition: normal speed towards the surface at touchdown", Range::NonNegative()},
+        &max_approach_speed_mps);
+    a->Visit({"max_approach_angle_deg", "deg",
+              "attach condition: angle between pad normal and surface normal at touchdown",
+              Range::Closed(0, 180)},
+             &max_approach_angle_deg);
+    a->Visit({"min_preload_n", "N", "attach condition: compressive contact force on the pad",
+              Range::NonNegative()},
+             &min_preload_n);
+    a->Visit(
+        {"initial_fraction", "", "bonded fraction at attach (centre-out)", Range::Closed(0, 1)},
+        &initial_fraction);
+    a->Visit({"buildup_time_s", "s",
+              "time constant of the growth of the bonded fraction towards 1 while the pad is not "
+              "pulled; 0: full at once",
+              Range::NonNegative()},
+             &buildup_time_s);
+    a->Visit({"attach_window_s", "s",
+              "after touchdown, how long contacts and preload may take to meet their conditions "
+              "before the attach is rejected",
+              Range::NonNegative()},
+             &attach_window_s);
+  }
 };
 
 struct StickyPadParams {

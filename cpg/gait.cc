@@ -42,9 +42,16 @@ Gait GaitPreset(std::string_view name, int num_legs) {
   for (const Preset& preset : Presets()) {
     if (preset.name == name && preset.num_legs == num_legs) return preset.gait;
   }
-  internal::Fail("gait preset '" + std::string(name) + "' is not defined for " +
-                 std::to_string(num_legs) + " legs; presets for " + std::to_string(num_legs) +
-                 " legs: " + JoinNames(num_legs));
+  internal::Fail(GaitPresetProblem(name, num_legs));
+}
+
+std::string GaitPresetProblem(std::string_view name, int num_legs) {
+  for (const Preset& preset : Presets()) {
+    if (preset.name == name && preset.num_legs == num_legs) return "";
+  }
+  return "gait preset '" + std::string(name) + "' is not defined for " +
+         std::to_string(num_legs) + " legs; presets for " + std::to_string(num_legs) +
+         " legs: " + JoinNames(num_legs);
 }
 
 std::vector<std::string> GaitPresetNames(int num_legs) {

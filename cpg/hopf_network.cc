@@ -150,24 +150,14 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
   // which needs no trigonometry here.
   const bool warped =
       params_.coupling_form == HopfCoupling::kTimeWarpedRotation && swing_share_ != 0.5;
-  if (warped) {
-    const double slope[2] = {1.0 / (2.0 * swing_share_), 1.0 / (2.0 * (1.0 - swing_share_))};
-    for (int j = 0; j < n_; ++j) {
-      time_phase_rad_[j] = TimePhase(std::atan2(y[j], x[j]) + kPi);
-      radius_[j] = std::sqrt(x[j] * x[j] + y[j] * y[j]);
-      for (int half = 0; half < 2; ++half) {
-        scaled_cos_[2 * j + half] = std::cos(slope[half] * time_phase_rad_[j]);
-        scaled_sin_[2 * j + half] = std::sin(slope[half] * time_phase_rad_[j]);
-      }
-    }
-  }
+  if (warped) PrepareWarp(x, y);
   for (int i = 0; i < n_; ++i) {
     const double pull = params_.mu - (x[i] * x[i] + y[i] * y[i]);
     // ω_stance/(e^{−by} + 1) + ω_swing/(e^{by} + 1) = ω_swing + (ω_stance − ω_swing)·σ(by).
     const double omega =
         omega_swing_rad_per_s_ +
         (omega_stance_rad_per_s_ - omega_swing_rad_per_s_) * Logistic(params_.b * y[i]);
-    // Feedback on the tangent (−y, x): adds exactly feedback to dϑ/dt (cpg.h).
+    // Feedback on the tangent (−y, x): adds exactly feedback to dϑ/dt (hopf_network.h).
     const double rate = omega + inputs_.feedback(i);
     double dx = params_.alpha_per_s * pull * x[i] - rate * y[i];
     double dy = params_.beta_per_s * pull * y[i] + rate * x[i];
@@ -175,33 +165,53 @@ void HopfNetwork::Derivative(const double* z, double* dzdt) {
       const double k = weight_per_s_[i * n_ + j];
       if (k == 0.0) continue;
       double target_x, target_y;
-      if (warped) {
-        // Where z_i would be if it lagged z_j by φ_ij in time: θ* = W⁻¹(W(θ_j) − φ_ij) on the
-        // circle of radius r_j; θ = ϑ + π, so the point is −r_j·(cos θ*, sin θ*). cos/sin of
-        // θ* = c_s·Φ_j + β by angle addition (constructor).
-        const int ij = i * n_ + j;
-        const int m = time_phase_rad_[j] < warp_bias_rad_[ij] ? 1 : 0;
-        const double target_phase = time_phase_rad_[j] - warp_bias_rad_[ij] + kTwoPi * m;
-        const int half = target_phase < kTwoPi * swing_share_ ? 0 : 1;
-        const double c = scaled_cos_[2 * j + half];
-        const double s = scaled_sin_[2 * j + half];
-        const double cb = warp_cos_[4 * ij + 2 * half + m];
-        const double sb = warp_sin_[4 * ij + 2 * half + m];
-        target_x = -radius_[j] * (c * cb - s * sb);
-        target_y = -radius_[j] * (s * cb + c * sb);
-      } else {
-        // R(−φ_ij)·z_j = (cos φ·x_j + sin φ·y_j, −sin φ·x_j + cos φ·y_j).
-        const double c = cos_bias_[i * n_ + j];
-        const double s = sin_bias_[i * n_ + j];
-        target_x = c * x[j] + s * y[j];
-        target_y = -s * x[j] + c * y[j];
-      }
+      CouplingTarget(i, j, warped, x, y, &target_x, &target_y);
       // Diffusive: minus z_i, so that the term vanishes at the lock.
       dx += k * (target_x - x[i]);
       dy += k * (target_y - y[i]);
     }
     dzdt[i] = inputs_.held(i) ? 0.0 : dx;
     dzdt[n_ + i] = inputs_.held(i) ? 0.0 : dy;
+  }
+}
+
+// Per oscillator, once per evaluation: its time phase, radius, and cos/sin of its time phase
+// scaled by each half's slope (the warped coupling's angle addition reads them).
+void HopfNetwork::PrepareWarp(const double* x, const double* y) {
+  const double slope[2] = {1.0 / (2.0 * swing_share_), 1.0 / (2.0 * (1.0 - swing_share_))};
+  for (int j = 0; j < n_; ++j) {
+    time_phase_rad_[j] = TimePhase(std::atan2(y[j], x[j]) + kPi);
+    radius_[j] = std::sqrt(x[j] * x[j] + y[j] * y[j]);
+    for (int half = 0; half < 2; ++half) {
+      scaled_cos_[2 * j + half] = std::cos(slope[half] * time_phase_rad_[j]);
+      scaled_sin_[2 * j + half] = std::sin(slope[half] * time_phase_rad_[j]);
+    }
+  }
+}
+
+// c_ij: where z_i would be if it kept its bias φ_ij to z_j (the file comment's Coupling).
+void HopfNetwork::CouplingTarget(int i, int j, bool warped, const double* x, const double* y,
+                                 double* target_x, double* target_y) const {
+  if (warped) {
+    // Where z_i would be if it lagged z_j by φ_ij in time: θ* = W⁻¹(W(θ_j) − φ_ij) on the
+    // circle of radius r_j; θ = ϑ + π, so the point is −r_j·(cos θ*, sin θ*). cos/sin of
+    // θ* = c_s·Φ_j + β by angle addition (constructor).
+    const int ij = i * n_ + j;
+    const int m = time_phase_rad_[j] < warp_bias_rad_[ij] ? 1 : 0;
+    const double target_phase = time_phase_rad_[j] - warp_bias_rad_[ij] + kTwoPi * m;
+    const int half = target_phase < kTwoPi * swing_share_ ? 0 : 1;
+    const double c = scaled_cos_[2 * j + half];
+    const double s = scaled_sin_[2 * j + half];
+    const double cb = warp_cos_[4 * ij + 2 * half + m];
+    const double sb = warp_sin_[4 * ij + 2 * half + m];
+    *target_x = -radius_[j] * (c * cb - s * sb);
+    *target_y = -radius_[j] * (s * cb + c * sb);
+  } else {
+    // R(−φ_ij)·z_j = (cos φ·x_j + sin φ·y_j, −sin φ·x_j + cos φ·y_j).
+    const double c = cos_bias_[i * n_ + j];
+    const double s = sin_bias_[i * n_ + j];
+    *target_x = c * x[j] + s * y[j];
+    *target_y = -s * x[j] + c * y[j];
   }
 }
 

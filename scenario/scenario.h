@@ -13,13 +13,19 @@
 #include <vector>
 
 #include "scenario/archive.h"
-#include "scenario/adhesion_keys.h"
-#include "scenario/cpg_keys.h"
+#include "adhesion/adhesion.h"
+#include "cpg/cpg.h"
 #include "scenario/reflex_keys.h"
 #include "scenario/optimise_params.h"
 #include "transition/transition_params.h"
 
 namespace climbsim::sim {
+
+// The adhesion and cpg blocks are declared by their modules (adhesion/params.h, cpg/params.h).
+using AdhesionParams = adhesion::AdhesionKeys;
+using AdhesionPadOverride = adhesion::PadOverride;
+using CpgParams = cpg::CpgKeys;
+using HopfParams = cpg::HopfKeys;
 
 // A push: a force F = impulse / duration on a body, applied at its centre of mass in the world
 // frame from time_s for duration_s.

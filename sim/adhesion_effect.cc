@@ -26,6 +26,22 @@ std::array<double, 2> WeldSolref(const AdhesionParams& p) {
   return {p.weld_solref[0], p.weld_solref[1]};
 }
 
+// A pad's gripping direction after its overrides breaks the frictional law's own rule
+// (FrictionalParams::Validate): the error is the override's, at adhesion.pad_overrides.
+class OverrideChecker final : public Checker {
+ public:
+  OverrideChecker(const Scenario& scenario, const std::string& pad)
+      : scenario_(scenario), pad_(pad) {}
+  [[noreturn]] void Fail(std::string_view, const std::string& message) const override {
+    throw ScenarioError(scenario_, "adhesion.pad_overrides", "'" + pad_ + "': " + message);
+  }
+  bool Has(std::string_view) const override { return true; }
+
+ private:
+  const Scenario& scenario_;
+  const std::string& pad_;
+};
+
 }  // namespace
 
 std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
@@ -43,12 +59,9 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
   for (const std::string& name : names) {
     const int body = mj_name2id(m, mjOBJ_BODY, name.c_str());
     if (body < 0) throw ScenarioError(scenario, "adhesion.pads", "no body named '" + name + "'");
-    adhesion::PadGeometry geometry;
-    try {
-      geometry = adhesion::ReadPadGeometry(m, body);
-    } catch (const std::invalid_argument& e) {
-      throw ScenarioError(scenario, "adhesion.pads", e.what());
-    }
+    const std::string problem = adhesion::PadGeometryProblem(m, body);
+    if (!problem.empty()) throw ScenarioError(scenario, "adhesion.pads", problem);
+    const adhesion::PadGeometry geometry = adhesion::ReadPadGeometry(m, body);
     for (const auto& s : specs) {
       if (s.body == name)
         throw ScenarioError(scenario, "adhesion.pads", "'" + name + "' given twice");
@@ -63,19 +76,10 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
       if (o.gain_n) gain = o.gain_n;
       if (o.grip_x) spec.params.frictional.grip_x = *o.grip_x;
       if (o.grip_y) spec.params.frictional.grip_y = *o.grip_y;
-      if (!(std::hypot(spec.params.frictional.grip_x, spec.params.frictional.grip_y) > 1e-9)) {
-        throw ScenarioError(scenario, "adhesion.pad_overrides",
-                            "'" + name +
-                                "': the gripping direction (grip_x, grip_y) must not be "
-                                "zero");
-      }
+      spec.params.frictional.Validate(OverrideChecker(scenario, name));
     }
+    // Every other value was checked where it was read (the pad's gain: σ_T·A > 0).
     spec.params.actuator_gain_n = gain.value_or(sigma * geometry.width_m * geometry.length_m);
-    try {
-      adhesion::ValidateStickyPadParams(spec.params);
-    } catch (const std::invalid_argument& e) {
-      throw ScenarioError(scenario, "adhesion", e.what());
-    }
     specs.push_back(std::move(spec));
   }
   for (const AdhesionPadOverride& o : params.pad_overrides) {
@@ -109,12 +113,12 @@ AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& p
   sys.start_attached = params.start_attached;
   sys.start_gap_m = params.start_gap_m;
   sys.reach_m = params.reach_m;
+  // The pads were resolved above; the surfaces are names only the model can resolve, and
+  // the system says which list a name came from.
   try {
     system_ = std::make_unique<adhesion::AdhesionSystem>(m, sys);
   } catch (const adhesion::AdhesionSetupError& e) {
     throw ScenarioError(scenario, "adhesion." + e.key(), e.what());
-  } catch (const std::invalid_argument& e) {
-    throw ScenarioError(scenario, "adhesion", e.what());
   }
   // Weld softness on this run's model copy (the compiled model may come from another value).
   for (const adhesion::PadSpec& spec : sys.pads) {

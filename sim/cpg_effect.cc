@@ -29,21 +29,68 @@ std::vector<std::vector<int>> SupportLegs(const std::vector<double>& offsets, do
   return support;
 }
 
+// The gait preset used when none is named: trot for 4 legs, tripod for 6.
+std::string DefaultGait(const std::string& gait, int num_legs) {
+  return gait.empty() ? (num_legs == 6 ? "tripod" : "trot") : gait;
+}
+
 }  // namespace
 
 CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& world)
     : params_(p) {
   const int n = static_cast<int>(world.robot().legs.size());
+  CheckFitsScenario(scenario, n);
+  ResolveGait(n);
+  support_ = SupportLegs(offsets_cycles_, *params_.duty_factor);
+  ResolveShape(scenario, world);
+  const double dt = world.model()->opt.timestep;
+  period_steps_ =
+      p.control_period_s ? static_cast<int>(std::lround(*p.control_period_s / dt)) : 1;
+  period_s_ = period_steps_ * dt;
+  network_ = MakeNetwork();  // the keys were checked where they were read: it cannot throw
+  feedback_.assign(n, 0.0);
+  held_.assign(n, 0);
+  ResolveSqueezeSigns(world);
+  blend_.assign(n, {0, 0, 0});
+}
+
+// The reader checked every key alone; what it cannot know is the robot (its legs) and
+// whether the adhesion block that some keys read from is there.
+void CpgEffect::CheckFitsScenario(const Scenario& scenario, int n) const {
+  const CpgParams& p = params_;
   if (n == 0) {
     throw ScenarioError(scenario, "cpg",
                         "the robot declares no legs (custom text climbsim_legs)");
   }
+  if (!p.phase_bias_rad.empty() && static_cast<int>(p.phase_bias_rad.size()) != n) {
+    throw ScenarioError(scenario, "cpg.phase_bias_rad",
+                        "must be " + std::to_string(n) + " x " + std::to_string(n) +
+                            " for this robot's legs");
+  }
+  if (p.phase_bias_rad.empty() && !p.offsets_cycles.empty() &&
+      static_cast<int>(p.offsets_cycles.size()) != n) {
+    throw ScenarioError(scenario, "cpg.offsets_cycles",
+                        "needs one offset per leg (" + std::to_string(n) + ")");
+  }
+  if (p.phase_bias_rad.empty() && p.offsets_cycles.empty()) {
+    const std::string problem = cpg::GaitPresetProblem(DefaultGait(p.gait, n), n);
+    if (!problem.empty()) throw ScenarioError(scenario, p.gait.empty() ? "cpg" : "cpg.gait", problem);
+  }
+  if (p.tegotae_sigma_rad_per_n_s > 0 && !scenario.adhesion) {
+    throw ScenarioError(scenario, "cpg.tegotae_sigma_rad_per_n_s",
+                        "needs the adhesion block: the pad loads come from it");
+  }
+  if (p.wait_for_support && !scenario.adhesion) {
+    throw ScenarioError(scenario, "cpg.wait_for_support",
+                        "needs the adhesion block: attachment comes from it");
+  }
+}
+
+// The gait as offsets and phase biases, from whichever of phase_bias_rad, offsets_cycles and
+// gait was given; the duty factor defaults to the preset's.
+void CpgEffect::ResolveGait(int n) {
+  const CpgParams& p = params_;
   if (!p.phase_bias_rad.empty()) {
-    if (static_cast<int>(p.phase_bias_rad.size()) != n) {
-      throw ScenarioError(scenario, "cpg.phase_bias_rad",
-                          "must be " + std::to_string(n) + " x " + std::to_string(n) +
-                              " for this robot's legs");
-    }
     bias_.resize(n, n);
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j < n; ++j) bias_(i, j) = p.phase_bias_rad[i][j];
@@ -51,30 +98,25 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     // Offsets consistent with the bias relative to leg 0 (φ_i0 = 2π(o_i − o_0)).
     for (int i = 0; i < n; ++i) offsets_cycles_.push_back(bias_(i, 0) / (2 * M_PI));
   } else if (!p.offsets_cycles.empty()) {
-    if (static_cast<int>(p.offsets_cycles.size()) != n) {
-      throw ScenarioError(scenario, "cpg.offsets_cycles",
-                          "needs one offset per leg (" + std::to_string(n) + ")");
-    }
     offsets_cycles_ = p.offsets_cycles;
     bias_ = cpg::PhaseBiasFromOffsets(offsets_cycles_);
   } else {
-    params_.gait = p.gait.empty() ? (n == 6 ? "tripod" : "trot") : p.gait;
-    try {
-      const cpg::Gait g = cpg::GaitPreset(params_.gait, n);
-      offsets_cycles_ = g.offsets_cycles;
-      gait_duty_ = g.duty_factor;
-    } catch (const std::invalid_argument& e) {
-      throw ScenarioError(scenario, p.gait.empty() ? "cpg" : "cpg.gait", e.what());
-    }
+    params_.gait = DefaultGait(p.gait, n);
+    const cpg::Gait g = cpg::GaitPreset(params_.gait, n);
+    offsets_cycles_ = g.offsets_cycles;
+    gait_duty_ = g.duty_factor;
     bias_ = cpg::PhaseBiasFromOffsets(offsets_cycles_);
   }
   params_.duty_factor = p.duty_factor.value_or(gait_duty_);
-  const double duty = *params_.duty_factor;
-  support_ = SupportLegs(offsets_cycles_, duty);
+}
 
-  // Shape: Hopf phases run at a uniform rate within stance and within swing, so they are
-  // shaped with duty ½ in phase space (their time duty comes from the two frequencies).
-  shape_.duty_factor = p.oscillator == "hopf" ? 0.5 : duty;
+// The leg shape: foot space (an IK table sized for the stride, lift, press and crouch) or
+// joint space (the joint excursions, defaults filled in).
+void CpgEffect::ResolveShape(const Scenario& scenario, const World& world) {
+  const CpgParams& p = params_;
+  // Hopf phases run at a uniform rate within stance and within swing, so they are shaped
+  // with duty ½ in phase space (their time duty comes from the two frequencies).
+  shape_.duty_factor = p.oscillator == "hopf" ? 0.5 : *params_.duty_factor;
   shape_.lift_share = p.lift_share;
   if (p.stride_m) {
     shape_.stride_rad = {0, 0, 0};
@@ -99,29 +141,12 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
       shape_.lift_rad[k] = params_.lift_rad[k];
     }
   }
+}
 
-  if (p.tegotae_sigma_rad_per_n_s > 0 && !scenario.adhesion) {
-    throw ScenarioError(scenario, "cpg.tegotae_sigma_rad_per_n_s",
-                        "needs the adhesion block: the pad loads come from it");
-  }
-  if (p.wait_for_support && !scenario.adhesion) {
-    throw ScenarioError(scenario, "cpg.wait_for_support",
-                        "needs the adhesion block: attachment comes from it");
-  }
-
-  const double dt = world.model()->opt.timestep;
-  period_steps_ =
-      p.control_period_s ? static_cast<int>(std::lround(*p.control_period_s / dt)) : 1;
-  period_s_ = period_steps_ * dt;
-  try {
-    network_ = MakeNetwork();
-  } catch (const std::invalid_argument& e) {
-    throw ScenarioError(scenario, "cpg", e.what());
-  }
-  feedback_.assign(n, 0.0);
-  held_.assign(n, 0);
-  // squeeze_m: each leg's side of the middle of the body along its axis (hips at the mean x:
-  // none).
+// squeeze_m: each leg's side of the middle of the body along its axis (hips at the mean x:
+// none).
+void CpgEffect::ResolveSqueezeSigns(const World& world) {
+  const int n = static_cast<int>(world.robot().legs.size());
   const mjModel* m = world.model();
   double mean_x = 0.0;
   std::vector<double> hip_x(n);
@@ -135,7 +160,6 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     const double dx = hip_x[i] - mean_x;
     squeeze_sign_[i] = std::abs(dx) < 1e-6 ? 0.0 : (dx > 0 ? 1.0 : -1.0);
   }
-  blend_.assign(n, {0, 0, 0});
 }
 
 std::unique_ptr<cpg::OscillatorNetwork> CpgEffect::MakeNetwork() const {

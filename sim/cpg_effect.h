@@ -70,6 +70,12 @@ class CpgEffect final : public Effect {
   static constexpr double kResumeBlendS = 0.5;
 
  private:
+  // Construction: the checks the reader could not make, then the gait, the leg shape and
+  // the squeeze's sides.
+  void CheckFitsScenario(const Scenario& scenario, int n) const;
+  void ResolveGait(int n);
+  void ResolveShape(const Scenario& scenario, const World& world);
+  void ResolveSqueezeSigns(const World& world);
   std::unique_ptr<cpg::OscillatorNetwork> MakeNetwork() const;
   void WriteTargets(World& world, RunContext& ctx);
   // This tick's targets of leg i (before reflex offsets); sets its LegSignals' CPG fields.

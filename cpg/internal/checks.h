@@ -11,8 +11,8 @@
 #include <vector>
 
 namespace climbsim::cpg {
-struct StepperParams;   // cpg.h
-enum class StepStatus;  // cpg.h
+struct StepperParams;   // oscillator_network.h
+enum class StepStatus;  // oscillator_network.h
 }  // namespace climbsim::cpg
 
 namespace climbsim::cpg::internal {
@@ -38,7 +38,7 @@ void CheckNonNegative(std::string_view field, double value);  // finite and >= 0
 void CheckSquare(std::string_view field, const Eigen::MatrixXd& m, int n, std::string_view why_n);
 // All entries finite, zero diagonal.
 void CheckZeroDiagonal(std::string_view field, const Eigen::MatrixXd& m);
-// StepperParams as cpg.h documents; owner is "PhaseNetworkParams" or "HopfNetworkParams".
+// StepperParams as oscillator_network.h documents; owner is "PhaseNetworkParams" or "HopfNetworkParams".
 void CheckStepperParams(std::string_view owner, const StepperParams& params);
 
 // A network's status after a step: a non-finite state outranks a Dopri5 step-size collapse.

@@ -22,7 +22,7 @@
 
 namespace climbsim::cpg {
 
-struct StepperParams;  // cpg.h
+struct StepperParams;  // oscillator_network.h
 
 namespace internal {
 

@@ -717,13 +717,13 @@ TEST(PadParamsValidation, RejectsBadValuesNamingKeyAndValue) {
   ExpectRejected(p, "adhesion.grid_y must be in [1, 1024], got 1025");
   p = good;
   p.sigma_t_pa = -3;
-  ExpectRejected(p, "adhesion.sigma_t_pa must be > 0 and finite, got -3");
+  ExpectRejected(p, "adhesion.sigma_t_pa must be > 0, got -3");
   p = good;
   p.mu = -0.5;
-  ExpectRejected(p, "adhesion.mu must be >= 0 and finite, got -0.5");
+  ExpectRejected(p, "adhesion.mu must be >= 0, got -0.5");
   p = good;
   p.min_bonds = 65;
-  ExpectRejected(p, "adhesion.min_bonds must be in [1, grid_x*grid_y = 64], got 65");
+  ExpectRejected(p, "adhesion.min_bonds: must be <= grid_x * grid_y = 64, got 65");
   p = good;
   p.min_bonds = 0;
   ExpectRejected(p, "adhesion.min_bonds");

@@ -1,24 +1,29 @@
-// The scenario's cpg block (cpg/README.md has the laws).
-#ifndef CLIMBSIM_SCENARIO_CPG_KEYS_H_
-#define CLIMBSIM_SCENARIO_CPG_KEYS_H_
+// The scenario's cpg block: every cpg key declared once, beside the networks it configures
+// (sim/cpg_effect.h builds them from it). Defaults are those of the library's structs
+// (PhaseNetworkParams, HopfNetworkParams, StepperParams, LegShape), so a key and its
+// network field cannot disagree. cpg/README.md has the laws.
+#ifndef CLIMBSIM_CPG_PARAMS_H_
+#define CLIMBSIM_CPG_PARAMS_H_
 
-#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "cpg/cpg.h"
+#include "cpg/hopf_network.h"
+#include "cpg/leg_shape.h"
+#include "cpg/oscillator_network.h"
+#include "cpg/phase_network.h"
 #include "keys/keys.h"
 
-namespace climbsim::sim {
+namespace climbsim::cpg {
 
 // Hopf oscillators (cpg/README.md, Righetti and Ijspeert 2008); their stance and swing
 // frequencies follow from cpg.frequency_hz and the duty factor.
-struct HopfParams {
-  double mu = cpg::HopfNetworkParams{}.mu;
-  double alpha_per_s = cpg::HopfNetworkParams{}.alpha_per_s;
-  double beta_per_s = cpg::HopfNetworkParams{}.beta_per_s;
-  double switch_sharpness = cpg::HopfNetworkParams{}.b;
+struct HopfKeys {
+  double mu = HopfNetworkParams{}.mu;
+  double alpha_per_s = HopfNetworkParams{}.alpha_per_s;
+  double beta_per_s = HopfNetworkParams{}.beta_per_s;
+  double switch_sharpness = HopfNetworkParams{}.b;
 
   template <class A>
   void Serialize(A* a) {
@@ -39,20 +44,20 @@ struct HopfParams {
 // leg's joint targets either in joint space (stride_rad, lift_rad) or in foot space
 // (stride_m, lift_m: straight foot paths in the body frame through the legs' inverse
 // kinematics, which stance legs welded to a wall need).
-struct CpgParams {
+struct CpgKeys {
   std::string oscillator = "phase";
   std::string gait;  // empty: the robot's default (trot for 4 legs, tripod for 6)
   std::vector<double> offsets_cycles;
   std::vector<std::vector<double>> phase_bias_rad;
   std::optional<double> duty_factor;
-  double frequency_hz = cpg::PhaseNetworkParams{}.frequency_hz;
+  double frequency_hz = PhaseNetworkParams{}.frequency_hz;
   double coupling_per_s = 4.0;
   double amplitude = 1.0;
   double start_amplitude = 0.0;
-  double amplitude_rate_per_s = cpg::PhaseNetworkParams{}.amplitude_rate_per_s;
+  double amplitude_rate_per_s = PhaseNetworkParams{}.amplitude_rate_per_s;
   std::string stepper = "rk4";
-  double abs_tol = cpg::StepperParams{}.abs_tol;
-  double rel_tol = cpg::StepperParams{}.rel_tol;
+  double abs_tol = StepperParams{}.abs_tol;
+  double rel_tol = StepperParams{}.rel_tol;
   std::optional<double> control_period_s;
   std::vector<double> stride_rad;  // joint space; default [0.35, 0, 0]
   std::vector<double> lift_rad;    // joint space; default [0, 0.5, 0.5]
@@ -61,8 +66,8 @@ struct CpgParams {
   double press_m = 0.0;
   double crouch_m = 0.0;
   double squeeze_m = 0.0;
-  double lift_share = cpg::LegShape{}.lift_share;
-  HopfParams hopf;
+  double lift_share = LegShape{}.lift_share;
+  HopfKeys hopf;
   double tegotae_sigma_rad_per_n_s = 0.0;
   bool wait_for_support = false;
   double support_bond_fraction = 0.95;
@@ -185,6 +190,6 @@ struct CpgParams {
   }
 };
 
-}  // namespace climbsim::sim
+}  // namespace climbsim::cpg
 
-#endif  // CLIMBSIM_SCENARIO_CPG_KEYS_H_
+#endif  // CLIMBSIM_CPG_PARAMS_H_
