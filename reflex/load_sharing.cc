@@ -1,11 +1,13 @@
-// Load sharing among attached pads in the null space of the grasp map (the law is in reflex.h).
+// Load sharing among attached pads in the null space of the grasp map, and the posture (the
+// laws are in load_sharing.h).
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "keys/keys.h"
 #include "reflex/check.h"
-#include "reflex/reflex.h"
+#include "reflex/load_sharing.h"
 
 namespace climbsim::reflex {
 namespace {
@@ -21,15 +23,10 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& r) {
 
 }  // namespace
 
+// The ranges as declared (Serialize); nothing here depends on dt_s but that it is a period.
 void Validate(const LoadSharingParams& p, double dt_s, std::string_view name) {
   internal::CheckPeriod(dt_s);
-  internal::CheckNonNegative(internal::FieldPath(name, "gain_per_s"), p.gain_per_s);
-  internal::CheckFinite(internal::FieldPath(name, "threshold"), p.threshold);
-  internal::CheckPositive(internal::FieldPath(name, "leak_s"), p.leak_s);
-  internal::CheckPositive(internal::FieldPath(name, "softmax_beta"), p.softmax_beta);
-  internal::CheckPositive(internal::FieldPath(name, "max_force_n"), p.max_force_n);
-  internal::CheckPositive(internal::FieldPath(name, "max_rate_n_per_s"), p.max_rate_n_per_s);
-  internal::CheckPositive(internal::FieldPath(name, "period_s"), p.period_s);
+  keys::Validate(p, name);
 }
 
 LoadSharing::LoadSharing(const LoadSharingParams& params, double dt_s)
@@ -192,6 +189,40 @@ int GripShearTargets(const GripShare* pads, int count, bool common_direction, do
     target_n[i] = p.keep_n + rest / sharing;
   }
   return sharing;
+}
+
+// The ranges as declared (Serialize), then the pull's delay's fit to dt_s.
+void Validate(const PostureParams& params, double dt_s, std::string_view name) {
+  internal::CheckPeriod(dt_s);
+  keys::Validate(params, name);
+  DelayToSamples(params.pull.delay_s, dt_s, keys::KeyPath(name, "delay_s"));
+}
+
+namespace {
+// The parameters, validated (throws), for the constructor's initialiser list.
+const PostureParams& Validated(const PostureParams& params, double dt_s) {
+  Validate(params, dt_s);
+  return params;
+}
+}  // namespace
+
+PostureReflex::PostureReflex(const PostureParams& params, double dt_s)
+    : params_(Validated(params, dt_s)),
+      law_(params.pull, dt_s),
+      keep_(std::exp(-dt_s / params.time_constant_s)) {}
+
+// c* = min(c_max, K_P·[P̃(t−Δ) − P0]₊); c ← c* + (c − c*)·e^(−dt/τ), the exact step of the
+// first-order lag for a c* held over the period.
+double PostureReflex::Update(double pull_over_weight) {
+  const double target = std::min(params_.max_crouch_m, law_.Update(pull_over_weight));
+  if (!params_.enabled) return crouch_m_ = 0.0;
+  crouch_m_ = target + (crouch_m_ - target) * keep_;
+  return crouch_m_;
+}
+
+void PostureReflex::Reset() {
+  law_.Reset();
+  crouch_m_ = 0.0;
 }
 
 }  // namespace climbsim::reflex

@@ -15,11 +15,14 @@
 #include "scenario/archive.h"
 #include "scenario/adhesion_keys.h"
 #include "scenario/cpg_keys.h"
-#include "scenario/reflex_keys.h"
+#include "reflex/reflex.h"
 #include "scenario/optimise_params.h"
 #include "transition/transition_params.h"
 
 namespace climbsim::sim {
+
+// The reflex block is the reflex module's own (reflex/reflex_params.h).
+using ReflexParams = reflex::ReflexParams;
 
 // A push: a force F = impulse / duration on a body, applied at its centre of mass in the world
 // frame from time_s for duration_s.
