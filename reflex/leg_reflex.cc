@@ -231,57 +231,70 @@ void LegReflex::StartSearchRelease() {
 // re-grip preload running) emits regrip; a running one is extended. A pad still attached is
 // pressed (a preload); one that let go entirely is re-placed (lift and put down), since it
 // can attach again only at a new touchdown.
-Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
+void LegReflex::RegripOnBondLoss(const Sensed& in, LegReflexOutput* out) {
   LegReflexState& st = state_;
   const RegripParams& p = params_.regrip;
-  if (p.enabled && in.stance && in.raw->bonds_lost && st.prev_attached) {
-    const bool replace = !in.raw->attached && p.lift_rad > 0.0;
-    if (replace && st.preloading) {
-      st.preloading = false;  // the touchdown after the lift starts a fresh preload
-      Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
-    }
-    const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
-    if (st.regrip_left == 0 && !regrip_preload && st.replace_left == 0) {
-      Emit(out, LegEventType::kRegrip);
-    }
-    st.regrip_left = regrip_samples_;
-    if (replace) {
-      if (st.replace_left == 0) {
-        st.replace_left = replace_samples_;
-        st.replace_lifted = false;
-      }
-    } else if (!st.preloading) {
-      st.preloading = true;
-      st.preload_samples = 0;
-      st.preload_trigger = LegEventReason::kRegrip;
-      Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
-    }
+  if (!(p.enabled && in.stance && in.raw->bonds_lost && st.prev_attached)) return;
+  const bool replace = !in.raw->attached && p.lift_rad > 0.0;
+  if (replace && st.preloading) {
+    st.preloading = false;  // the touchdown after the lift starts a fresh preload
+    Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
   }
-  // A foot that touched down in stance and has not bonded replace_after_s later (its contact
-  // may chatter on an edge meanwhile): re-place it too.
+  const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
+  if (st.regrip_left == 0 && !regrip_preload && st.replace_left == 0) {
+    Emit(out, LegEventType::kRegrip);
+  }
+  st.regrip_left = regrip_samples_;
+  if (replace) {
+    if (st.replace_left == 0) {
+      st.replace_left = replace_samples_;
+      st.replace_lifted = false;
+    }
+  } else if (!st.preloading) {
+    st.preloading = true;
+    st.preload_samples = 0;
+    st.preload_trigger = LegEventReason::kRegrip;
+    Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
+  }
+}
+
+// A foot that touched down in stance and has not bonded replace_after_s later (its contact
+// may chatter on an edge meanwhile): re-place it too, each time shifted along hip yaw.
+void LegReflex::ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const RegripParams& p = params_.regrip;
   if (!in.stance || in.raw->attached || st.replace_left > 0) {
     st.unattached_touch = 0;
   } else if (st.unattached_touch > 0 || in.raw->touching) {
     ++st.unattached_touch;
   }
-  if (p.enabled && p.lift_rad > 0.0 && replace_after_samples_ > 0 &&
-      st.unattached_touch >= replace_after_samples_) {
-    st.unattached_touch = 0;
-    st.replace_left = replace_samples_;
-    st.replace_lifted = false;
-    if (st.preloading) {
-      st.preloading = false;
-      Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
-    }
-    Emit(out, LegEventType::kRegrip, LegEventReason::kTouchdown);
-    // Where it was rejected it would be again (an edge stays an edge): each re-place of the
-    // same stance lands the foot shift_rad further along hip yaw, ahead and behind in turn
-    // (+1, −1, +2, −2 … shifts).
-    ++st.replace_count;
-    const int k = (st.replace_count + 1) / 2;
-    st.replace_shift_from = st.replace_shift;
-    st.replace_shift = p.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
+  if (!(p.enabled && p.lift_rad > 0.0 && replace_after_samples_ > 0 &&
+        st.unattached_touch >= replace_after_samples_)) {
+    return;
   }
+  st.unattached_touch = 0;
+  st.replace_left = replace_samples_;
+  st.replace_lifted = false;
+  if (st.preloading) {
+    st.preloading = false;
+    Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
+  }
+  Emit(out, LegEventType::kRegrip, LegEventReason::kTouchdown);
+  // Where it was rejected it would be again (an edge stays an edge): each re-place of the
+  // same stance lands the foot shift_rad further along hip yaw, ahead and behind in turn
+  // (+1, −1, +2, −2 … shifts).
+  ++st.replace_count;
+  const int k = (st.replace_count + 1) / 2;
+  st.replace_shift_from = st.replace_shift;
+  st.replace_shift = p.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
+}
+
+// The re-grip's episodes start above; here the re-place's lift and shift.
+Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const RegripParams& p = params_.regrip;
+  RegripOnBondLoss(in, out);
+  ReplaceRejectedLanding(in, out);
   if (!in.stance) {
     st.replace_count = 0;  // a new stance: the foot lands where its swing puts it
     st.replace_shift = st.replace_shift_from = 0.0;

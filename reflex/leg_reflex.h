@@ -253,6 +253,8 @@ class LegReflex {
   void PreloadLimits(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Search(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Regrip(const Sensed& in, LegReflexOutput* out);
+  void RegripOnBondLoss(const Sensed& in, LegReflexOutput* out);
+  void ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Preload(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Peel(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Gto(const Sensed& in, const Laws& laws, LegReflexOutput* out);
