@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -49,6 +50,10 @@ class DelayLine {
   double fill_ = 0.0;
 };
 
+// The range of a law's gain (spindle K_L and K_V, the GTO channels' K_F): >= 0, up to the
+// largest double; however large, the leg clamps its summed offset (tests/hard).
+inline Range GainRange() { return {0.0, std::numeric_limits<double>::max(), false, false}; }
+
 // ---------------------------------------------------------------------------------------------
 // Spindle-like (stretch) law
 // ---------------------------------------------------------------------------------------------
@@ -63,8 +68,8 @@ struct SpindleParams {
   double delay_s = 0.01;                      // Δ, >= 0, rounded to whole samples
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"length_gain", "rad/rad", "K_L", Range::NonNegative()}, &length_gain);
-    a->Visit({"velocity_gain_s", "s", "K_V", Range::NonNegative()}, &velocity_gain_s);
+    a->Visit({"length_gain", "rad/rad", "K_L", GainRange()}, &length_gain);
+    a->Visit({"velocity_gain_s", "s", "K_V", GainRange()}, &velocity_gain_s);
     a->Visit({"length_threshold_rad", "rad", "L_0", Range::NonNegative()}, &length_threshold_rad);
     a->Visit({"velocity_threshold_rad_per_s", "rad/s", "V_0", Range::NonNegative()},
              &velocity_threshold_rad_per_s);
@@ -72,8 +77,8 @@ struct SpindleParams {
   }
 };
 
-// Throws std::invalid_argument ("<name>.<field> must be ..., got <value>") unless every field is
-// finite and >= 0 and the delay fits a DelayLine at dt_s.
+// Throws std::invalid_argument ("<name>.<key> must be >= 0, got <value>") unless every key is
+// in its declared range (Serialize) and the delay fits a DelayLine at dt_s.
 void Validate(const SpindleParams& params, double dt_s, std::string_view name = "spindle");
 
 // Stretch q̃ = q − q_target (rad) is the joint angle minus the CPG's target, NOT including
@@ -126,16 +131,19 @@ struct GtoParams {
   double gain = 0.2;       // K_F, output per unit load (rad/N for a pad); any finite sign
   double threshold = 0.0;  // F0, in the load's unit; any finite value
   double delay_s = 0.01;   // Δ, >= 0, rounded to whole samples
-  // The law's own check (a leg's channels and the posture declare their keys by channel).
+  // The law's own check, any finite gain and threshold (a leg's channels and the posture
+  // declare their keys by channel, with their own ranges).
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"gain", "", "K_F"}, &gain);
-    a->Visit({"threshold", "", "F_0"}, &threshold);
+    const Range finite{-std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+    a->Visit({"gain", "", "K_F", finite}, &gain);
+    a->Visit({"threshold", "", "F_0", finite}, &threshold);
     a->Visit({"delay_s", "s", "transmission delay D", Range::NonNegative()}, &delay_s);
   }
 };
 
-// Throws std::invalid_argument unless every field is finite, the delay >= 0 and it fits.
+// Throws std::invalid_argument unless every key is in its declared range (finite; the delay
+// >= 0) and the delay fits a DelayLine at dt_s.
 // A negative gain is allowed here (negative force feedback, as Geyer and Herr's SOL→TA); the
 // LegReflex's GTO channels require gain >= 0 (positive feedback: the stance-holding reflex).
 void Validate(const GtoParams& params, double dt_s, std::string_view name = "gto");

@@ -24,14 +24,13 @@ void CheckFootPeriods(const LegReflexParams& p, double dt_s, const Checker& c) {
   Require(c, "preload.ramp_s", DurationProblem(p.preload.ramp_s, dt_s, false));
   Require(c, "preload.max_duration_s", DurationProblem(p.preload.max_duration_s, dt_s, true));
   Require(c, "preload.release_s", DurationProblem(p.preload.release_s, dt_s, false));
-  Require(c, "search.attempt_duration_s",
-          DurationProblem(p.search.attempt_duration_s, dt_s, true));
+  Require(c, "search.attempt_duration_s", DurationProblem(p.search.attempt_duration_s, dt_s, true));
   const double attempt = static_cast<double>(std::lround(p.search.attempt_duration_s / dt_s));
   if (attempt * p.search.max_attempts > 1e8) {
-    c.Fail("search.max_attempts",
-           internal::Requirement(
-               "such that max_attempts * attempt_duration_s <= 1e8 control periods",
-               p.search.max_attempts));
+    c.Fail(
+        "search.max_attempts",
+        internal::Requirement("such that max_attempts * attempt_duration_s <= 1e8 control periods",
+                              p.search.max_attempts));
   }
   Require(c, "search.release_s", DurationProblem(p.search.release_s, dt_s, false));
   Require(c, "peel.max_duration_s", DurationProblem(p.peel.max_duration_s, dt_s, true));

@@ -58,7 +58,7 @@ struct GtoHoldParams {
               "pad building its bond is pressed"},
              &enabled);
     a->Visit({"hold_gain_rad_per_n", "rad/N",
-              "K_F of the stance-holding channel (pad adhesive load)", Range::NonNegative()},
+              "K_F of the stance-holding channel (pad adhesive load)", GainRange()},
              &hold.gain);
     a->Visit({"hold_threshold_n", "N", "F_0 of the stance-holding channel"}, &hold.threshold);
     a->Visit({"hold_delay_s", "s", "transmission delay of the stance-holding channel",
@@ -78,7 +78,7 @@ struct GtoHoldParams {
              &load_attached);
     a->Visit(
         {"press_gain_rad_per_n", "rad/N",
-         "K_F of the channel that presses a pad building its bond (preload)", Range::NonNegative()},
+         "K_F of the channel that presses a pad building its bond (preload)", GainRange()},
         &press.gain);
     a->Visit({"press_threshold_n", "N", "F_0 of the pressing channel"}, &press.threshold);
     a->Visit(

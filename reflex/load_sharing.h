@@ -106,8 +106,9 @@ struct LoadSharingParams {
               "in pairs (under a ceiling) then hold a grasp before their pull arrives; 0 = off",
               Range::NonNegative()},
              &min_grip_n);
-    a->Visit({"threshold", "", "U_S: the soft maximum of the utilisations above which load is shared"},
-             &threshold);
+    a->Visit(
+        {"threshold", "", "U_S: the soft maximum of the utilisations above which load is shared"},
+        &threshold);
     a->Visit({"leak_s", "s", "time constant with which an internal force no longer needed fades",
               Range::Positive()},
              &leak_s);

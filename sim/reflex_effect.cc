@@ -95,7 +95,8 @@ void ReflexEffect::CheckScenario(const Scenario& scenario, const World& world,
   }
   if (params_.landing.settle_s > 0.0) {
     if (adhesion_ == nullptr) {
-      throw ScenarioError(scenario, "reflex.landing", "needs the adhesion block (pads that attach)");
+      throw ScenarioError(scenario, "reflex.landing",
+                          "needs the adhesion block (pads that attach)");
     }
     if (params_.landing.drag_n > 0.0) {
       RequireFrictionalPads(scenario, legs, "reflex.landing.drag_n",

@@ -57,8 +57,8 @@ class ReflexEffect final : public Effect {
   std::vector<std::array<int, 3>> actuator_;   // per leg, hip_yaw, hip_pitch, knee servo
   std::vector<std::array<double, 3>> kp_;      // their kp as compiled
   int period_steps_ = 1;
-  // Load sharing (the GTO's robot-level channel, reflex/load_sharing.h): the law, each leg's input, and
-  // the ankle's Jacobian buffer (3 × nv, sized once).
+  // Load sharing (the GTO's robot-level channel, reflex/load_sharing.h): the law, each leg's
+  // input, and the ankle's Jacobian buffer (3 × nv, sized once).
   std::optional<reflex::LoadSharing> sharing_;
   std::vector<reflex::SharingLeg> sharing_in_;
   std::vector<std::array<double, 3>> share_offset_;  // per leg, Δq of the last sharing run
