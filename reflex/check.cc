@@ -1,8 +1,9 @@
 #include "reflex/check.h"
 
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
+
+#include "reflex/laws.h"
 
 namespace climbsim::reflex::internal {
 namespace {
@@ -12,65 +13,57 @@ constexpr double kMaxDurationSamples = 1e8;
 
 }  // namespace
 
-std::string FormatValue(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.9g", value);
-  return text;
-}
-
-std::string FieldPath(std::string_view name, std::string_view field) {
-  std::string path(name);
-  if (!path.empty()) path += '.';
-  path += field;
-  return path;
+std::string Requirement(std::string_view requirement, double value) {
+  return "must be " + std::string(requirement) + ", got " + keys::FormatValue(value);
 }
 
 void ThrowInvalid(std::string_view path, std::string_view requirement, double value) {
-  throw std::invalid_argument(std::string(path) + " must be " + std::string(requirement) +
-                              ", got " + FormatValue(value));
+  throw std::invalid_argument(std::string(path) + " " + Requirement(requirement, value));
 }
 
-void CheckFinite(std::string_view path, double value) {
-  if (!std::isfinite(value)) ThrowInvalid(path, "finite", value);
+void CheckPeriod(double dt_s) {
+  if (!std::isfinite(dt_s) || dt_s <= 0.0) ThrowInvalid("dt_s", "finite and > 0", dt_s);
 }
 
-void CheckNonNegative(std::string_view path, double value) {
-  if (!std::isfinite(value) || value < 0.0) ThrowInvalid(path, "finite and >= 0", value);
-}
-
-void CheckPositive(std::string_view path, double value) {
-  if (!std::isfinite(value) || value <= 0.0) ThrowInvalid(path, "finite and > 0", value);
-}
-
-void CheckRange(std::string_view path, double value, double low, double high, bool open_low,
-                bool open_high) {
-  const bool below = open_low ? !(value > low) : !(value >= low);
-  const bool above = open_high ? !(value < high) : !(value <= high);
-  if (!std::isfinite(value) || below || above) {
-    const std::string requirement = "in " + std::string(open_low ? "(" : "[") + FormatValue(low) +
-                                    ", " + FormatValue(high) + (open_high ? ")" : "]");
-    ThrowInvalid(path, requirement, value);
+std::string DurationProblem(double duration_s, double dt_s, bool at_least_one) {
+  if (!std::isfinite(duration_s) || duration_s < 0.0) {
+    return Requirement("finite and >= 0", duration_s);
   }
+  const double samples = duration_s / dt_s;
+  if (samples > kMaxDurationSamples) {
+    return Requirement("at most " + keys::FormatValue(kMaxDurationSamples * dt_s) +
+                           " s (1e8 control periods of dt_s = " + keys::FormatValue(dt_s) + " s)",
+                       duration_s);
+  }
+  if (at_least_one && std::lround(samples) < 1) {
+    return Requirement("at least one control period (dt_s = " + keys::FormatValue(dt_s) + " s)",
+                       duration_s);
+  }
+  return "";
 }
 
-void CheckPeriod(double dt_s) { CheckPositive("dt_s", dt_s); }
+std::string DelayProblem(double delay_s, double dt_s) {
+  if (!std::isfinite(delay_s) || delay_s < 0.0) return Requirement("finite and >= 0", delay_s);
+  const double samples = delay_s / dt_s;
+  if (!(samples < kMaxDelaySamples + 0.5)) {
+    return Requirement("at most " + std::to_string(kMaxDelaySamples) +
+                           " control periods (dt_s = " + keys::FormatValue(dt_s) + " s)",
+                       delay_s);
+  }
+  return "";
+}
 
 int DurationToSamples(std::string_view path, double duration_s, double dt_s, bool at_least_one) {
   CheckPeriod(dt_s);
-  CheckNonNegative(path, duration_s);
-  const double samples = duration_s / dt_s;
-  if (samples > kMaxDurationSamples) {
-    ThrowInvalid(path,
-                 "at most " + FormatValue(kMaxDurationSamples * dt_s) +
-                     " s (1e8 control periods of dt_s = " + FormatValue(dt_s) + " s)",
-                 duration_s);
+  if (const std::string problem = DurationProblem(duration_s, dt_s, at_least_one);
+      !problem.empty()) {
+    throw std::invalid_argument(std::string(path) + " " + problem);
   }
-  const int n = static_cast<int>(std::lround(samples));
-  if (at_least_one && n < 1) {
-    ThrowInvalid(path, "at least one control period (dt_s = " + FormatValue(dt_s) + " s)",
-                 duration_s);
-  }
-  return n;
+  return static_cast<int>(std::lround(duration_s / dt_s));
+}
+
+void ThrowingChecker::Fail(std::string_view key, const std::string& message) const {
+  throw std::invalid_argument(keys::KeyPath(name_, key) + " " + message);
 }
 
 }  // namespace climbsim::reflex::internal

@@ -1,5 +1,6 @@
-// Private to climbsim_reflex (not part of the API, which is reflex.h): the checks that
-// Validate() uses, each throwing std::invalid_argument as
+// Private to climbsim_reflex (not part of the API, which is reflex.h): what the reflexes check
+// beyond their keys' declared ranges (keys::Validate), the fit of a duration or a delay to the
+// control period, and the messages' wording
 //   "<name>.<field> must be <requirement>, got <value>".
 #ifndef CLIMBSIM_REFLEX_CHECK_H_
 #define CLIMBSIM_REFLEX_CHECK_H_
@@ -7,27 +8,38 @@
 #include <string>
 #include <string_view>
 
+#include "keys/keys.h"
+
 namespace climbsim::reflex::internal {
 
-// A double as printed in messages ("%.9g": -3, 0.1, nan, inf).
-std::string FormatValue(double value);
-
-// "<name>.<field>", or "<field>" when name is empty.
-std::string FieldPath(std::string_view name, std::string_view field);
+// "must be <requirement>, got <value>" (the value as keys::FormatValue prints it).
+std::string Requirement(std::string_view requirement, double value);
 
 [[noreturn]] void ThrowInvalid(std::string_view path, std::string_view requirement, double value);
 
-void CheckFinite(std::string_view path, double value);
-void CheckNonNegative(std::string_view path, double value);  // finite and >= 0
-void CheckPositive(std::string_view path, double value);     // finite and > 0
-// finite and in [low, high] (or (low, high] when open_low, [low, high) when open_high).
-void CheckRange(std::string_view path, double value, double low, double high, bool open_low = false,
-                bool open_high = false);
 void CheckPeriod(double dt_s);  // "dt_s must be finite and > 0"
 
-// A duration (finite, >= 0) as a whole number of control periods, rounded like the delays.
-// With at_least_one, a duration shorter than half a period is rejected.
+// What a duration (finite, >= 0, at most 1e8 control periods; with at_least_one, not shorter
+// than half a period) lacks at the control period dt_s: a Requirement, or "" when it fits.
+std::string DurationProblem(double duration_s, double dt_s, bool at_least_one);
+// The same for a delay: finite, >= 0 and at most kMaxDelaySamples periods.
+std::string DelayProblem(double delay_s, double dt_s);
+
+// A duration as a whole number of control periods, rounded like the delays; throws
+// std::invalid_argument "<path> <DurationProblem>" unless it fits.
 int DurationToSamples(std::string_view path, double duration_s, double dt_s, bool at_least_one);
+
+// A Checker whose failures are std::invalid_argument "<name>.<key> <message>" (a module's own
+// checks, as keys::Validate words a range).
+class ThrowingChecker : public Checker {
+ public:
+  explicit ThrowingChecker(std::string_view name) : name_(name) {}
+  [[noreturn]] void Fail(std::string_view key, const std::string& message) const override;
+  bool Has(std::string_view) const override { return true; }
+
+ private:
+  std::string_view name_;
+};
 
 }  // namespace climbsim::reflex::internal
 

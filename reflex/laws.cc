@@ -1,18 +1,14 @@
-// Delay line, spindle-like and GTO-like laws (equations in reflex.h).
+// Delay line, spindle-like and GTO-like laws (equations in laws.h).
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "keys/keys.h"
 #include "reflex/check.h"
-#include "reflex/reflex.h"
+#include "reflex/laws.h"
 
 namespace climbsim::reflex {
 namespace {
-
-using internal::CheckFinite;
-using internal::CheckNonNegative;
-using internal::CheckPositive;
-using internal::FieldPath;
 
 // D(x, x0) = sign(x)·[|x| − x0]₊ for x0 >= 0.
 double SignedDeadZone(double x, double x0) {
@@ -33,15 +29,10 @@ double Sanitize(double x, int64_t* count) {
 // Round to the nearest sample, ties away from zero; bounded so that the buffer stays small.
 int DelayToSamples(double delay_s, double dt_s, std::string_view name) {
   internal::CheckPeriod(dt_s);
-  CheckNonNegative(name, delay_s);
-  const double samples = delay_s / dt_s;
-  if (!(samples < kMaxDelaySamples + 0.5)) {
-    internal::ThrowInvalid(name,
-                           "at most " + std::to_string(kMaxDelaySamples) +
-                               " control periods (dt_s = " + internal::FormatValue(dt_s) + " s)",
-                           delay_s);
+  if (const std::string problem = internal::DelayProblem(delay_s, dt_s); !problem.empty()) {
+    throw std::invalid_argument(std::string(name) + " " + problem);
   }
-  return static_cast<int>(std::lround(samples));
+  return static_cast<int>(std::lround(delay_s / dt_s));
 }
 
 DelayLine::DelayLine(int delay_samples, double fill) : fill_(fill) {
@@ -67,21 +58,17 @@ void DelayLine::Reset() {
   head_ = 0;
 }
 
+// The ranges as declared (Serialize), then the delay's fit to dt_s.
 void Validate(const SpindleParams& params, double dt_s, std::string_view name) {
   internal::CheckPeriod(dt_s);
-  CheckNonNegative(FieldPath(name, "length_gain"), params.length_gain);
-  CheckNonNegative(FieldPath(name, "velocity_gain_s"), params.velocity_gain_s);
-  CheckNonNegative(FieldPath(name, "length_threshold_rad"), params.length_threshold_rad);
-  CheckNonNegative(FieldPath(name, "velocity_threshold_rad_per_s"),
-                   params.velocity_threshold_rad_per_s);
-  DelayToSamples(params.delay_s, dt_s, FieldPath(name, "delay_s"));
+  keys::Validate(params, name);
+  DelayToSamples(params.delay_s, dt_s, keys::KeyPath(name, "delay_s"));
 }
 
 void Validate(const GtoParams& params, double dt_s, std::string_view name) {
   internal::CheckPeriod(dt_s);
-  CheckFinite(FieldPath(name, "gain"), params.gain);
-  CheckFinite(FieldPath(name, "threshold"), params.threshold);
-  DelayToSamples(params.delay_s, dt_s, FieldPath(name, "delay_s"));
+  keys::Validate(params, name);
+  DelayToSamples(params.delay_s, dt_s, keys::KeyPath(name, "delay_s"));
 }
 
 namespace {
@@ -133,32 +120,6 @@ void GtoReflex::Reset() {
   loaded_ = false;
   delayed_load_ = 0.0;
   nonfinite_inputs_ = 0;
-}
-
-void Validate(const PostureParams& params, double dt_s, std::string_view name) {
-  Validate(params.pull, dt_s, FieldPath(name, "pull"));
-  CheckNonNegative(FieldPath(name, "pull.gain"), params.pull.gain);
-  CheckNonNegative(FieldPath(name, "max_crouch_m"), params.max_crouch_m);
-  CheckPositive(FieldPath(name, "time_constant_s"), params.time_constant_s);
-}
-
-PostureReflex::PostureReflex(const PostureParams& params, double dt_s)
-    : params_(Validated(params, dt_s)),
-      law_(params.pull, dt_s),
-      keep_(std::exp(-dt_s / params.time_constant_s)) {}
-
-// c* = min(c_max, K_P·[P̃(t−Δ) − P0]₊); c ← c* + (c − c*)·e^(−dt/τ), the exact step of the
-// first-order lag for a c* held over the period.
-double PostureReflex::Update(double pull_over_weight) {
-  const double target = std::min(params_.max_crouch_m, law_.Update(pull_over_weight));
-  if (!params_.enabled) return crouch_m_ = 0.0;
-  crouch_m_ = target + (crouch_m_ - target) * keep_;
-  return crouch_m_;
-}
-
-void PostureReflex::Reset() {
-  law_.Reset();
-  crouch_m_ = 0.0;
 }
 
 }  // namespace climbsim::reflex

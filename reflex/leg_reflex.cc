@@ -1,21 +1,16 @@
-// Leg-level climbing reflex state machine (the table is in reflex.h).
+// Leg-level climbing reflex state machine (the table is in leg_reflex.h).
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 
 #include "reflex/check.h"
-#include "reflex/reflex.h"
+#include "reflex/leg_reflex.h"
 
 namespace climbsim::reflex {
 namespace {
 
-using internal::CheckFinite;
-using internal::CheckNonNegative;
-using internal::CheckPositive;
-using internal::CheckRange;
 using internal::DurationToSamples;
-using internal::FieldPath;
 
 double Sanitize(double x, int64_t* count) {
   if (std::isfinite(x)) return x;
@@ -36,90 +31,6 @@ const LegReflexParams& Validated(const LegReflexParams& params, double dt_s) {
 }
 
 }  // namespace
-
-void Validate(const LegReflexParams& params, double dt_s, std::string_view name) {
-  internal::CheckPeriod(dt_s);
-
-  // Preload.
-  const std::string preload = FieldPath(name, "preload");
-  CheckNonNegative(FieldPath(preload, "hip_pitch_press_rad"), params.preload.hip_pitch_press_rad);
-  CheckNonNegative(FieldPath(preload, "knee_press_rad"), params.preload.knee_press_rad);
-  DurationToSamples(FieldPath(preload, "ramp_s"), params.preload.ramp_s, dt_s, false);
-  CheckPositive(FieldPath(preload, "force_limit_n"), params.preload.force_limit_n);
-  DurationToSamples(FieldPath(preload, "max_duration_s"), params.preload.max_duration_s, dt_s,
-                    true);
-  DurationToSamples(FieldPath(preload, "release_s"), params.preload.release_s, dt_s, false);
-
-  // Search.
-  const std::string search = FieldPath(name, "search");
-  CheckNonNegative(FieldPath(search, "reach_yaw_rad"), params.search.reach_yaw_rad);
-  CheckNonNegative(FieldPath(search, "reach_pitch_rad"), params.search.reach_pitch_rad);
-  CheckNonNegative(FieldPath(search, "reach_knee_rad"), params.search.reach_knee_rad);
-  CheckNonNegative(FieldPath(search, "lift_rad"), params.search.lift_rad);
-  const int attempt = DurationToSamples(FieldPath(search, "attempt_duration_s"),
-                                        params.search.attempt_duration_s, dt_s, true);
-  CheckRange(FieldPath(search, "max_attempts"), params.search.max_attempts, 1, 1000);
-  if (static_cast<double>(attempt) * params.search.max_attempts > 1e8) {
-    internal::ThrowInvalid(FieldPath(search, "max_attempts"),
-                           "such that max_attempts * attempt_duration_s <= 1e8 control periods",
-                           params.search.max_attempts);
-  }
-  DurationToSamples(FieldPath(search, "release_s"), params.search.release_s, dt_s, false);
-
-  // Peel.
-  const std::string peel = FieldPath(name, "peel");
-  CheckFinite(FieldPath(peel, "hip_yaw_rad"), params.peel.hip_yaw_rad);
-  CheckNonNegative(FieldPath(peel, "hip_pitch_lift_rad"), params.peel.hip_pitch_lift_rad);
-  CheckNonNegative(FieldPath(peel, "knee_lift_rad"), params.peel.knee_lift_rad);
-  CheckPositive(FieldPath(peel, "ramp_s"), params.peel.ramp_s);
-  DurationToSamples(FieldPath(peel, "max_duration_s"), params.peel.max_duration_s, dt_s, true);
-  DurationToSamples(FieldPath(peel, "release_s"), params.peel.release_s, dt_s, false);
-  CheckNonNegative(FieldPath(peel, "release_load_n"), params.peel.release_load_n);
-
-  // Re-grip.
-  DurationToSamples(FieldPath(FieldPath(name, "regrip"), "hold_others_s"),
-                    params.regrip.hold_others_s, dt_s, false);
-  CheckNonNegative(FieldPath(FieldPath(name, "regrip"), "lift_rad"), params.regrip.lift_rad);
-  DurationToSamples(FieldPath(FieldPath(name, "regrip"), "replace_s"), params.regrip.replace_s,
-                    dt_s, true);
-  DurationToSamples(FieldPath(FieldPath(name, "regrip"), "replace_after_s"),
-                    params.regrip.replace_after_s, dt_s, false);
-  CheckNonNegative(FieldPath(FieldPath(name, "regrip"), "shift_rad"), params.regrip.shift_rad);
-
-  // GTO stance holding: both channels are positive force feedback.
-  const std::string gto = FieldPath(name, "gto");
-  Validate(params.gto.hold, dt_s, FieldPath(gto, "hold"));
-  CheckNonNegative(FieldPath(gto, "hold.gain"), params.gto.hold.gain);
-  CheckNonNegative(FieldPath(gto, "hold_max_offset_rad"), params.gto.hold_max_offset_rad);
-  Validate(params.gto.press, dt_s, FieldPath(gto, "press"));
-  CheckNonNegative(FieldPath(gto, "press.gain"), params.gto.press.gain);
-  CheckNonNegative(FieldPath(gto, "press_max_offset_rad"), params.gto.press_max_offset_rad);
-  CheckRange(FieldPath(gto, "full_bond_fraction"), params.gto.full_bond_fraction, 0.0, 1.0, true);
-  Validate(params.gto.unload, dt_s, FieldPath(gto, "unload"));
-  CheckNonNegative(FieldPath(gto, "unload.gain"), params.gto.unload.gain);
-  CheckRange(FieldPath(gto, "unload_min_kp_fraction"), params.gto.unload_min_kp_fraction, 0.0,
-             1.0, true);
-  Validate(params.gto.support, dt_s, FieldPath(gto, "support"));
-
-  // Spindles.
-  for (int j = 0; j < kLegJoints; ++j) {
-    Validate(params.spindle.joints[j], dt_s,
-             FieldPath(name, "spindle.joints[" + std::to_string(j) + "]"));
-  }
-
-  CheckNonNegative(FieldPath(name, "spindle.swing_threshold_rad"),
-                   params.spindle.swing_threshold_rad);
-  CheckNonNegative(FieldPath(name, "spindle.stance_band_rad"), params.spindle.stance_band_rad);
-  DurationToSamples(FieldPath(name, "spindle.hold_s"), params.spindle.hold_s, dt_s, false);
-
-  // Compliance.
-  const std::string compliance = FieldPath(name, "compliance");
-  CheckRange(FieldPath(compliance, "stance_kp_fraction"), params.compliance.stance_kp_fraction,
-             0.0, 1.0, true);
-  DurationToSamples(FieldPath(compliance, "ramp_s"), params.compliance.ramp_s, dt_s, false);
-
-  CheckPositive(FieldPath(name, "max_offset_rad"), params.max_offset_rad);
-}
 
 LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
     : params_(Validated(params, dt_s)),
@@ -320,57 +231,70 @@ void LegReflex::StartSearchRelease() {
 // re-grip preload running) emits regrip; a running one is extended. A pad still attached is
 // pressed (a preload); one that let go entirely is re-placed (lift and put down), since it
 // can attach again only at a new touchdown.
-Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
+void LegReflex::RegripOnBondLoss(const Sensed& in, LegReflexOutput* out) {
   LegReflexState& st = state_;
   const RegripParams& p = params_.regrip;
-  if (p.enabled && in.stance && in.raw->bonds_lost && st.prev_attached) {
-    const bool replace = !in.raw->attached && p.lift_rad > 0.0;
-    if (replace && st.preloading) {
-      st.preloading = false;  // the touchdown after the lift starts a fresh preload
-      Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
-    }
-    const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
-    if (st.regrip_left == 0 && !regrip_preload && st.replace_left == 0) {
-      Emit(out, LegEventType::kRegrip);
-    }
-    st.regrip_left = regrip_samples_;
-    if (replace) {
-      if (st.replace_left == 0) {
-        st.replace_left = replace_samples_;
-        st.replace_lifted = false;
-      }
-    } else if (!st.preloading) {
-      st.preloading = true;
-      st.preload_samples = 0;
-      st.preload_trigger = LegEventReason::kRegrip;
-      Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
-    }
+  if (!(p.enabled && in.stance && in.raw->bonds_lost && st.prev_attached)) return;
+  const bool replace = !in.raw->attached && p.lift_rad > 0.0;
+  if (replace && st.preloading) {
+    st.preloading = false;  // the touchdown after the lift starts a fresh preload
+    Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
   }
-  // A foot that touched down in stance and has not bonded replace_after_s later (its contact
-  // may chatter on an edge meanwhile): re-place it too.
+  const bool regrip_preload = st.preloading && st.preload_trigger == LegEventReason::kRegrip;
+  if (st.regrip_left == 0 && !regrip_preload && st.replace_left == 0) {
+    Emit(out, LegEventType::kRegrip);
+  }
+  st.regrip_left = regrip_samples_;
+  if (replace) {
+    if (st.replace_left == 0) {
+      st.replace_left = replace_samples_;
+      st.replace_lifted = false;
+    }
+  } else if (!st.preloading) {
+    st.preloading = true;
+    st.preload_samples = 0;
+    st.preload_trigger = LegEventReason::kRegrip;
+    Emit(out, LegEventType::kPreloadStart, LegEventReason::kRegrip);
+  }
+}
+
+// A foot that touched down in stance and has not bonded replace_after_s later (its contact
+// may chatter on an edge meanwhile): re-place it too, each time shifted along hip yaw.
+void LegReflex::ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const RegripParams& p = params_.regrip;
   if (!in.stance || in.raw->attached || st.replace_left > 0) {
     st.unattached_touch = 0;
   } else if (st.unattached_touch > 0 || in.raw->touching) {
     ++st.unattached_touch;
   }
-  if (p.enabled && p.lift_rad > 0.0 && replace_after_samples_ > 0 &&
-      st.unattached_touch >= replace_after_samples_) {
-    st.unattached_touch = 0;
-    st.replace_left = replace_samples_;
-    st.replace_lifted = false;
-    if (st.preloading) {
-      st.preloading = false;
-      Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
-    }
-    Emit(out, LegEventType::kRegrip, LegEventReason::kTouchdown);
-    // Where it was rejected it would be again (an edge stays an edge): each re-place of the
-    // same stance lands the foot shift_rad further along hip yaw, ahead and behind in turn
-    // (+1, −1, +2, −2 … shifts).
-    ++st.replace_count;
-    const int k = (st.replace_count + 1) / 2;
-    st.replace_shift_from = st.replace_shift;
-    st.replace_shift = p.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
+  if (!(p.enabled && p.lift_rad > 0.0 && replace_after_samples_ > 0 &&
+        st.unattached_touch >= replace_after_samples_)) {
+    return;
   }
+  st.unattached_touch = 0;
+  st.replace_left = replace_samples_;
+  st.replace_lifted = false;
+  if (st.preloading) {
+    st.preloading = false;
+    Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
+  }
+  Emit(out, LegEventType::kRegrip, LegEventReason::kTouchdown);
+  // Where it was rejected it would be again (an edge stays an edge): each re-place of the
+  // same stance lands the foot shift_rad further along hip yaw, ahead and behind in turn
+  // (+1, −1, +2, −2 … shifts).
+  ++st.replace_count;
+  const int k = (st.replace_count + 1) / 2;
+  st.replace_shift_from = st.replace_shift;
+  st.replace_shift = p.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
+}
+
+// The re-grip's episodes start above; here the re-place's lift and shift.
+Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const RegripParams& p = params_.regrip;
+  RegripOnBondLoss(in, out);
+  ReplaceRejectedLanding(in, out);
   if (!in.stance) {
     st.replace_count = 0;  // a new stance: the foot lands where its swing puts it
     st.replace_shift = st.replace_shift_from = 0.0;

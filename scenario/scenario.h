@@ -15,17 +15,19 @@
 #include "scenario/archive.h"
 #include "adhesion/adhesion.h"
 #include "cpg/cpg.h"
-#include "scenario/reflex_keys.h"
+#include "reflex/reflex.h"
 #include "scenario/optimise_params.h"
 #include "transition/transition_params.h"
 
 namespace climbsim::sim {
 
-// The adhesion and cpg blocks are declared by their modules (adhesion/params.h, cpg/params.h).
+// The adhesion, cpg and reflex blocks are declared by their modules (adhesion/params.h,
+// cpg/params.h, reflex/reflex_params.h).
 using AdhesionParams = adhesion::AdhesionKeys;
 using AdhesionPadOverride = adhesion::PadOverride;
 using CpgParams = cpg::CpgKeys;
 using HopfParams = cpg::HopfKeys;
+using ReflexParams = reflex::ReflexParams;
 
 // A push: a force F = impulse / duration on a body, applied at its centre of mass in the world
 // frame from time_s for duration_s.

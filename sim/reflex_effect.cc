@@ -3,7 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <string>
+#include <string_view>
 
 namespace climbsim::sim {
 namespace {
@@ -14,6 +15,19 @@ constexpr reflex::LegEventType kEventTypes[] = {
     reflex::LegEventType::kPeel,         reflex::LegEventType::kPeelEnd,
     reflex::LegEventType::kRegrip,       reflex::LegEventType::kGtoHold,
     reflex::LegEventType::kSpindle,      reflex::LegEventType::kGtoUnload};
+
+// The reflex block's checks, each at its key in the scenario file.
+class BlockChecker : public Checker {
+ public:
+  explicit BlockChecker(const Scenario& scenario) : scenario_(scenario) {}
+  [[noreturn]] void Fail(std::string_view key, const std::string& message) const override {
+    throw ScenarioError(scenario_, "reflex." + std::string(key), message);
+  }
+  bool Has(std::string_view) const override { return true; }
+
+ private:
+  const Scenario& scenario_;
+};
 
 }  // namespace
 
@@ -26,20 +40,98 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
       event_pad_(std::move(event_pad)) {
   const double dt = cpg.control_period_s();
   period_steps_ = static_cast<int>(std::lround(dt / world.model()->opt.timestep));
-  const reflex::LegReflexParams leg = params.Leg();
-  try {
-    reflex::Validate(leg, dt, "reflex");
-  } catch (const std::invalid_argument& e) {
-    // The module names the field ("reflex.peel.ramp_s must be ..."): point at that key.
-    const std::string msg = e.what();
-    std::string key = msg.substr(0, msg.find(' '));
-    if (key.rfind("reflex.spindle.joints", 0) == 0) key = "reflex.spindle";
-    throw ScenarioError(scenario, key, msg.substr(msg.find(' ') + 1));
+  CheckScenario(scenario, world, cpg, dt);
+  BuildLegs(world, dt);
+  if (SharingOn()) BuildSharing(world, dt);
+  if (params.PostureOn()) {
+    posture_.emplace(params.gto.posture, dt);
+    weight_n_ = world.robot().mass_kg * world.gravity().norm();
   }
+  if (params.landing.settle_s > 0.0) {
+    landing_.assign(legs_.size(), LandingState{});
+    jacp_.assign(3 * world.model()->nv, 0.0);
+  }
+}
+
+bool ReflexEffect::SharingOn() const {
+  return params_.gto.enabled && params_.gto.share.gain_per_s > 0.0 && adhesion_ != nullptr;
+}
+
+// The reader checked every key's range; what is left needs the control period, the model or
+// the other blocks. Raises ScenarioError at the key, in the order the wiring meets them.
+void ReflexEffect::CheckScenario(const Scenario& scenario, const World& world,
+                                 const CpgEffect& cpg, double dt) const {
+  params_.CheckControlPeriod(dt, BlockChecker(scenario));
+  CheckServos(scenario, world);
+  const int legs = static_cast<int>(world.robot().legs.size());
+  const reflex::LoadSharingParams& share = params_.gto.share;
+  if (SharingOn()) {
+    if (legs > reflex::kMaxSharingLegs) {
+      throw ScenarioError(scenario, "reflex.gto.share",
+                          "load sharing takes at most " +
+                              std::to_string(reflex::kMaxSharingLegs) + " legs");
+    }
+    if (share.mode == reflex::SharingMode::kForceTracking) {
+      RequireFrictionalPads(scenario, legs, "reflex.gto.share.mode",
+                            "force_tracking steers directional pads");
+    }
+  }
+  // Checked on the keys, not on whether tracking runs: with spindle and GTO off (bench
+  // robustness's second column) the same file must still load.
+  if (share.min_grip_n > 0.0 && share.mode != reflex::SharingMode::kForceTracking) {
+    throw ScenarioError(scenario, "reflex.gto.share.min_grip_n",
+                        "acts only with reflex.gto.share.mode: force_tracking");
+  }
+  if (params_.PostureOn()) {
+    if (adhesion_ == nullptr) {
+      throw ScenarioError(scenario, "reflex.gto.posture.enabled",
+                          "needs the adhesion block (the pull of the attached pads)");
+    }
+    if (!cpg.foot_space()) {
+      throw ScenarioError(scenario, "reflex.gto.posture.enabled",
+                          "needs a foot-space gait (cpg.stride_m): the crouch moves the feet "
+                          "along the body's normal");
+    }
+  }
+  if (params_.landing.settle_s > 0.0) {
+    if (adhesion_ == nullptr) {
+      throw ScenarioError(scenario, "reflex.landing",
+                          "needs the adhesion block (pads that attach)");
+    }
+    if (params_.landing.drag_n > 0.0) {
+      RequireFrictionalPads(scenario, legs, "reflex.landing.drag_n",
+                            "the drag follows each pad's gripping direction");
+    }
+  }
+}
+
+// Stiffness scheduling (compliance, GTO unloading) scales a position servo's kp: only a
+// servo with gain kp and bias −kp·q can have it.
+void ReflexEffect::CheckServos(const Scenario& scenario, const World& world) const {
+  if (!params_.compliance.enabled && !params_.gto.enabled) return;
+  const mjModel* m = world.model();
+  for (const LegInfo& info : world.robot().legs) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = info.actuator[k];
+      if (m->actuator_biastype[a] != mjBIAS_AFFINE ||
+          m->actuator_biasprm[a * mjNBIAS + 1] != -ServoKp(m, a)) {
+        throw ScenarioError(scenario, "reflex.compliance",
+                            std::string("actuator '") + mj_id2name(m, mjOBJ_ACTUATOR, a) +
+                                "' is not a position servo (gain kp, bias -kp q): its "
+                                "stiffness cannot be scheduled");
+      }
+    }
+  }
+}
+
+// One LegReflex per leg (peel.against_grip signs each leg's peel by its pad), its servos and
+// their kp as compiled.
+void ReflexEffect::BuildLegs(const World& world, double dt) {
+  const reflex::LegReflexParams leg = params_.Leg();
   const mjModel* m = world.model();
   for (size_t i = 0; i < world.robot().legs.size(); ++i) {
     reflex::LegReflexParams own = leg;
-    if (params.peel.against_grip && adhesion_ != nullptr) {
+    if (params_.peel.against_grip && adhesion_ != nullptr) {
       // The release of a directional pad unloads its gripping shear: the foot moves against
       // the pad's gripping direction (pad x runs along the heading on the bundled robots).
       const int pad = adhesion_->pad_of_leg(static_cast<int>(i));
@@ -56,98 +148,40 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     for (int k = 0; k < 3; ++k) {
       a[k] = info.actuator[k];
       kp[k] = ServoKp(m, a[k]);
-      // Only a position servo (gain kp, bias −kp·q) can have its stiffness scaled.
-      if (m->actuator_biastype[a[k]] != mjBIAS_AFFINE ||
-          m->actuator_biasprm[a[k] * mjNBIAS + 1] != -kp[k]) {
-        if (leg.compliance.enabled || leg.gto.enabled) {
-          throw ScenarioError(scenario, "reflex.compliance",
-                              std::string("actuator '") + mj_id2name(m, mjOBJ_ACTUATOR, a[k]) +
-                                  "' is not a position servo (gain kp, bias -kp q): its "
-                                  "stiffness cannot be scheduled");
-        }
-      }
     }
     actuator_.push_back(a);
     kp_.push_back(kp);
   }
   counts_.assign(legs_.size(), {});
-  if (leg.gto.enabled && params.gto.share.gain_per_s > 0.0 && adhesion_ != nullptr) {
-    try {
-      share_every_ = std::max(1, static_cast<int>(std::lround(params.gto.share.period_s / dt)));
-      sharing_.emplace(params.gto.share.Params(), dt * share_every_);
-    } catch (const std::invalid_argument& e) {
-      const std::string msg = e.what();
-      throw ScenarioError(scenario, "reflex.gto.share", msg.substr(msg.find(' ') + 1));
-    }
-    if (legs_.size() > static_cast<size_t>(reflex::kMaxSharingLegs)) {
-      throw ScenarioError(scenario, "reflex.gto.share",
-                          "load sharing takes at most " +
-                              std::to_string(reflex::kMaxSharingLegs) + " legs");
-    }
-    sharing_in_.resize(legs_.size());
-    share_offset_.assign(legs_.size(), {0.0, 0.0, 0.0});
-    unload_.assign(legs_.size(), false);
-    jacp_.assign(3 * m->nv, 0.0);
-    if (sharing_->params().mode == reflex::SharingMode::kForceTracking) {
-      RequireFrictionalPads(scenario, "reflex.gto.share.mode",
-                            "force_tracking steers directional pads");
-      tracking_.resize(legs_.size());
-      grip_share_.resize(legs_.size());
-      grip_target_.assign(legs_.size(), 0.0);
-      // Whether every pad grips along one direction in its own frame (TrackingErrors).
-      const auto law = [&](int leg) -> const adhesion::FrictionalLaw& {
-        return adhesion_->pad(adhesion_->pad_of_leg(leg)).frictional_law();
-      };
-      for (size_t i = 1; i < legs_.size(); ++i) {
-        const adhesion::FrictionalLaw& other = law(static_cast<int>(i));
-        common_grip_ = common_grip_ && other.grip_x() == law(0).grip_x() &&
-                       other.grip_y() == law(0).grip_y();
-      }
-    }
-  }
-  // Checked on the keys, not on whether tracking runs: with spindle and GTO off (bench
-  // robustness's second column) the same file must still load.
-  if (params.gto.share.min_grip_n > 0.0 &&
-      params.gto.share.Params().mode != reflex::SharingMode::kForceTracking) {
-    throw ScenarioError(scenario, "reflex.gto.share.min_grip_n",
-                        "acts only with reflex.gto.share.mode: force_tracking");
-  }
-  if (params.PostureOn()) {
-    if (adhesion_ == nullptr) {
-      throw ScenarioError(scenario, "reflex.gto.posture.enabled",
-                          "needs the adhesion block (the pull of the attached pads)");
-    }
-    if (!cpg.foot_space()) {
-      throw ScenarioError(scenario, "reflex.gto.posture.enabled",
-                          "needs a foot-space gait (cpg.stride_m): the crouch moves the feet "
-                          "along the body's normal");
-    }
-    try {
-      posture_.emplace(params.gto.posture, dt);
-    } catch (const std::invalid_argument& e) {
-      const std::string msg = e.what();
-      throw ScenarioError(scenario, "reflex.gto.posture", msg.substr(msg.find(' ') + 1));
-    }
-    weight_n_ = world.robot().mass_kg * world.gravity().norm();
-  }
-  const LandingKeys& landing = params.landing;
-  if (landing.settle_s > 0.0) {
-    if (adhesion_ == nullptr) {
-      throw ScenarioError(scenario, "reflex.landing", "needs the adhesion block (pads that attach)");
-    }
-    if (landing.drag_n > 0.0) {
-      RequireFrictionalPads(scenario, "reflex.landing.drag_n",
-                            "the drag follows each pad's gripping direction");
-    }
-    landing_.assign(legs_.size(), LandingState{});
-    jacp_.assign(3 * m->nv, 0.0);
+}
+
+// The load sharing, run every share_every_ control periods, and its buffers (sized once);
+// with force tracking, whether every pad grips along one direction in its own frame.
+void ReflexEffect::BuildSharing(const World& world, double dt) {
+  share_every_ = std::max(1, static_cast<int>(std::lround(params_.gto.share.period_s / dt)));
+  sharing_.emplace(params_.gto.share, dt * share_every_);
+  sharing_in_.resize(legs_.size());
+  share_offset_.assign(legs_.size(), {0.0, 0.0, 0.0});
+  unload_.assign(legs_.size(), false);
+  jacp_.assign(3 * world.model()->nv, 0.0);
+  if (sharing_->params().mode != reflex::SharingMode::kForceTracking) return;
+  tracking_.resize(legs_.size());
+  grip_share_.resize(legs_.size());
+  grip_target_.assign(legs_.size(), 0.0);
+  const auto law = [&](int leg) -> const adhesion::FrictionalLaw& {
+    return adhesion_->pad(adhesion_->pad_of_leg(leg)).frictional_law();
+  };
+  for (size_t i = 1; i < legs_.size(); ++i) {
+    const adhesion::FrictionalLaw& other = law(static_cast<int>(i));
+    common_grip_ = common_grip_ && other.grip_x() == law(0).grip_x() &&
+                   other.grip_y() == law(0).grip_y();
   }
 }
 
-void ReflexEffect::RequireFrictionalPads(const Scenario& scenario, const std::string& key,
+void ReflexEffect::RequireFrictionalPads(const Scenario& scenario, int legs, const std::string& key,
                                          const std::string& why) const {
-  for (size_t i = 0; i < legs_.size(); ++i) {
-    const int pad = adhesion_ != nullptr ? adhesion_->pad_of_leg(static_cast<int>(i)) : -1;
+  for (int i = 0; i < legs; ++i) {
+    const int pad = adhesion_ != nullptr ? adhesion_->pad_of_leg(i) : -1;
     if (pad < 0 || adhesion_->pad(pad).params().law != adhesion::PadLaw::kFrictional) {
       throw ScenarioError(scenario, key,
                           "needs adhesion.law: frictional on every leg's pad (" + why + ")");
@@ -233,7 +267,7 @@ void ReflexEffect::TrackingErrors(const World& world) {
   // direction g, its normal n (+ off the surface), its gripping shear F_t = f·g and pull F_n,
   // and the least gripping shear that holds that pull (FrictionalLaw::LeastGripShear).
   const mjData* d = world.data();
-  const LoadSharingKeys& share = params_.gto.share;
+  const reflex::LoadSharingParams& share = params_.gto.share;
   for (size_t i = 0; i < legs_.size(); ++i) {
     reflex::SharingLeg& in = sharing_in_[i];
     TrackedPad& t = tracking_[i];
@@ -262,7 +296,7 @@ void ReflexEffect::TrackingErrors(const World& world) {
     if (!g.shares) t.need = std::max(t.need, 0.0) + kReleaseShearN;
     g.keep_n = g.shares ? t.need : std::min(t.shear, t.need);
   }
-  // Each sharing pad's target: its need plus an equal share of the rest (reflex.h).
+  // Each sharing pad's target: its need plus an equal share of the rest (reflex/load_sharing.h).
   reflex::GripShearTargets(grip_share_.data(), static_cast<int>(legs_.size()), common_grip_,
                            grip_target_.data());
   for (size_t i = 0; i < legs_.size(); ++i) {
@@ -288,7 +322,7 @@ void ReflexEffect::TrackingErrors(const World& world) {
 }
 
 void ReflexEffect::Land(World& world, std::vector<LegSignals>& signals) {
-  const LandingKeys& p = params_.landing;
+  const reflex::LandingParams& p = params_.landing;
   const mjModel* m = world.model();
   const mjData* d = world.data();
   const double period_s = period_steps_ * m->opt.timestep;
@@ -361,74 +395,85 @@ void ReflexEffect::Suspend(World& world, RunContext& ctx) {
   ctx.crouch_m = 0.0;
 }
 
-void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
-  if (ctx.step % period_steps_ != 0) return;
+// Leg i's sensing from its signals (bonds_lost is consumed) and the joints' stretch; the
+// support legs give the partner and support inputs.
+reflex::LegSensing ReflexEffect::SenseLeg(const World& world, std::vector<LegSignals>& signals,
+                                          size_t i) const {
   const mjData* d = world.data();
-  std::vector<LegSignals>& signals = *ctx.legs;
-  bool hold_all = false;
-  for (size_t i = 0; i < legs_.size(); ++i) {
-    LegSignals& s = signals[i];
-    const LegInfo& info = world.robot().legs[i];
-    reflex::LegSensing in;
-    in.stance = s.stance;
-    in.phase_progress = s.progress;
-    in.touching = s.touching;
-    in.attached = s.attached;
-    in.bonded_fraction = s.bonded_fraction;
-    in.normal_load_n = s.normal_load_n;
-    in.preload_n = s.preload_n;
-    in.load_n = s.load_n;
-    in.bonds_lost = s.bonds_lost;
-    s.bonds_lost = false;  // consumed
-    for (int k = 0; k < 3; ++k) {
-      // Stretch: the joint against the CPG's own target (reflex offsets left out, so the
-      // spindle does not chase its own output).
-      in.stretch_rad[k] = d->qpos[info.qpos_adr[k]] - s.cpg_target_rad[k];
-      in.stretch_velocity_rad_per_s[k] = d->qvel[info.dof_adr[k]];
-    }
-    in.partner_attached = true;
-    in.utilisation = s.utilisation;
-    in.support_utilisation = 0.0;
-    for (int j : support_[i]) {
-      in.partner_attached &= signals[j].attached;
-      in.support_utilisation = std::max(in.support_utilisation, signals[j].utilisation);
-    }
+  LegSignals& s = signals[i];
+  const LegInfo& info = world.robot().legs[i];
+  reflex::LegSensing in;
+  in.stance = s.stance;
+  in.phase_progress = s.progress;
+  in.touching = s.touching;
+  in.attached = s.attached;
+  in.bonded_fraction = s.bonded_fraction;
+  in.normal_load_n = s.normal_load_n;
+  in.preload_n = s.preload_n;
+  in.load_n = s.load_n;
+  in.bonds_lost = s.bonds_lost;
+  s.bonds_lost = false;  // consumed
+  for (int k = 0; k < 3; ++k) {
+    // Stretch: the joint against the CPG's own target (reflex offsets left out, so the
+    // spindle does not chase its own output).
+    in.stretch_rad[k] = d->qpos[info.qpos_adr[k]] - s.cpg_target_rad[k];
+    in.stretch_velocity_rad_per_s[k] = d->qvel[info.dof_adr[k]];
+  }
+  in.partner_attached = true;
+  in.utilisation = s.utilisation;
+  in.support_utilisation = 0.0;
+  for (int j : support_[i]) {
+    in.partner_attached &= signals[j].attached;
+    in.support_utilisation = std::max(in.support_utilisation, signals[j].utilisation);
+  }
+  return in;
+}
 
-    const reflex::LegReflexOutput out = legs_[i].Update(in);
-    for (int k = 0; k < 3; ++k) {
-      s.offset_rad[k] = out.target_offset_rad[k];
-      s.kp_fraction[k] = out.kp_fraction[k];
-      SetServoKp(world.model(), actuator_[i][k], kp_[i][k] * out.kp_fraction[k]);
-    }
-    s.hold_stance = out.hold_stance;
-    s.hold_phase = out.hold_phase;
-    if (sharing_) unload_[i] = out.unload_pad;
-    if (adhesion_ != nullptr) {
-      if (out.release_pad) adhesion_->RequestReleaseLeg(static_cast<int>(i));
-      adhesion_->SetDisengagedLeg(static_cast<int>(i), out.disengage_pad);
-    }
-    // While the peel pulls (phase held), a let-go is the peel it meant.
-    if (adhesion_ != nullptr) adhesion_->SetPeelingLeg(static_cast<int>(i), out.hold_phase);
-    hold_all |= out.hold_others;
+// Leg i's answer into its signals, its servos' stiffness and its pad's release and peel state.
+void ReflexEffect::ApplyLeg(World& world, LegSignals& s, size_t i,
+                            const reflex::LegReflexOutput& out) {
+  for (int k = 0; k < 3; ++k) {
+    s.offset_rad[k] = out.target_offset_rad[k];
+    s.kp_fraction[k] = out.kp_fraction[k];
+    SetServoKp(world.model(), actuator_[i][k], kp_[i][k] * out.kp_fraction[k]);
+  }
+  s.hold_stance = out.hold_stance;
+  s.hold_phase = out.hold_phase;
+  if (sharing_) unload_[i] = out.unload_pad;
+  if (adhesion_ != nullptr) {
+    if (out.release_pad) adhesion_->RequestReleaseLeg(static_cast<int>(i));
+    adhesion_->SetDisengagedLeg(static_cast<int>(i), out.disengage_pad);
+  }
+  // While the peel pulls (phase held), a let-go is the peel it meant.
+  if (adhesion_ != nullptr) adhesion_->SetPeelingLeg(static_cast<int>(i), out.hold_phase);
+}
 
-    for (const reflex::LegEvent& e : out.events) {
-      Event row;
-      row.time_s = ctx.time_s;
-      row.pad = event_pad_[i];
-      // EventName/ReasonName return views of string literals: safe to keep as const char*.
-      row.kind = reflex::EventName(e.type).data();
-      row.cause = reflex::ReasonName(e.reason).data();
-      row.bonded_fraction = s.bonded_fraction;
-      row.load[0] = s.normal_load_n;
-      ctx.events->Add(row);
-      ++counts_[i][static_cast<int>(e.type)];
-      if (e.type == reflex::LegEventType::kPeelEnd &&
-          e.reason == reflex::LegEventReason::kTimeLimit && params_.release_failed_peel &&
-          adhesion_ != nullptr) {
-        adhesion_->RequestReleaseLeg(static_cast<int>(i));
-      }
+// One events.csv row per event of leg i, counted; with release_failed_peel a peel out of time
+// lets its pad go.
+void ReflexEffect::LogEvents(RunContext& ctx, const LegSignals& s, size_t i,
+                             const reflex::LegReflexOutput& out) {
+  for (const reflex::LegEvent& e : out.events) {
+    Event row;
+    row.time_s = ctx.time_s;
+    row.pad = event_pad_[i];
+    // EventName/ReasonName return views of string literals: safe to keep as const char*.
+    row.kind = reflex::EventName(e.type).data();
+    row.cause = reflex::ReasonName(e.reason).data();
+    row.bonded_fraction = s.bonded_fraction;
+    row.load[0] = s.normal_load_n;
+    ctx.events->Add(row);
+    ++counts_[i][static_cast<int>(e.type)];
+    if (e.type == reflex::LegEventType::kPeelEnd &&
+        e.reason == reflex::LegEventReason::kTimeLimit && params_.release_failed_peel &&
+        adhesion_ != nullptr) {
+      adhesion_->RequestReleaseLeg(static_cast<int>(i));
     }
   }
+}
+
+// The robot-level channels after every leg's reflexes: load sharing, landing, posture.
+void ReflexEffect::RobotChannels(World& world, RunContext& ctx) {
+  std::vector<LegSignals>& signals = *ctx.legs;
   if (sharing_) {
     // The law runs every share_every_ control periods; its offsets hold in between (a leg
     // whose pad let go drops its own at once).
@@ -448,6 +493,19 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     }
     ctx.crouch_m = posture_->Update(pull_n / weight_n_);
   }
+}
+
+void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
+  if (ctx.step % period_steps_ != 0) return;
+  std::vector<LegSignals>& signals = *ctx.legs;
+  bool hold_all = false;
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    const reflex::LegReflexOutput out = legs_[i].Update(SenseLeg(world, signals, i));
+    ApplyLeg(world, signals[i], i, out);
+    hold_all |= out.hold_others;
+    LogEvents(ctx, signals[i], i, out);
+  }
+  RobotChannels(world, ctx);
   ctx.hold_all_stance = hold_all;
 }
 

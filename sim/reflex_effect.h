@@ -57,8 +57,8 @@ class ReflexEffect final : public Effect {
   std::vector<std::array<int, 3>> actuator_;   // per leg, hip_yaw, hip_pitch, knee servo
   std::vector<std::array<double, 3>> kp_;      // their kp as compiled
   int period_steps_ = 1;
-  // Load sharing (the GTO's robot-level channel, reflex.h): the law, each leg's input, and
-  // the ankle's Jacobian buffer (3 × nv, sized once).
+  // Load sharing (the GTO's robot-level channel, reflex/load_sharing.h): the law, each leg's
+  // input, and the ankle's Jacobian buffer (3 × nv, sized once).
   std::optional<reflex::LoadSharing> sharing_;
   std::vector<reflex::SharingLeg> sharing_in_;
   std::vector<std::array<double, 3>> share_offset_;  // per leg, Δq of the last sharing run
@@ -77,7 +77,7 @@ class ReflexEffect final : public Effect {
   void ShareLoad(World& world, std::vector<LegSignals>& signals);
 
   // Force tracking (reflex.gto.share.mode force_tracking): each attached directional pad's
-  // force error into sharing_in_ (the targets: reflex.h, LoadSharingParams).
+  // force error into sharing_in_ (the targets: reflex/load_sharing.h, GripShearTargets).
   struct TrackedPad {
     Eigen::Vector3d grip, normal, force;  // world; force: what the leg puts on the pad
     double shear = 0.0, pull = 0.0, need = 0.0;  // N: along grip, along normal, least shear
@@ -103,8 +103,24 @@ class ReflexEffect final : public Effect {
   void Land(World& world, std::vector<LegSignals>& signals);
   // Leg i's pad's gripping direction (unit), world frame; its pad is frictional.
   Eigen::Vector3d GripDirectionWorld(const World& world, int leg) const;
-  void RequireFrictionalPads(const Scenario& scenario, const std::string& key,
+  void RequireFrictionalPads(const Scenario& scenario, int legs, const std::string& key,
                              const std::string& why) const;
+
+  // Construction: the checks (ScenarioError at the key), then the wiring.
+  bool SharingOn() const;  // the GTO's load sharing runs (gto on, gain > 0, pads)
+  void CheckScenario(const Scenario& scenario, const World& world, const CpgEffect& cpg,
+                     double dt) const;
+  void CheckServos(const Scenario& scenario, const World& world) const;
+  void BuildLegs(const World& world, double dt);
+  void BuildSharing(const World& world, double dt);
+
+  // One control tick, in BeforeStep's order (nothing allocates).
+  reflex::LegSensing SenseLeg(const World& world, std::vector<LegSignals>& signals,
+                              size_t i) const;
+  void ApplyLeg(World& world, LegSignals& s, size_t i, const reflex::LegReflexOutput& out);
+  void LogEvents(RunContext& ctx, const LegSignals& s, size_t i,
+                 const reflex::LegReflexOutput& out);
+  void RobotChannels(World& world, RunContext& ctx);
 };
 
 }  // namespace climbsim::sim

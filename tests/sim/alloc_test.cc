@@ -66,7 +66,7 @@ TEST(SimulationAllocation, DirectionalGaitAllocatesNothing) {
   const Scenario s = LoadScenario(
       climbsim::testing::Source("examples/gecko_wall_directional.yaml"));
   ASSERT_TRUE(s.reflex.has_value());
-  ASSERT_EQ(s.reflex->gto.share.mode_name, "force_tracking");
+  ASSERT_EQ(s.reflex->gto.share.mode, climbsim::reflex::SharingMode::kForceTracking);
   ASSERT_GT(s.reflex->landing.settle_s, 0.0);
   ExpectStepsAllocateNothing(s, 2000);
 }
@@ -77,7 +77,7 @@ TEST(SimulationAllocation, DirectionalCeilingGaitAllocatesNothing) {
   const Scenario s = LoadScenario(
       climbsim::testing::Source("examples/gecko_ceiling_directional.yaml"));
   ASSERT_TRUE(s.reflex.has_value());
-  ASSERT_EQ(s.reflex->gto.share.mode_name, "force_tracking");
+  ASSERT_EQ(s.reflex->gto.share.mode, climbsim::reflex::SharingMode::kForceTracking);
   ASSERT_GT(s.reflex->gto.share.min_grip_n, 0.0);
   ExpectStepsAllocateNothing(s, 2000);
 }

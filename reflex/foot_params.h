@@ -1,0 +1,217 @@
+// The reflexes that place and release a foot (preload, search, peel, re-grip): their
+// parameters, each struct with its scenario keys (reflex.preload, .search, .peel, .regrip).
+#ifndef CLIMBSIM_REFLEX_FOOT_PARAMS_H_
+#define CLIMBSIM_REFLEX_FOOT_PARAMS_H_
+
+#include "keys/keys.h"
+
+namespace climbsim::reflex {
+
+// ---------------------------------------------------------------------------------------------
+// Leg-level climbing reflexes
+// ---------------------------------------------------------------------------------------------
+
+// Joint indices in every 3-vector of this module.
+enum Joint : int { kHipYaw = 0, kHipPitch = 1, kKnee = 2 };
+inline constexpr int kLegJoints = 3;
+
+// Press on touchdown (and on re-grip) until the pad attaches or a limit is reached.
+// The offset ramps linearly from 1/n_ramp of full at the first period to full after ramp_s.
+struct PreloadParams {
+  bool enabled = true;                // the touchdown preload; re-grip presses even if false
+  double hip_pitch_press_rad = 0.15;  // full press on hip pitch, >= 0, applied as −0.15 rad
+  double knee_press_rad = 0.10;       // full press on the knee, >= 0, applied as −0.10 rad
+  double ramp_s = 0.05;               // time to full press, >= 0 (0: full at once)
+  double force_limit_n = 1.0;         // stop once the compressive preload reaches this, > 0
+  double max_duration_s = 0.2;        // stop after this long, >= one control period
+  // Fade of the press once the preload ends, >= 0 (0: at once). A press dropped at once on an
+  // attach pulls the fresh pad off its surface by kp·press: harmless for a von Mises pad,
+  // whose pull-off is σ_T·A, fatal for a directional one, which holds no pull before its
+  // shear has built.
+  double release_s = 0.0;
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit(
+        {"enabled", "",
+         "press a pad that touched down without attaching until it attaches or a limit is reached"},
+        &enabled);
+    a->Visit(
+        {"hip_pitch_press_rad", "rad", "press on hip pitch at full preload", Range::NonNegative()},
+        &hip_pitch_press_rad);
+    a->Visit({"knee_press_rad", "rad", "press on the knee at full preload", Range::NonNegative()},
+             &knee_press_rad);
+    a->Visit({"ramp_s", "s", "time to full press", Range::NonNegative()}, &ramp_s);
+    a->Visit(
+        {"force_limit_n", "N", "stop once the compressive preload reaches this", Range::Positive()},
+        &force_limit_n);
+    a->Visit({"max_duration_s", "s", "stop after this long", Range::Positive()}, &max_duration_s);
+    a->Visit({"release_s", "s",
+              "fade of the press once the preload ends (0: at once; a directional pad, which "
+              "holds no pull before its shear builds, needs a fade)",
+              Range::NonNegative()},
+             &release_s);
+  }
+};
+
+// Search when a swing ends without touchdown: reach further towards the surface, with a lift
+// in each attempt so that the pad is re-placed rather than dragged. Attempt k = 0..N−1 runs
+// for n_a samples; with s = (sample within the attempt)/n_a ∈ [0, 1) and the reach fraction
+// ρ = (k + s)/N, which grows without jumps from 0 (the first period: no offset) towards 1:
+//   hip_yaw   = +reach_yaw_rad·ρ
+//   hip_pitch = −reach_pitch_rad·ρ + lift_rad·sin(π·s)
+//   knee      = −reach_knee_rad·ρ  + lift_rad·sin(π·s)
+// When the pad touches, the offset reached is held until the swing starts, then released
+// linearly over release_s (as after the last attempt fails).
+struct SearchParams {
+  bool enabled = true;
+  double reach_yaw_rad = 0.10;       // full forward reach, >= 0
+  double reach_pitch_rad = 0.20;     // full extension towards the surface on hip pitch, >= 0
+  double reach_knee_rad = 0.10;      // full extension towards the surface on the knee, >= 0
+  double lift_rad = 0.08;            // peak lift within each attempt, >= 0
+  double attempt_duration_s = 0.15;  // one attempt, >= one control period
+  int max_attempts = 3;              // N >= 1
+  double release_s = 0.1;            // fade of the held offset, >= 0 (0: at once)
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "",
+              "a swing that ends without touching reaches further and places the foot again"},
+             &enabled);
+    a->Visit(
+        {"reach_yaw_rad", "rad", "forward reach on hip yaw at full search", Range::NonNegative()},
+        &reach_yaw_rad);
+    a->Visit({"reach_pitch_rad", "rad", "extension towards the surface on hip pitch",
+              Range::NonNegative()},
+             &reach_pitch_rad);
+    a->Visit({"reach_knee_rad", "rad", "extension towards the surface on the knee",
+              Range::NonNegative()},
+             &reach_knee_rad);
+    a->Visit({"lift_rad", "rad", "lift within each attempt", Range::NonNegative()}, &lift_rad);
+    a->Visit({"attempt_duration_s", "s", "one attempt", Range::Positive()}, &attempt_duration_s);
+    a->Visit({"max_attempts", "", "attempts before giving up", Range::Closed(1, 1000)},
+             &max_attempts);
+    a->Visit({"release_s", "s", "fade of the reach once found, after the next swing starts",
+              Range::NonNegative()},
+             &release_s);
+  }
+};
+
+// Peel at swing onset while still attached. The leg's phase is held at the start of its
+// swing (hold_phase) while the pad holds, and the offsets rise with the smooth step
+// r(t) = 3u² − 2u³, u = min(1, t / ramp_s), t the time since swing onset:
+//   hip_yaw = hip_yaw_rad·r    hip_pitch = +hip_pitch_lift_rad·r    knee = +knee_lift_rad·r
+// A negative hip yaw draws the foot back, so the pad is pulled nearly along the surface from
+// the top of its ankle post: the pull puts a moment on the pad that lifts its front (toe)
+// edge first, the way a gecko peels its toes from the tips (Tian et al. 2006; Autumn et al.
+// 2006 find the release at a critical angle). Over a bonded b×h pad the edge stress is
+// F/(b·h) + 6·M/(b·h²) (docs/design.md §3), so the edge row breaks and the crack runs across the
+// pad at a pull far below the normal pull-off σ_T·b·h (Kendall 1975; `climbsim pulloff`
+// with --arm-m shows it). The peel ends when the pad lets go (peel_end, detached) or after
+// max_duration_s (peel_end, time_limit); the offsets then fade to zero over release_s while
+// the swing goes on. Which edge a pull lifts depends on the robot (mjcf/README.md, "Feet").
+struct PeelParams {
+  bool enabled = true;
+  double hip_yaw_rad = -0.2;         // signed: negative draws the foot back, the pull that peels
+  double hip_pitch_lift_rad = 0.05;  // lift at full peel, >= 0
+  double knee_lift_rad = 0.05;       // knee flexion at full peel, >= 0
+  double ramp_s = 0.2;               // time to full peel (smooth step), > 0
+  double max_duration_s = 0.6;       // give up (peel_end, time_limit), >= one control period
+  double release_s = 0.1;            // fade of the offsets once the peel ends, >= 0
+  // A foot with an ACTIVE RELEASE (a toe-peeling tendon as on Stickybot, a membrane that
+  // buckles the adhesive): the pad is let go by its own mechanism, not torn by the leg. While
+  // the peel holds the phase, the leg asks the other pads to take its pad's load
+  // (LegReflexOutput::unload_pad, for the load sharing), and lets the pad go
+  // (release_pad) once the force on it is at most release_load_n, or when max_duration_s is
+  // up. Released unloaded, the pad drops little load on the others at once; a torn pad drops
+  // the pull that peels it, its whole capacity.
+  bool active_release = false;
+  double release_load_n = 0.1;  // >= 0
+  // Directional pads: the simulator signs hip_yaw_rad per leg against its pad's gripping
+  // direction (sim/reflex_effect.cc); the leg itself uses hip_yaw_rad as given.
+  bool against_grip = false;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"enabled", "",
+              "at swing onset, draw an attached foot back and up until the pad peels, the leg's "
+              "phase held"},
+             &enabled);
+    a->Visit({"hip_yaw_rad", "rad", "hip yaw at full peel (negative draws the foot back)"},
+             &hip_yaw_rad);
+    a->Visit({"hip_pitch_lift_rad", "rad", "hip pitch lift at full peel", Range::NonNegative()},
+             &hip_pitch_lift_rad);
+    a->Visit({"knee_lift_rad", "rad", "knee lift at full peel", Range::NonNegative()},
+             &knee_lift_rad);
+    a->Visit({"ramp_s", "s", "time to full peel (smooth step)", Range::Positive()}, &ramp_s);
+    a->Visit({"max_duration_s", "s", "give up after this long", Range::Positive()},
+             &max_duration_s);
+    a->Visit({"release_s", "s", "fade of the peel offsets after it ends", Range::NonNegative()},
+             &release_s);
+    a->Visit({"active_release", "",
+              "the foot has an active release (a toe-peeling tendon, a buckling membrane): the "
+              "other legs first take the pad's load (load sharing), then the pad is let go "
+              "(detach cause released) instead of being torn by the leg's pull"},
+             &active_release);
+    a->Visit({"release_load_n", "N",
+              "active release: let the pad go once the force on it is at most this (or at "
+              "max_duration_s)",
+              Range::NonNegative()},
+             &release_load_n);
+    a->Visit({"against_grip", "",
+              "directional pads (adhesion.law frictional): the hip yaw moves each foot against "
+              "its pad's gripping direction, |hip_yaw_rad| forward for a pad gripping back (-x) "
+              "and back for one gripping forward, so the release unloads the gripping shear"},
+             &against_grip);
+  }
+};
+
+// Re-grip: a pad that loses bonds during stance while it was attached (it should be holding)
+// is pressed again with the preload profile (PreloadParams, even if preload.enabled is false),
+// and the other legs are asked to stay in stance for hold_others_s.
+// A pad that lets go ENTIRELY in stance (bonds all lost: overload, a failure) cannot attach
+// again by being pressed: adhesion asks for a new touchdown (adhesion/README.md, "Attachment").
+// So the re-grip then re-places the foot: a lift of lift_rad on hip pitch and knee,
+// lift·sin²(π·s) over replace_s (s from 0 to 1), holding the leg in stance; the foot that
+// comes down touches down again and the touchdown preload attaches it.
+// The same re-place serves a foot that touched down in stance and has not attached
+// replace_after_s later (its landing was rejected: on an edge, too fast): adhesion would not
+// try again before the pad leaves the surface.
+struct RegripParams {
+  bool enabled = true;
+  double hold_others_s = 0.2;  // how long hold_others stays raised, >= 0
+  double lift_rad = 0.08;      // re-place lift on hip pitch and knee, >= 0 (0: press only)
+  double replace_s = 0.25;     // duration of the re-place, >= one control period
+  double replace_after_s = 0.3;  // a touch without attach this long is re-placed, >= 0
+                                 // (0: never)
+  double shift_rad = 0.05;  // a re-placed rejected landing moves this much along hip yaw,
+                            // ahead and behind in turn, >= 0 (see LegReflex::Regrip)
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit(
+        {"enabled", "",
+         "a pad that loses bonds during stance is pressed again and the other legs hold stance"},
+        &enabled);
+    a->Visit({"hold_others_s", "s", "how long the other legs hold stance", Range::NonNegative()},
+             &hold_others_s);
+    a->Visit({"lift_rad", "rad",
+              "a pad that let go entirely is re-placed: lift on hip pitch and knee (it can attach "
+              "again only at a new touchdown); 0 = press only",
+              Range::NonNegative()},
+             &lift_rad);
+    a->Visit({"replace_s", "s", "duration of the re-place (lift and put down)", Range::Positive()},
+             &replace_s);
+    a->Visit({"replace_after_s", "s",
+              "a foot that touched down in stance and has not attached this long (a rejected "
+              "landing) is re-placed too; 0 = never",
+              Range::NonNegative()},
+             &replace_after_s);
+    a->Visit({"shift_rad", "rad",
+              "each re-place of a rejected landing in one stance lands the foot this much "
+              "further along hip yaw, ahead and behind in turn",
+              Range::NonNegative()},
+             &shift_rad);
+  }
+};
+
+}  // namespace climbsim::reflex
+
+#endif  // CLIMBSIM_REFLEX_FOOT_PARAMS_H_
