@@ -35,7 +35,7 @@ TEST(SweepRefused, AValueAnotherModuleRefusesIsBadInputNamingTheValueAndTheKey) 
                                          "0.0009999", "--threads", threads, "--out", out});
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_TRUE(Has(r.err, "physics.timestep_s = 1e-07 gives an invalid scenario")) << r.err;
-    EXPECT_TRUE(Has(r.err, "reflex.gto.hold.delay_s")) << r.err;
+    EXPECT_TRUE(Has(r.err, "reflex.gto.hold_delay_s")) << r.err;
     EXPECT_FALSE(std::filesystem::exists(out));
     if (first.empty()) first = r.err;
     EXPECT_EQ(r.err, first);
