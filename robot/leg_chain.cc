@@ -69,15 +69,6 @@ int RoleOf(const LegInfo& info, int j) {
   return role;
 }
 
-// How many box geoms body b holds (a pad body holds exactly one: adhesion::ReadPadGeometry).
-int Boxes(const mjModel* m, int b) {
-  int boxes = 0;
-  for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
-    if (m->geom_type[g] == mjGEOM_BOX) ++boxes;
-  }
-  return boxes;
-}
-
 }  // namespace
 
 std::string LegChain::Problem(const mjModel* m, const RobotInfo& robot, int leg) {
@@ -107,14 +98,8 @@ std::string LegChain::Problem(const mjModel* m, const RobotInfo& robot, int leg)
   if (m->site_bodyid[info.ankle_site] != info.pad_body) {
     return "leg " + info.name + ": its ankle site must be in the pad body";
   }
-  if (const int boxes = Boxes(m, info.pad_body); boxes != 1) {
-    // adhesion::ReadPadGeometry's words, which the constructor would otherwise throw.
-    const char* name = mj_id2name(m, mjOBJ_BODY, info.pad_body);
-    const std::string body = name != nullptr ? name : "#" + std::to_string(info.pad_body);
-    return "pad body '" + body + "' must hold exactly one box geom, has " +
-           std::to_string(boxes);
-  }
-  return "";
+  // The pad's own check ("" when it holds), which adhesion::ReadPadGeometry would throw.
+  return adhesion::PadGeometryProblem(m, info.pad_body);
 }
 
 LegChain::LegChain(const mjModel* m, const RobotInfo& robot, int leg) {
