@@ -18,6 +18,7 @@ packages=(
   libpagmo-dev                 # CMA-ES for climbsim optimise
   libopenmpi-dev openmpi-bin   # mpirun -np N climbsim optimise|sweep (optional: CLIMBSIM_MPI)
   universal-ctags              # scripts/house_check.sh: the length of every function
+  libtinyxml2-dev              # robot/: the generated robot models, built as an XML DOM
 )
 
 missing=()
