@@ -3,6 +3,7 @@
 // contract of mjcf/README.md.
 #include "robot/generate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -75,24 +76,86 @@ Plan MakePlan(const RobotDesign& d) {
   return p;
 }
 
+namespace {
+
+// A pad's footprint in the base frame: centre, half side, angle about z.
+struct Footprint {
+  double x, y, half, angle;
+};
+
+// Where leg's pad lies with its hip yaw at yaw_rad (all other joints 0): the leg's plane turns
+// about the hip axis; the pad turns with it (its frame cancels the splay).
+Footprint PadAt(const RobotDesign& d, const Leg& leg, double yaw_rad) {
+  const double reach = d.legs.coxa_m + d.legs.femur_m - d.legs.tibia_inset_m;
+  const double turn = -leg.side * yaw_rad, psi = leg.yaw_rad + turn;
+  return {leg.hip_x_m - leg.side * reach * std::sin(psi),
+          leg.side * (d.body.hip_y_m + reach * std::cos(psi)), d.pads.size_m / 2, turn};
+}
+
+// The gap between two squares (separating-axis test on their edges' normals); < 0: overlap.
+double Gap(const Footprint& a, const Footprint& b) {
+  double gap = -1e300;
+  for (const double axis : {a.angle, a.angle + M_PI / 2, b.angle, b.angle + M_PI / 2}) {
+    const double ux = std::cos(axis), uy = std::sin(axis);
+    double extent = 0;
+    for (const Footprint& f : {a, b})
+      extent += f.half * (std::abs(std::cos(f.angle - axis)) + std::abs(std::sin(f.angle - axis)));
+    gap = std::max(gap, std::abs((a.x - b.x) * ux + (a.y - b.y) * uy) - extent);
+  }
+  return gap;
+}
+
+// Robot geoms never collide with each other, so pads must not meet: none overlapping in qpos0,
+// nor neighbours on a side swung towards each other by the gait's 0.4 rad of hip yaw. (The
+// presets keep 5 mm there, the contract's margin; a design may come closer.)
+void CheckPads(const Plan& p) {
+  const RobotDesign& d = *p.design;
+  const std::vector<Leg>& legs = p.legs;
+  for (size_t i = 0; i < legs.size(); ++i)
+    for (size_t j = i + 1; j < legs.size(); ++j)
+      if (Gap(PadAt(d, legs[i], 0), PadAt(d, legs[j], 0)) < 0)
+        throw std::invalid_argument("robot.pads.size_m: the pads of " + legs[i].name + " and " +
+                                    legs[j].name + " overlap in the neutral pose (pad side " +
+                                    MjcfNumber(d.pads.size_m) + " m)");
+  // Legs are listed front to back per side: a leg's neighbour is the next one on its side.
+  for (size_t i = 0; i < legs.size(); ++i) {
+    size_t j = i + 1;
+    while (j < legs.size() && legs[j].side != legs[i].side) ++j;
+    if (j == legs.size()) continue;
+    const double gap = Gap(PadAt(d, legs[i], -kGaitYaw_rad), PadAt(d, legs[j], kGaitYaw_rad));
+    if (gap < 0)
+      throw std::invalid_argument(
+          "robot.body.hip_x_m: the pads of " + legs[i].name + " and " + legs[j].name +
+          " overlap by " + MjcfNumber(std::round(-gap * 1e5) / 1e2) +
+          " mm at 0.4 rad of hip yaw: move the hips apart, or shorten the legs (legs.coxa_m, "
+          "legs.femur_m) or the pads (pads.size_m)");
+  }
+}
+
+void CheckRange(const std::string& key, const std::vector<double>& range) {
+  if (!(range[0] < 0 && 0 < range[1]))
+    throw std::invalid_argument("robot." + key + ": [" + MjcfNumbers({range[0], range[1]}) +
+                                "] must hold 0, the neutral pose, inside its ends");
+}
+
+}  // namespace
+
 void CheckGeometry(const Plan& p) {
   const RobotDesign& d = *p.design;
   if (d.feet.post_m <= d.pads.thickness_m)
     throw std::invalid_argument("robot.feet.post_m: the post (" + MjcfNumber(d.feet.post_m) +
                                 " m) must be longer than the pad is thick (" +
                                 MjcfNumber(d.pads.thickness_m) + " m)");
-  const double reach = d.legs.coxa_m + d.legs.femur_m - d.legs.tibia_inset_m;
-  std::vector<std::pair<double, double>> pads;
-  for (const Leg& leg : p.legs)
-    pads.emplace_back(leg.hip_x_m - leg.side * reach * std::sin(leg.yaw_rad),
-                      leg.side * (d.body.hip_y_m + reach * std::cos(leg.yaw_rad)));
-  for (size_t i = 0; i < pads.size(); ++i)
-    for (size_t j = i + 1; j < pads.size(); ++j)
-      if (std::abs(pads[i].first - pads[j].first) < d.pads.size_m &&
-          std::abs(pads[i].second - pads[j].second) < d.pads.size_m)
-        throw std::invalid_argument("robot.pads.size_m: the pads of " + p.legs[i].name + " and " +
-                                    p.legs[j].name + " overlap in the neutral pose (pad side " +
-                                    MjcfNumber(d.pads.size_m) + " m)");
+  const double belly = p.base_z_m - d.body.height_m / 2;
+  if (belly < 2 * kPadGap_m)
+    throw std::invalid_argument(
+        "robot.legs.tibia_m: the body's underside would stand " + MjcfNumber(belly * 1e3) +
+        " mm above the surface (1 mm needed): the tibia's drop less the femur's rise plus the "
+        "post must exceed half the body's height");
+  CheckRange("legs.hip_yaw_range_rad", d.legs.hip_yaw_range_rad);
+  CheckRange("legs.hip_pitch_range_rad", d.legs.hip_pitch_range_rad);
+  CheckRange("legs.knee_range_rad", d.legs.knee_range_rad);
+  CheckPads(p);
 }
 
 tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
@@ -107,8 +170,7 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
               {"rgba", p.palette.body}});
   AddElement(top, "joint", {{"type", "hinge"}, {"limited", "true"}});
   AddElement(top, "site", {{"group", "3"}, {"size", "0.002"}});
-  AddServoClass(top, p.prefix + "_hip_yaw", "servos.hip_yaw", *p.hip_yaw,
-                d.legs.hip_yaw_range_rad);
+  AddServoClass(top, p.prefix + "_hip_yaw", "servos.hip_yaw", *p.hip_yaw, d.legs.hip_yaw_range_rad);
   AddServoClass(top, p.prefix + "_hip_pitch", "servos.hip_pitch", *p.hip_pitch,
                 d.legs.hip_pitch_range_rad);
   AddServoClass(top, p.prefix + "_knee", "servos.knee", *p.knee, d.legs.knee_range_rad);
@@ -124,8 +186,9 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
               {"range", MjcfNumbers({-ankle, ankle})}});
   AddElement(AddElement(top, "default", {{"class", p.prefix + "_link"}}), "geom",
              {{"type", "capsule"}, {"rgba", p.palette.link}});
-  AddComment(top, {"The foot post from the ankle down to the pad (feet.post_m), the lever that peels",
-                   "the pad (mjcf/README.md, \"Feet\"). Visual only: the pad geom carries the mass."});
+  AddComment(top,
+             {"The foot post from the ankle down to the pad (feet.post_m), the lever that peels",
+              "the pad (mjcf/README.md, \"Feet\"). Visual only: the pad geom carries the mass."});
   AddElement(AddElement(top, "default", {{"class", p.prefix + "_post"}}), "geom",
              {{"type", "capsule"},
               {"size", MjcfNumber(d.feet.post_radius_m)},
@@ -134,8 +197,9 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
               {"conaffinity", "0"},
               {"group", "1"},
               {"rgba", "0.3 0.3 0.32 1"}});
-  AddComment(top, {"Dry-adhesive pad, polymer on a hard surface. priority 1 makes MuJoCo take friction,",
-                   "solref and solimp of a pad contact from the pad alone."});
+  AddComment(top,
+             {"Dry-adhesive pad, polymer on a hard surface. priority 1 makes MuJoCo take friction,",
+              "solref and solimp of a pad contact from the pad alone."});
   tinyxml2::XMLElement* pad = AddElement(top, "default", {{"class", p.prefix + "_pad"}});
   const double half = d.pads.size_m / 2;
   const std::vector<double>&f = d.pads.friction, &r = d.pads.solref, &i = d.pads.solimp;
@@ -180,11 +244,14 @@ std::string ReadmeSection(const std::string& preset) {
 // line for line but for the lines that differ (MjcfVariants.ActiveFeetDifferOnlyInTheFeet).
 std::string Header(const RobotDesign& d) {
   return "\n"
-         "  Generated by `climbsim model` from a robot design (robot/README.md): change the design\n"
+         "  Generated by `climbsim model` from a robot design (robot/README.md): change the "
+         "design\n"
          "  and generate again rather than edit this file. mjcf/README.md explains the numbers.\n"
-         "  The design: the preset " + d.preset + " and its keys (mjcf/README.md, \"" +
-         ReadmeSection(d.preset) + "\").\n"
-         "  Frames: base x forward, y left, z up. In qpos0 (all joint angles 0) the robot stands in\n"
+         "  The design: the preset " +
+         d.preset + " and its keys (mjcf/README.md, \"" + ReadmeSection(d.preset) +
+         "\").\n"
+         "  Frames: base x forward, y left, z up. In qpos0 (all joint angles 0) the robot stands "
+         "in\n"
          "  its neutral pose with the pad faces 0.5 mm above the plane z = 0.\n"
          "  Sign convention, the same for every leg (axes are mirrored on the right side):\n"
          "    L_hip_yaw   > 0 swings the pad forward (+x of the base)\n"

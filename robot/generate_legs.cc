@@ -154,8 +154,8 @@ void AddLeg(const Plan& p, const Leg& leg, XMLElement* base) {
   const RobotDesign& d = *p.design;
   const LegsDesign& l = d.legs;
   const char* place = leg.hip_x_m > 0 ? "front" : leg.hip_x_m < 0 ? "hind" : "middle";
-  AddComment(base, {"===================== " + leg.name + ": " + (leg.side > 0 ? "left " : "right ") +
-                    place + " ====================="});
+  AddComment(base, {"===================== " + leg.name + ": " +
+                    (leg.side > 0 ? "left " : "right ") + place + " ====================="});
   XMLElement* coxa =
       AddElement(base, "body",
                  {{"name", leg.name + "_coxa"},

@@ -32,7 +32,8 @@ tinyxml2::XMLElement* InsertElementAfter(tinyxml2::XMLElement* sibling, const ch
 // under the first where the file prints it.
 void AddComment(tinyxml2::XMLElement* parent, std::initializer_list<std::string> lines);
 // The first descendant element of root with this tag and name="..."; nullptr when none.
-tinyxml2::XMLElement* FindNamed(tinyxml2::XMLElement* root, const char* tag, const std::string& name);
+tinyxml2::XMLElement* FindNamed(tinyxml2::XMLElement* root, const char* tag,
+                                const std::string& name);
 
 // The document as a file people read: two spaces per level, attributes wrapped at 100 columns
 // under the first one, a blank line between the top-level sections and before each comment

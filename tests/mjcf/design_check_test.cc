@@ -48,14 +48,53 @@ TEST(DesignCheck, PostShorterThanThePadIsRefused) {
 }
 
 // Gecko pads sit 0.09 m apart along x (hips at +-0.045): a 0.09 m pad would touch its
-// neighbour, 0.089 m does not.
+// neighbour in the neutral pose.
 TEST(DesignCheck, OverlappingPadsAreRefused) {
   RobotDesign d = PresetDesign("gecko");
   d.pads.size_m = 0.0901;
   EXPECT_EQ(Refusal(d).rfind("robot.pads.size_m: the pads of LF and LH overlap", 0), 0u)
       << Refusal(d);
-  d.pads.size_m = 0.089;
+}
+
+// Swung towards each other by 0.4 rad of hip yaw, the gecko's LF and LH pads (reach r = coxa +
+// femur - inset = 0.05632 m) have centres 0.09 - 2 r sin 0.4 = 0.046136 m apart, each square
+// turned 0.4 rad; on a pad's own edge normal the gap is 0.046136 cos 0.4 - s/2 (1 + cos 0.8 +
+// sin 0.8) = 0.042494 - 1.207031 s: 0.25 mm for s = 35 mm, -0.11 mm for 35.3 mm.
+TEST(DesignCheck, PadsMeetingAtTheGaitsHipYawAreRefused) {
+  RobotDesign d = PresetDesign("gecko");
+  d.pads.size_m = 0.035;
   EXPECT_EQ(Refusal(d), "");
+  d.pads.size_m = 0.0353;
+  EXPECT_EQ(Refusal(d).rfind("robot.body.hip_x_m: the pads of LF and LH overlap by 0.11 mm", 0), 0u)
+      << Refusal(d);
+  // A 0.09 m femur overlaps by 9.2 mm with the hips 0.09 m apart, clears by 9.2 mm at 0.11 m.
+  d = PresetDesign("gecko");
+  d.legs.femur_m = 0.09;
+  EXPECT_EQ(Refusal(d).rfind("robot.body.hip_x_m: the pads of LF and LH overlap by 9.2 mm", 0), 0u)
+      << Refusal(d);
+  d.body.hip_x_m = 0.055;
+  EXPECT_EQ(Refusal(d), "");
+}
+
+// The gecko's plate (10 mm thick) is 0.05509 - 0.005 = 50.09 mm above the surface; a femur
+// rising 49.1 mm leaves 0.99 mm, 49 mm leaves 1.09 mm.
+TEST(DesignCheck, BodyOnTheSurfaceIsRefused) {
+  RobotDesign d = PresetDesign("gecko");
+  d.legs.femur_rise_m = 0.0491;
+  EXPECT_EQ(Refusal(d).rfind("robot.legs.tibia_m: the body's underside would stand 0.99 mm", 0), 0u)
+      << Refusal(d);
+  d.legs.femur_rise_m = 0.049;
+  EXPECT_EQ(Refusal(d), "");
+}
+
+TEST(DesignCheck, JointRangeWithoutTheNeutralPoseIsRefused) {
+  RobotDesign d = PresetDesign("spider");
+  d.legs.knee_range_rad = {0.1, 1.2};
+  EXPECT_EQ(Refusal(d),
+            "robot.legs.knee_range_rad: [0.1 1.2] must hold 0, the neutral pose, "
+            "inside its ends");
+  d.legs.knee_range_rad = {1.0, -1.0};
+  EXPECT_EQ(Refusal(d).rfind("robot.legs.knee_range_rad:", 0), 0u) << Refusal(d);
 }
 
 TEST(DesignCheck, LegCountIsFourOrSix) {
