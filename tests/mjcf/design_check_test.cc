@@ -2,11 +2,15 @@
 // values inside their keys' ranges, and a key change reaching the generated text.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstdlib>
+#include <random>
 #include <stdexcept>
 #include <string>
 
 #include "keys/keys.h"
 #include "robot/design.h"
+#include "robot/mjcf_dom.h"
 
 namespace climbsim::sim {
 namespace {
@@ -109,6 +113,36 @@ TEST(DesignCheck, AKeyChangesTheGeneratedRobot) {
   const std::string text = GenerateRobotMjcf(d);
   EXPECT_NE(text.find("<body name=\"LF_tibia\" pos=\"0 0.072 0\">"), std::string::npos) << text;
   EXPECT_EQ(GenerateRobotMjcf(PresetDesign("gecko")).find("0.072"), std::string::npos);
+}
+
+// Numbers in the files people read: plain unless the exponent form is 3+ characters shorter,
+// sums rounded back to the drawing's figures.
+TEST(MjcfNumber, PlainFormUnlessMuchLonger) {
+  EXPECT_EQ(MjcfNumber(0.0002), "0.0002");
+  EXPECT_EQ(MjcfNumber(0.00025), "0.00025");
+  EXPECT_EQ(MjcfNumber(3e-5), "3e-5");
+  EXPECT_EQ(MjcfNumber(1e-6), "1e-6");
+  EXPECT_EQ(MjcfNumber(-1.5e-7), "-1.5e-7");
+  EXPECT_EQ(MjcfNumber(20000), "20000");
+  EXPECT_EQ(MjcfNumber(2e6), "2e6");
+  EXPECT_EQ(MjcfNumber(1e22), "1e22");
+  EXPECT_EQ(MjcfNumber(-0.0), "0");
+  EXPECT_EQ(MjcfNumber(0.03759 + 0.017 + 0.0005), "0.05509");
+}
+
+// Every value with at most 12 significant digits reads back as the same double.
+TEST(MjcfNumber, ReadsBackAsTheSameDouble) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> mantissa(1.0, 10.0);
+  std::uniform_int_distribution<int> exponent(-12, 8), digits(1, 12);
+  for (int i = 0; i < 20000; ++i) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*ge%d", digits(random) - 1, mantissa(random),
+                  exponent(random));
+    const double v = std::strtod(text, nullptr);
+    ASSERT_EQ(std::strtod(MjcfNumber(v).c_str(), nullptr), v) << text << " -> " << MjcfNumber(v);
+    ASSERT_EQ(std::strtod(MjcfNumber(-v).c_str(), nullptr), -v) << text;
+  }
 }
 
 }  // namespace
