@@ -57,6 +57,17 @@ void AddServoClass(tinyxml2::XMLElement* parent, const std::string& name, const 
               {"ctrlrange", r}});
 }
 
+// What the foot post is for: a peel lever, or (an active-release foot) only the ankle's height.
+void AddPostComment(tinyxml2::XMLElement* parent, const FeetDesign& feet) {
+  const bool peel = feet.release == "peel";
+  AddComment(
+      parent,
+      {std::string("The foot post, ankle to pad (feet.post_m): ") +
+           (peel ? "the lever that peels the pad" : "short, a toe tendon releases the pad"),
+       std::string("(mjcf/README.md, ") + (peel ? "\"Feet\"" : "\"Active-release feet\"") + ").",
+       "Visual only: the pad geom carries the mass."});
+}
+
 }  // namespace
 
 Plan MakePlan(const RobotDesign& d) {
@@ -186,9 +197,7 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
               {"range", MjcfNumbers({-ankle, ankle})}});
   AddElement(AddElement(top, "default", {{"class", p.prefix + "_link"}}), "geom",
              {{"type", "capsule"}, {"rgba", p.palette.link}});
-  AddComment(top,
-             {"The foot post from the ankle down to the pad (feet.post_m), the lever that peels",
-              "the pad (mjcf/README.md, \"Feet\"). Visual only: the pad geom carries the mass."});
+  AddPostComment(top, d.feet);
   AddElement(AddElement(top, "default", {{"class", p.prefix + "_post"}}), "geom",
              {{"type", "capsule"},
               {"size", MjcfNumber(d.feet.post_radius_m)},
