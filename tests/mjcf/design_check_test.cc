@@ -7,6 +7,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "keys/keys.h"
 #include "robot/design.h"
@@ -113,6 +114,23 @@ TEST(DesignCheck, AKeyChangesTheGeneratedRobot) {
   const std::string text = GenerateRobotMjcf(d);
   EXPECT_NE(text.find("<body name=\"LF_tibia\" pos=\"0 0.072 0\">"), std::string::npos) << text;
   EXPECT_EQ(GenerateRobotMjcf(PresetDesign("gecko")).find("0.072"), std::string::npos);
+  // The header names the changed key; a preset's names none.
+  EXPECT_NE(text.find("  Keys changed from the preset: legs.femur_m 0.072.\n"), std::string::npos);
+  EXPECT_EQ(GenerateRobotMjcf(PresetDesign("gecko")).find("Keys changed"), std::string::npos);
+}
+
+// The keys where a design differs from its preset, in declaration order.
+TEST(DesignCheck, ChangedKeysListsWhatDiffersFromThePreset) {
+  for (const std::string& name : PresetNames())
+    EXPECT_EQ(ChangedKeys(PresetDesign(name)), std::vector<std::string>{}) << name;
+  RobotDesign d = PresetDesign("spider");
+  d.pads.size_m = 0.03;
+  d.legs.knee_range_rad[1] = 1.1;
+  d.servos.knee = "hs82mg";
+  d.feet.release = "active";
+  EXPECT_EQ(ChangedKeys(d),
+            (std::vector<std::string>{"legs.knee_range_rad[1] 1.1", "pads.size_m 0.03",
+                                      "feet.release active", "servos.knee hs82mg"}));
 }
 
 // Numbers in the files people read: plain unless the exponent form is 3+ characters shorter,
