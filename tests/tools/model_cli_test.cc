@@ -59,20 +59,20 @@ TEST(ModelCli, WritesTheRobotAloneWithItsMassAndServos) {
   EXPECT_GT(LoadedMass(scene), 0);
 }
 
-TEST(ModelCli, ADesignChangesTheMassPrinted) {
+TEST(ModelCli, ADesignsMassIsItsParts) {
   const std::string plain = TempDir() + "/model_plain.xml";
   const std::string tail = TempDir() + "/model_tail.xml";
   const std::string scenario = WriteFile(
       "model_tail.yaml",
-      "robot: {preset: gecko, tail: {length_m: 0.1, mass_kg: 0.01}}\nscene: wall\n"
+      "robot: {preset: gecko, legs: {femur_mass_kg: 0.0035}}\nscene: wall\n"
       "duration_s: 1\n");
   const CliResult a = RunClimbsimArgs({"model", Source("examples/gecko_wall.yaml"), "--out", plain});
   const CliResult b = RunClimbsimArgs({"model", scenario, "--out", tail});
   ASSERT_EQ(a.code, 0) << a.err;
   ASSERT_EQ(b.code, 0) << b.err;
   EXPECT_TRUE(Has(b.out, "(a design)")) << b.out;
-  // The tail adds its rod and its servo: at least the rod's 10 g.
-  EXPECT_GE(LoadedMass(tail) - LoadedMass(plain), 0.01 - 1e-9);
+  // Four femurs 2 g heavier than the preset's 1.5 g.
+  EXPECT_NEAR(LoadedMass(tail) - LoadedMass(plain), 4 * 0.002, 1e-9);
   EXPECT_NEAR(PrintedMass(b.out), LoadedMass(tail), 6e-5) << b.out;
 }
 
