@@ -95,6 +95,23 @@ TEST(ModelCli, ReplacesItsOwnFileOnlyWhileUnedited) {
   EXPECT_EQ(ReadFile(foreign), "<mujoco/>\n");
 }
 
+// In a run folder the file is recorded as climbsim's: the run's --force takes it.
+TEST(ModelCli, AFileInARunFolderIsRecordedAsClimbsims) {
+  const std::string run = TempDir() + "/model_run";
+  const std::string scenario =
+      WriteFile("model_run.yaml", "robot: gecko\nscene: floor\nduration_s: 0.05\n");
+  ASSERT_EQ(RunClimbsimArgs({"simulate", scenario, "--out", run, "--quiet"}).code, 0);
+  const std::vector<std::string> model = {"model", scenario, "--out", run + "/robot.xml"};
+  ASSERT_EQ(RunClimbsimArgs(model).code, 0);
+  ASSERT_EQ(RunClimbsimArgs(model).code, 0);
+  EXPECT_TRUE(Has(ReadFile(run + "/.climbsim-run"), "robot.xml"));
+  const CliResult again =
+      RunClimbsimArgs({"simulate", scenario, "--out", run, "--quiet", "--force"});
+  EXPECT_EQ(again.code, 0) << again.err;
+  // Never over a run's data.
+  EXPECT_EQ(RunClimbsimArgs({"model", scenario, "--out", run + "/model.xml"}).code, 2);
+}
+
 TEST(ModelCli, ABadDesignIsBadInputAtItsLine) {
   const std::string scenario = WriteFile(
       "model_bad.yaml", "robot:\n  preset: gecko\n  tail: {length_m: 9}\nscene: wall\n"
