@@ -114,6 +114,8 @@ void RunModel(const std::string& scenario_path, const std::string& out, bool sce
   } else {
     body = sim::RobotMjcf(s);
   }
+  const std::filesystem::path folder = std::filesystem::absolute(out).parent_path();
+  std::filesystem::create_directories(folder);  // as the run folders' verbs make theirs
   common::WriteFileAtomic(out, WithHeader(body, scenario_path));
   if (additions) additions->Commit();
   std::printf("climbsim model: %s%s\n", s.robot.c_str(), s.robot_design ? " (a design)" : "");
