@@ -54,6 +54,15 @@ void BM_BuildVersusRollout(benchmark::State& state) {
 
 BENCHMARK(BM_BuildVersusRollout)->Unit(benchmark::kMillisecond)->Iterations(20);
 
+// The generator alone (the model cache's key for a preset or a design is the composed text,
+// so each rollout of sweep or optimise pays this much even when its model is cached).
+void BM_GenerateOnly(benchmark::State& state) {
+  const Scenario s = WallDesign();
+  for (auto _ : state) benchmark::DoNotOptimize(RobotMjcf(s).size());
+}
+
+BENCHMARK(BM_GenerateOnly)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace climbsim::sim
 
