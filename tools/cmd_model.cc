@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "common/common.h"
@@ -49,27 +50,32 @@ bool MadeByModel(const std::string& path) {
   return at != std::string::npos && first.compare(at + 8, 16, HashText(s.substr(eol + 1))) == 0;
 }
 
-// Refuses what CheckFileOutput refuses, except an earlier output of this verb.
-void CheckModelOutput(const std::string& out) {
+// Refuses what CheckFileOutput refuses (through RunFolderAdditions, which records the file
+// in a run folder's marker when --out lies in one), except an earlier output of this verb,
+// which it may replace (`additions` stays empty then).
+void CheckModelOutput(const std::string& out,
+                      std::optional<sim::RunFolderAdditions>* additions) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  const bool ours = fs::is_regular_file(fs::symlink_status(out, ec)) && MadeByModel(out);
-  if (!ours) {
-    if (fs::exists(fs::symlink_status(out, ec)) && !fs::is_directory(out, ec)) {
-      throw InputError(out, 0, 0, "--out",
-                       "exists, and is not a file climbsim model wrote (or it was edited since): "
-                       "climbsim never overwrites a file it did not make; remove it or give "
-                       "another name");
+  if (fs::is_regular_file(fs::symlink_status(out, ec)) && MadeByModel(out)) {
+    // A run's data file never holds the header, so it never gets here. In a run folder the
+    // marker recorded it (with its hash) the first time: the additions accept and update it.
+    const fs::path folder = fs::absolute(out, ec).parent_path();
+    if (fs::exists(folder / sim::kRunMarker, ec)) {
+      additions->emplace(std::vector<std::string>{out}, "--out");
+    } else if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+      throw InputError(out, 0, 0, "--out", "cannot be written: its folder is not writable");
     }
-    sim::CheckFileOutput(out, "--out");
     return;
   }
-  // Ours: only the checks that do not concern the file's existence remain (a run's data
-  // file never holds the header, so it never gets here).
-  const fs::path folder = fs::absolute(out, ec).parent_path();
-  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
-    throw InputError(out, 0, 0, "--out", "cannot be written: its folder is not writable");
+  if (fs::exists(fs::symlink_status(out, ec)) && !fs::is_directory(out, ec) &&
+      !fs::is_symlink(fs::symlink_status(out, ec))) {
+    throw InputError(out, 0, 0, "--out",
+                     "exists, and is not a file climbsim model wrote (or it was edited since): "
+                     "climbsim never overwrites a file it did not make; remove it or give "
+                     "another name");
   }
+  additions->emplace(std::vector<std::string>{out}, "--out");
 }
 
 // "8 x Hitec HS-35HD (stall 0.088 N·m)": the robot's servos grouped by catalogue part (a
@@ -98,7 +104,8 @@ void PrintServos(const mjModel* m) {
 
 void RunModel(const std::string& scenario_path, const std::string& out, bool scene) {
   const sim::Scenario s = sim::LoadScenario(scenario_path);
-  CheckModelOutput(out);
+  std::optional<sim::RunFolderAdditions> additions;
+  CheckModelOutput(out, &additions);
   const auto model = sim::CompileScenario(s);
   std::string body;
   if (scene) {
@@ -107,7 +114,10 @@ void RunModel(const std::string& scenario_path, const std::string& out, bool sce
   } else {
     body = sim::RobotMjcf(s);
   }
+  const std::filesystem::path folder = std::filesystem::absolute(out).parent_path();
+  std::filesystem::create_directories(folder);  // as the run folders' verbs make theirs
   common::WriteFileAtomic(out, WithHeader(body, scenario_path));
+  if (additions) additions->Commit();
   std::printf("climbsim model: %s%s\n", s.robot.c_str(), s.robot_design ? " (a design)" : "");
   std::printf("  mass            %.4f kg\n", model->robot().mass_kg);
   PrintServos(model->model());

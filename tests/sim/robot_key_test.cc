@@ -58,7 +58,8 @@ TEST(RobotKey, AMapReadsOverItsPreset) {
 TEST(RobotKey, TheResolvedScenarioRerunsTheSameDesign) {
   const Scenario s = LoadScenario(WriteFile(
       "robot_resolved.yaml",
-      "robot: {preset: gecko, tail: {length_m: 0.1, segments: 2}}\nscene: wall\n"
+      "robot: {preset: gecko_active, legs: {femur_m: 0.072}, pads: {size_m: 0.03}}\n"
+      "scene: wall\n"
       "duration_s: 0.01\n"));
   const Scenario again =
       LoadScenario(WriteFile("robot_resolved_again.yaml", ScenarioToYamlText(s)));
@@ -89,6 +90,12 @@ TEST(RobotKey, ErrorsNameTheKeyAndItsLine) {
   const std::string preset = ScenarioErrorOf(
       "robot_e4.yaml", "robot:\n  preset: snail\nscene: floor\nduration_s: 1\n");
   EXPECT_TRUE(climbsim::testing::Has(preset, "robot_e4.yaml:2:11: robot.preset:")) << preset;
+  // In range, but the generator cannot build it: its refusal at the key's line.
+  const std::string built = ScenarioErrorOf(
+      "robot_e5.yaml",
+      "robot:\n  preset: gecko\n  feet:\n    post_m: 0.002\nscene: floor\nduration_s: 1\n");
+  EXPECT_TRUE(climbsim::testing::Has(built, "robot_e5.yaml:4:13: robot.feet.post_m: the post"))
+      << built;
 }
 
 TEST(RobotKey, KeysListsTheDesignWithTheGeckosValues) {

@@ -59,20 +59,20 @@ TEST(ModelCli, WritesTheRobotAloneWithItsMassAndServos) {
   EXPECT_GT(LoadedMass(scene), 0);
 }
 
-TEST(ModelCli, ADesignChangesTheMassPrinted) {
+TEST(ModelCli, ADesignsMassIsItsParts) {
   const std::string plain = TempDir() + "/model_plain.xml";
   const std::string tail = TempDir() + "/model_tail.xml";
   const std::string scenario = WriteFile(
       "model_tail.yaml",
-      "robot: {preset: gecko, tail: {length_m: 0.1, mass_kg: 0.01}}\nscene: wall\n"
+      "robot: {preset: gecko, legs: {femur_mass_kg: 0.0035}}\nscene: wall\n"
       "duration_s: 1\n");
   const CliResult a = RunClimbsimArgs({"model", Source("examples/gecko_wall.yaml"), "--out", plain});
   const CliResult b = RunClimbsimArgs({"model", scenario, "--out", tail});
   ASSERT_EQ(a.code, 0) << a.err;
   ASSERT_EQ(b.code, 0) << b.err;
   EXPECT_TRUE(Has(b.out, "(a design)")) << b.out;
-  // The tail adds its rod and its servo: at least the rod's 10 g.
-  EXPECT_GE(LoadedMass(tail) - LoadedMass(plain), 0.01 - 1e-9);
+  // Four femurs 2 g heavier than the preset's 1.5 g.
+  EXPECT_NEAR(LoadedMass(tail) - LoadedMass(plain), 4 * 0.002, 1e-9);
   EXPECT_NEAR(PrintedMass(b.out), LoadedMass(tail), 6e-5) << b.out;
 }
 
@@ -93,6 +93,23 @@ TEST(ModelCli, ReplacesItsOwnFileOnlyWhileUnedited) {
                                        foreign});
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(ReadFile(foreign), "<mujoco/>\n");
+}
+
+// In a run folder the file is recorded as climbsim's: the run's --force takes it.
+TEST(ModelCli, AFileInARunFolderIsRecordedAsClimbsims) {
+  const std::string run = TempDir() + "/model_run";
+  const std::string scenario =
+      WriteFile("model_run.yaml", "robot: gecko\nscene: floor\nduration_s: 0.05\n");
+  ASSERT_EQ(RunClimbsimArgs({"simulate", scenario, "--out", run, "--quiet"}).code, 0);
+  const std::vector<std::string> model = {"model", scenario, "--out", run + "/robot.xml"};
+  ASSERT_EQ(RunClimbsimArgs(model).code, 0);
+  ASSERT_EQ(RunClimbsimArgs(model).code, 0);
+  EXPECT_TRUE(Has(ReadFile(run + "/.climbsim-run"), "robot.xml"));
+  const CliResult again =
+      RunClimbsimArgs({"simulate", scenario, "--out", run, "--quiet", "--force"});
+  EXPECT_EQ(again.code, 0) << again.err;
+  // Never over a run's data.
+  EXPECT_EQ(RunClimbsimArgs({"model", scenario, "--out", run + "/model.xml"}).code, 2);
 }
 
 TEST(ModelCli, ABadDesignIsBadInputAtItsLine) {
