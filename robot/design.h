@@ -50,7 +50,8 @@ struct BodyDesign {
              &hip_x_m);
     a->Visit({"hip_y_m", "m", "hip-yaw axes beside the centre line", Range::Closed(0.01, 0.15)},
              &hip_y_m);
-    a->Visit({"head_radius_m", "m", "the head sphere (camera, sensors)", Range::Closed(0.0, 0.03)},
+    a->Visit({"head_radius_m", "m", "the head sphere (camera, sensors); up to a 3 cm dome",
+              Range::OpenClosed(0.0, 0.03)},
              &head_radius_m);
     a->Visit({"head_ahead_m", "m", "head centre ahead of the plate's front edge",
               Range::Closed(0.0, 0.05)},
