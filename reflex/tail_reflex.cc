@@ -97,7 +97,8 @@ TailOutput TailReflex::Update(const TailSensing& in) {
   } else if (ease_left_ > 0) {
     press = static_cast<double>(ease_left_) / ease_samples_;
   }
-  out.command_rad = params_.rest_rad + press * (params_.press_rad - params_.rest_rad);
+  // Exact at either end: the press and the rest commands as given.
+  out.command_rad = press * params_.press_rad + (1.0 - press) * params_.rest_rad;
   return out;
 }
 
