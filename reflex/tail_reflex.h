@@ -50,7 +50,7 @@ struct TailReflexParams {
              &on_front_pad_loss);
     a->Visit({"pitch_threshold_rad", "rad",
               "press while the body's nose turns away from the surface by more than this from "
-              "its starting attitude (an IMU's pitch; the gait alone rocks it by ~0.03 rad)",
+              "its starting attitude (an IMU's pitch; the gecko's gait alone turns it < 0.01 rad)",
               Range::OpenClosed(0.0, 1.0)},
              &pitch_threshold_rad);
     a->Visit({"delay_s", "s",
@@ -59,7 +59,7 @@ struct TailReflexParams {
               Range::Closed(0.0, 0.1)},
              &delay_s);
     a->Visit({"hold_s", "s", "the press holds this long after the last trigger",
-              Range::Closed(0.0, 10.0)},
+              Range::OpenClosed(0.0, 10.0)},
              &hold_s);
     a->Visit({"ease_s", "s", "then the command ramps back to rest over this long",
               Range::Closed(0.0, 10.0)},

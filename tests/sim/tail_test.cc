@@ -193,9 +193,9 @@ TEST(TailReflex, PressOnPadFailureSavesWhatAClearTailCannot) {
   EXPECT_GE(releases, presses - 1);
 }
 
-// With the example's own rest (0.1 rad clear) the unpressed tail catches the body too, later:
+// Held 0.1 rad clear (tip ~14 mm off the wall), the unpressed tail catches the body too, later:
 // the press keeps the nose's largest turn off the wall smaller and the climb longer.
-TEST(TailReflex, PressBoundsThePitchOfTheExample) {
+TEST(TailReflex, PressBoundsThePitchOfAClearTail) {
   const Outcome off = PadFailureCase(-0.1, false);
   const Outcome on = PadFailureCase(-0.1, true);
   ASSERT_FALSE(on.result.fell);
