@@ -20,6 +20,7 @@ LegReflexParams ReflexParams::Leg() const {
 
 void ReflexParams::CheckControlPeriod(double dt_s, const Checker& checker) const {
   reflex::CheckControlPeriod(Leg(), dt_s, checker, /*one_spindle_law=*/true);
+  if (tail) CheckTailControlPeriod(*tail, dt_s, checker, "tail.");
   if (!PostureOn()) return;  // the posture's law is built only when it acts
   if (const std::string problem = internal::DelayProblem(gto.posture.pull.delay_s, dt_s);
       !problem.empty()) {

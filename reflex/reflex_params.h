@@ -4,11 +4,14 @@
 #ifndef CLIMBSIM_REFLEX_REFLEX_PARAMS_H_
 #define CLIMBSIM_REFLEX_REFLEX_PARAMS_H_
 
+#include <optional>
+
 #include "keys/keys.h"
 #include "reflex/foot_params.h"
 #include "reflex/laws.h"
 #include "reflex/leg_params.h"
 #include "reflex/load_sharing.h"
+#include "reflex/tail_reflex.h"
 
 namespace climbsim::reflex {
 
@@ -77,6 +80,7 @@ struct ReflexParams {
   double max_offset_rad = LegReflexParams{}.max_offset_rad;
   // A peel that runs out of time lets the pad go (the simulator detaches it, cause released).
   bool release_failed_peel = false;
+  std::optional<TailReflexParams> tail;  // absent: off (and the robot needs no tail)
 
   template <class A>
   void Serialize(A* a) {
@@ -93,6 +97,10 @@ struct ReflexParams {
               "when a peel runs out of time, let the pad go (detach cause released), as a foot "
               "with an active release mechanism would"},
              &release_failed_peel);
+    a->Visit({"tail", "",
+              "press the robot's tail on the surface when a front pad fails or the body pitches "
+              "off (needs robot.tail); absent: off"},
+             &tail);
   }
 
   // Whether the GTO's posture acts: the CPG sizes its leg IK table for it, the reflex effect

@@ -53,6 +53,21 @@ LegInfo ReadLeg(const mjModel* m, const std::string& leg) {
   return l;
 }
 
+// The tail's ids: none without a joint "tail_pitch"; with it, its servo and tip are required.
+TailInfo ReadTail(const mjModel* m) {
+  TailInfo t;
+  t.pitch_joint = Id(m, mjOBJ_JOINT, "tail_pitch");
+  if (t.pitch_joint < 0) return t;
+  t.pitch_qpos_adr = m->jnt_qposadr[t.pitch_joint];
+  t.pitch_dof_adr = m->jnt_dofadr[t.pitch_joint];
+  t.pitch_actuator = Need(m, mjOBJ_ACTUATOR, "tail_pitch");
+  t.tip_geom = Need(m, mjOBJ_GEOM, "tail_tip");
+  t.tip_site = Need(m, mjOBJ_SITE, "tail_tip");
+  t.yaw_joint = Id(m, mjOBJ_JOINT, "tail_yaw");
+  if (t.yaw_joint >= 0) t.yaw_actuator = Need(m, mjOBJ_ACTUATOR, "tail_yaw");
+  return t;
+}
+
 }  // namespace
 
 RobotInfo ReadRobot(const mjModel* m) {
@@ -66,6 +81,7 @@ RobotInfo ReadRobot(const mjModel* m) {
   r.root_dof_adr = m->jnt_dofadr[root];
   r.mass_kg = m->body_subtreemass[r.base_body];
   for (const std::string& leg : LegNames(m)) r.legs.push_back(ReadLeg(m, leg));
+  r.tail = ReadTail(m);
   return r;
 }
 

@@ -31,17 +31,33 @@ struct LegInfo {
   int tilt_actuator = -1;
 };
 
+// The optional tail (robot/tail.h): its servos, the tip; every id −1 when the robot has none
+// (tail_pitch missing). Not a leg: the CPG and the leg reflexes never drive its servos.
+struct TailInfo {
+  int pitch_joint = -1;                // "tail_pitch"; > 0 turns the tip into the surface
+  int pitch_qpos_adr = -1;
+  int pitch_dof_adr = -1;
+  int pitch_actuator = -1;
+  int yaw_joint = -1;                  // "tail_yaw", optional
+  int yaw_actuator = -1;
+  int tip_geom = -1;                   // "tail_tip"
+  int tip_site = -1;
+  bool present() const { return pitch_joint >= 0; }
+};
+
 struct RobotInfo {
   int base_body = -1;
   int root_qpos_adr = -1;
   int root_dof_adr = -1;
   std::vector<LegInfo> legs;           // order of the custom text "climbsim_legs"
+  TailInfo tail;
   double mass_kg = 0.0;
 };
 
 // The robot contract of a compiled model (mjcf/README.md): the base with its free joint
 // "root", and for each leg of the custom text "climbsim_legs" its joints, servos, pad and
-// sites. Throws std::invalid_argument naming the first item the model lacks.
+// sites, and the tail when it has a joint "tail_pitch". Throws std::invalid_argument naming
+// the first item the model lacks.
 RobotInfo ReadRobot(const mjModel* model);
 
 // A position servo's stiffness (force = gain·ctrl + bias1·q + bias2·q̇ with gain = kp and

@@ -1,7 +1,12 @@
 // The tail: a rod behind the body on a pitch servo at the base (yaw optional), whose tip
 // touches the surface. The design keys (TailDesign, scenario robot.tail) and the MJCF it adds
-// to a generated robot (AddTail). The tail reflex that presses it lives in reflex/.
-// SCAFFOLD: the tail's engineer owns this file and tail.cc and may change everything here.
+// to a generated robot (AddTail). The tail reflex that presses it lives in reflex/tail_reflex.h.
+//
+// Geometry: the pitch axis lies across the body (base y) at the body's rear edge; the rod runs
+// backwards from it, drooping by the angle that puts the tip's lowest point `rest_gap_m` above
+// the surface in qpos0 (the servo's neutral angle, computed: the designer gives the length).
+// tail_pitch > 0 turns the tip into the surface. Collision bits as every robot geom
+// (contype 2, conaffinity 1): the tail touches the scene, never the robot.
 #ifndef CLIMBSIM_ROBOT_TAIL_H_
 #define CLIMBSIM_ROBOT_TAIL_H_
 
@@ -14,42 +19,99 @@
 namespace climbsim::sim {
 
 struct TailDesign {
-  double length_m = 0.08;
+  double length_m = 0.15;
   int segments = 1;
-  double mass_kg = 0.003;
+  double segment_stiffness_nm_per_rad = 0.05;
+  double mass_kg = 0.0008;
+  double rod_radius_m = 0.001;
   std::string servo = "hs35hd";
   bool yaw = false;
   std::string tip = "skid";
+  double tip_radius_m = 0.003;
+  double tip_mass_kg = 0.0003;
+  double rest_gap_m = 0.0;
+  double range_up_rad = 0.6;
+  double range_down_rad = 0.6;
 
   template <class A>
   void Serialize(A* a) {
-    a->Visit({"length_m", "m", "from the base servo's axis to the tip", Range::Closed(0.02, 0.3)},
+    a->Visit({"length_m", "m",
+              "from the pitch servo's axis to the tip's centre; at least the base's height "
+              "above the surface (the tip must reach it), up to 0.3 m: a longer rod of a "
+              "sub-gram weight bends like a whip",
+              Range::Closed(0.02, 0.3)},
              &length_m);
-    a->Visit({"segments", "", "rigid segments, joined by passive springs", Range::Closed(1, 4)},
+    a->Visit({"segments", "",
+              "rigid segments of equal length, joined by passive torsion springs (a rod of "
+              "several pieces); 1: one rigid rod",
+              Range::Closed(1, 4)},
              &segments);
-    a->Visit({"mass_kg", "kg", "rod and tip, without the servo", Range::Closed(0.0005, 0.05)},
-             &mass_kg);
-    a->Visit({"servo", "", "the base pitch servo (catalogue name)"}, &servo);
-    a->Visit({"yaw", "", "a second base servo turns the tail sideways"}, &yaw);
-    a->Choice({"tip", "", "skid: a low-friction ball; pad: a small sticky pad"}, &tip,
-              {"skid", "pad"});
+    a->Visit(
+        {"segment_stiffness_nm_per_rad", "N·m/rad",
+         "segments > 1: each joint's torsion spring (a music-wire spring of 0.01 to 1 N·m/rad)",
+         Range::Closed(0.005, 1.0)},
+        &segment_stiffness_nm_per_rad);
+    a->Visit(
+        {"mass_kg", "kg", "the rod (a capsule of this mass; carbon tube of 2 mm: 0.5 g per 0.1 m)",
+         Range::Closed(0.0002, 0.05)},
+        &mass_kg);
+    a->Visit({"rod_radius_m", "m", "the rod's radius (carbon tube 1 to 4 mm across)",
+              Range::Closed(0.0005, 0.005)},
+             &rod_radius_m);
+    a->Visit({"servo", "", "the base pitch servo (and yaw servo), catalogue name"}, &servo);
+    a->Visit({"yaw", "", "a second servo (the same model) turns the tail sideways"}, &yaw);
+    a->Choice({"tip", "",
+               "skid: a PTFE ball (friction 0.1) that slides up the wall behind the robot; pad: "
+               "an elastomer foot (friction 1.0, not adhesive) that holds where it presses"},
+              &tip, {"skid", "pad"});
+    a->Visit({"tip_radius_m", "m", "the tip's ball radius (a 3 to 16 mm PTFE bead)",
+              Range::Closed(0.0015, 0.008)},
+             &tip_radius_m);
+    a->Visit({"tip_mass_kg", "kg", "the tip's mass", Range::Closed(0.0, 0.01)}, &tip_mass_kg);
+    a->Visit({"rest_gap_m", "m",
+              "the tip's lowest point above the surface in qpos0 (0: touching): a gap drags "
+              "nothing, a tail on the surface catches a pitch at once",
+              Range::Closed(0.0, 0.02)},
+             &rest_gap_m);
+    a->Visit({"range_up_rad", "rad",
+              "the pitch servo's travel lifting the tip off the surface from its neutral angle "
+              "(a hobby servo turns ±1.05 rad)",
+              Range::Closed(0.05, 1.05)},
+             &range_up_rad);
+    a->Visit({"range_down_rad", "rad",
+              "the pitch servo's travel turning the tip into the surface from its neutral "
+              "angle: the reflex's press command stays inside it",
+              Range::Closed(0.05, 1.05)},
+             &range_down_rad);
   }
 };
 
 // Where the generator mounts the tail: the body's rear end in the base frame, and how high
-// the base origin stands above the surface in qpos0 (so the tip can be placed on it).
+// the base origin stands above the surface (the plane z = 0) in qpos0.
 struct TailMount {
-  std::string prefix;       // class and name prefix of the robot ("gecko")
-  double rear_x_m = 0.0;    // base x of the mount (the body's rear edge)
-  double mount_z_m = 0.0;   // base z of the pitch axis
-  double base_height_m = 0.0;  // base origin above the surface (the plane z = 0) in qpos0
+  std::string prefix;          // class and name prefix of the robot ("gecko")
+  double rear_x_m = 0.0;       // base x of the mount (the body's rear edge)
+  double mount_z_m = 0.0;      // base z of the pitch axis
+  double base_height_m = 0.0;  // base origin above the surface in qpos0
 };
+
+// The rod's droop below the base's x axis in qpos0 (the servo's neutral angle), rad: the tip's
+// lowest point at rest_gap_m above the surface. Throws std::invalid_argument (robot.tail.*)
+// when the tail is too short to reach the surface.
+double TailNeutralDroopRad(const TailDesign& tail, const TailMount& mount);
+// The mass the tail adds: its servo(s), rod and tip, kg.
+double TailMassKg(const TailDesign& tail);
 
 // Adds the tail's bodies, joints and geoms under `base` (the base body element), its default
 // classes under `defaults` (the robot's top default class) and its servos under `actuator`.
-// Names: tail_pitch (joint and servo), tail_yaw when yaw, tail_tip (geom), tail_tip (site).
+// Names: tail_pitch (joint and servo), tail_yaw when yaw, tail_tip (geom and site),
+// tail_seg<k> (joints between segments). Throws std::invalid_argument (robot.tail.<key>).
 void AddTail(const TailDesign& tail, const TailMount& mount, tinyxml2::XMLElement* defaults,
              tinyxml2::XMLElement* base, tinyxml2::XMLElement* actuator);
+
+// A robot file (the text of mjcf/<preset>.xml) with the tail added: the mount read from the
+// file (base body's height, the "base" box's rear edge, the top default class's name).
+std::string AddTailToRobotFile(const TailDesign& tail, const std::string& robot_xml);
 
 }  // namespace climbsim::sim
 

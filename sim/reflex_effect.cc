@@ -51,6 +51,7 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     landing_.assign(legs_.size(), LandingState{});
     jacp_.assign(3 * world.model()->nv, 0.0);
   }
+  if (params.tail) tail_.emplace(*params.tail, world, dt, event_pad_.back());
 }
 
 bool ReflexEffect::SharingOn() const {
@@ -92,6 +93,10 @@ void ReflexEffect::CheckScenario(const Scenario& scenario, const World& world,
                           "needs a foot-space gait (cpg.stride_m): the crouch moves the feet "
                           "along the body's normal");
     }
+  }
+  if (params_.tail && !world.robot().tail.present()) {
+    throw ScenarioError(scenario, "reflex.tail",
+                        "needs a robot with a tail (robot.tail: a joint and servo 'tail_pitch')");
   }
   if (params_.landing.settle_s > 0.0) {
     if (adhesion_ == nullptr) {
@@ -370,6 +375,7 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
   for (auto& c : counts_) c.fill(0);
   std::fill(landing_.begin(), landing_.end(), LandingState{});
   if (posture_) posture_->Reset();
+  if (tail_) tail_->Reset(world);
   ctx.crouch_m = 0.0;
   for (LegSignals& s : *ctx.legs) {
     s.offset_rad = {0, 0, 0};
@@ -506,6 +512,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
     LogEvents(ctx, signals[i], i, out);
   }
   RobotChannels(world, ctx);
+  if (tail_) tail_->Update(world, ctx, legs_);
   ctx.hold_all_stance = hold_all;
 }
 
@@ -519,6 +526,10 @@ void ReflexEffect::Summarise(const World& world, nlohmann::json* summary) const 
     legs[world.robot().legs[i].name] = c;
   }
   (*summary)["reflex"] = {{"legs", legs}};
+  if (tail_) {
+    (*summary)["reflex"]["tail"] = {{"presses", tail_->presses()},
+                                    {"max_pitch_rad", tail_->max_pitch_rad()}};
+  }
 }
 
 }  // namespace climbsim::sim

@@ -24,6 +24,7 @@
 #include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
 #include "sim/effect.h"
+#include "sim/tail_driver.h"
 #include "scenario/scenario.h"
 
 namespace climbsim::sim {
@@ -32,7 +33,7 @@ class ReflexEffect final : public Effect {
  public:
   // `cpg` gives the control period and each leg's support legs; `adhesion` may be null (then
   // no pad ever touches or attaches, and only the stretch and load laws act). `event_pad` is
-  // each leg's pad index in the EventLog. Throws InputError at the reflex key at fault.
+  // each leg's pad index in the EventLog, then, with reflex.tail, the tail's. Throws InputError at the reflex key at fault.
   ReflexEffect(const Scenario& scenario, const ReflexParams& params, const World& world,
                const CpgEffect& cpg, AdhesionEffect* adhesion, std::vector<int> event_pad);
   const char* name() const override { return "reflex"; }
@@ -69,6 +70,7 @@ class ReflexEffect final : public Effect {
   // attached pads' pull over the robot's own weight (weight_n_).
   std::optional<reflex::PostureReflex> posture_;
   double weight_n_ = 0.0;
+  std::optional<TailDriver> tail_;  // reflex.tail (sim/tail_driver.h)
 
   // The gradient of leg i's pad utilisation with respect to the force the leg puts on the pad
   // at its ankle, world frame; false when the pad is not attached or it is not defined.

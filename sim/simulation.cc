@@ -197,6 +197,10 @@ std::vector<int> Simulation::EventPads(const AdhesionEffect* adhesion,
     leg_event_pad.push_back(static_cast<int>(it - pad_names->begin()));
     if (it == pad_names->end()) pad_names->push_back(name);
   }
+  if (scenario_.reflex && scenario_.reflex->tail) {  // the tail reflex's rows (sim/tail_driver.h)
+    leg_event_pad.push_back(static_cast<int>(pad_names->size()));
+    pad_names->push_back("tail");
+  }
   return leg_event_pad;
 }
 

@@ -146,6 +146,10 @@ std::string ModulesRefuse(const std::string& key, double value) {
     root["scene"]["name"] = "incline";
     root.remove("transition");  // a corner manoeuvre needs a corner
   }
+  if (key.rfind("reflex.tail.", 0) == 0) {  // the tail reflex needs a robot with a tail
+    root["robot"] = "gecko_tail_robot.xml";
+    root.remove("transition");  // which has no actuated ankles
+  }
   optimise::SetDottedKeyText(root, key, Text(value));
   try {
     const Scenario s = ParseScenario(root, kFile);

@@ -65,6 +65,7 @@ std::map<std::string, std::string> LibraryDefaults() {
   const reflex::LegReflexParams leg;
   const reflex::LoadSharingParams share;
   const reflex::PostureParams posture;
+  const reflex::TailReflexParams tail;
   return {
       {"adhesion.grid_x", Text(pad.grid_x)},
       {"adhesion.grid_y", Text(pad.grid_y)},
@@ -172,6 +173,13 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.compliance.enabled", Text(leg.compliance.enabled)},
       {"reflex.compliance.stance_kp_fraction", Text(leg.compliance.stance_kp_fraction)},
       {"reflex.compliance.ramp_s", Text(leg.compliance.ramp_s)},
+      {"reflex.tail.rest_rad", Text(tail.rest_rad)},
+      {"reflex.tail.press_rad", Text(tail.press_rad)},
+      {"reflex.tail.on_front_pad_loss", Text(tail.on_front_pad_loss)},
+      {"reflex.tail.pitch_threshold_rad", Text(tail.pitch_threshold_rad)},
+      {"reflex.tail.delay_s", Text(tail.delay_s)},
+      {"reflex.tail.hold_s", Text(tail.hold_s)},
+      {"reflex.tail.ease_s", Text(tail.ease_s)},
   };
 }
 
@@ -193,7 +201,7 @@ TEST(KeysDefaults, EveryReflexKeyIsComparedWithTheReflexModule) {
   const std::map<std::string, std::string> library = LibraryDefaults();
   for (const auto& [key, def] : documented) {
     if (key.rfind("reflex.", 0) != 0) continue;
-    if (def == "(map)") continue;  // a block, not a parameter
+    if (def == "(map)" || def == "(absent: off)") continue;  // a block, not a parameter
     if (key == "reflex.release_failed_peel") continue;  // the scenario's own: what sim does
     if (key == "reflex.peel.against_grip") continue;    // the scenario's own: signs per pad
     // The scenario's own: force tracking's targets and the landing act on MuJoCo's pads and

@@ -1,0 +1,81 @@
+#include "sim/tail_driver.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace climbsim::sim {
+namespace {
+
+// The legs whose hip (the leg's first body, a child of the base) stands within 5 mm of the
+// foremost: the gecko's LF and RF, the spider's front pair.
+std::vector<int> FrontLegs(const mjModel* m, const RobotInfo& robot) {
+  std::vector<double> x;
+  for (const LegInfo& l : robot.legs) x.push_back(m->body_pos[3 * m->jnt_bodyid[l.joint[0]]]);
+  const double front_x = x.empty() ? 0.0 : *std::max_element(x.begin(), x.end());
+  std::vector<int> front;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (x[i] > front_x - 0.005) front.push_back(static_cast<int>(i));
+  }
+  return front;
+}
+
+// The base's rotation from its root quaternion (qpos, so it holds before mj_forward has run).
+Eigen::Matrix3d BaseRotation(const World& world) {
+  double r[9];
+  mju_quat2Mat(r, world.data()->qpos + world.robot().root_qpos_adr + 3);
+  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r);
+}
+
+}  // namespace
+
+TailDriver::TailDriver(const reflex::TailReflexParams& params, const World& world, double dt_s,
+                       int event_pad)
+    : reflex_(params, dt_s),
+      actuator_(world.robot().tail.pitch_actuator),
+      event_pad_(event_pad),
+      front_(FrontLegs(world.model(), world.robot())),
+      was_attached_(front_.size(), false) {}
+
+void TailDriver::Reset(World& world) {
+  reflex_.Reset();
+  normal_ = BaseRotation(world).col(2);
+  std::fill(was_attached_.begin(), was_attached_.end(), false);
+  world.data()->ctrl[actuator_] = reflex_.params().rest_rad;
+  presses_ = 0;
+  max_pitch_rad_ = 0.0;
+}
+
+// The nose's turn away from the surface: the base's x axis along the starting normal.
+double TailDriver::PitchRad(const World& world) const {
+  const double along = BaseRotation(world).col(0).dot(normal_);
+  return std::asin(std::clamp(along, -1.0, 1.0));
+}
+
+void TailDriver::Update(World& world, RunContext& ctx, const std::vector<reflex::LegReflex>& legs) {
+  const std::vector<LegSignals>& signals = *ctx.legs;
+  reflex::TailSensing in;
+  for (size_t k = 0; k < front_.size(); ++k) {
+    const LegSignals& s = signals[front_[k]];
+    // A pad lost in stance while its leg is not peeling it: a failure, not a release.
+    if (was_attached_[k] && !s.attached && s.stance && !legs[front_[k]].state().peeling) {
+      in.front_pad_lost = true;
+    }
+    was_attached_[k] = s.attached;
+  }
+  in.pitch_rad = PitchRad(world);
+  max_pitch_rad_ = std::max(max_pitch_rad_, in.pitch_rad);
+  const reflex::TailOutput out = reflex_.Update(in);
+  world.data()->ctrl[actuator_] = out.command_rad;
+  if (out.event == reflex::TailEventType::kNone) return;
+  Event row;
+  row.time_s = ctx.time_s;
+  row.pad = event_pad_;
+  row.kind = reflex::TailEventName(out.event).data();  // views of string literals
+  row.cause = reflex::TailTriggerName(out.trigger).data();
+  row.cause_value = in.pitch_rad;  // the pitch that triggered it, undelayed
+  row.has_cause_value = out.trigger == reflex::TailTrigger::kPitch;
+  ctx.events->Add(row);
+  if (out.event == reflex::TailEventType::kPress) ++presses_;
+}
+
+}  // namespace climbsim::sim

@@ -1,0 +1,221 @@
+// The tail (robot/tail.h) on a generated gecko: ReadRobot's ids, the tip on the surface in
+// qpos0, the mass added = its parts; and the tail reflex (reflex.tail) on versus off on the
+// same pad-failure case of examples/gecko_tail.yaml.
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "robot/design.h"
+#include "robot/robot.h"
+#include "robot/servos.h"
+#include "sim/sim.h"
+#include "tests/common/test_util.h"
+
+namespace climbsim::sim {
+namespace {
+
+using climbsim::testing::Source;
+using climbsim::testing::TempDir;
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+
+ModelPtr Compile(const RobotDesign& design, const std::string& name) {
+  const std::string path = TempDir() + "/" + name + ".xml";
+  std::ofstream(path) << GenerateRobotMjcf(design);
+  char error[1000] = "";
+  ModelPtr m(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
+  EXPECT_TRUE(m) << error;
+  return m;
+}
+
+RobotDesign GeckoWithTail(const TailDesign& tail) {
+  RobotDesign d = PresetDesign("gecko");
+  d.tail = tail;
+  return d;
+}
+
+// The tip's lowest point in qpos0 stands rest_gap_m above the plane z = 0 (1 µm), whatever the
+// tail's length, segments and yaw.
+TEST(Tail, TipRestsOnTheSurfaceInQpos0) {
+  for (const auto& [length_m, segments, yaw, gap_m] :
+       {std::tuple{0.15, 1, false, 0.0}, {0.08, 2, false, 0.0}, {0.25, 3, true, 0.004}}) {
+    TailDesign t;
+    t.length_m = length_m;
+    t.segments = segments;
+    t.yaw = yaw;
+    t.rest_gap_m = gap_m;
+    ModelPtr m = Compile(GeckoWithTail(t), "tip");
+    ASSERT_TRUE(m);
+    mjData* d = mj_makeData(m.get());
+    mj_forward(m.get(), d);
+    const RobotInfo r = ReadRobot(m.get());
+    const double tip_bottom_m = d->site_xpos[3 * r.tail.tip_site + 2] - t.tip_radius_m;
+    EXPECT_NEAR(tip_bottom_m, gap_m, 1e-6) << length_m << " m, " << segments << " segments";
+    // And the tip is behind the body's rear edge.
+    EXPECT_LT(d->site_xpos[3 * r.tail.tip_site], -0.05 - 0.5 * length_m);
+    mj_deleteData(d);
+  }
+}
+
+// ReadRobot: the tail's ids (yaw −1 without a yaw servo), every id −1 without a tail; the
+// tail's geoms collide with the scene only (contype 2, conaffinity 1).
+TEST(Tail, ReadRobotFindsTheTailsIds) {
+  ModelPtr plain = Compile(PresetDesign("gecko"), "plain");
+  ASSERT_TRUE(plain);
+  const RobotInfo p = ReadRobot(plain.get());
+  EXPECT_FALSE(p.tail.present());
+  EXPECT_EQ(p.tail.pitch_actuator, -1);
+  EXPECT_EQ(p.tail.tip_site, -1);
+  for (bool yaw : {false, true}) {
+    TailDesign t;
+    t.yaw = yaw;
+    ModelPtr m = Compile(GeckoWithTail(t), "ids");
+    ASSERT_TRUE(m);
+    const RobotInfo r = ReadRobot(m.get());
+    ASSERT_TRUE(r.tail.present());
+    EXPECT_EQ(r.tail.pitch_joint, mj_name2id(m.get(), mjOBJ_JOINT, "tail_pitch"));
+    EXPECT_EQ(r.tail.pitch_actuator, mj_name2id(m.get(), mjOBJ_ACTUATOR, "tail_pitch"));
+    EXPECT_EQ(m->actuator_trnid[2 * r.tail.pitch_actuator], r.tail.pitch_joint);
+    EXPECT_EQ(r.tail.tip_geom, mj_name2id(m.get(), mjOBJ_GEOM, "tail_tip"));
+    EXPECT_EQ(r.tail.yaw_actuator >= 0, yaw);
+    EXPECT_EQ(m->nu, plain->nu + (yaw ? 2 : 1));
+    EXPECT_EQ(r.legs.size(), 4u);
+    // The servo as the catalogue has it: force limit = stall torque, kp.
+    const ServoModel* s = FindServo(t.servo);
+    EXPECT_EQ(m->actuator_forcerange[2 * r.tail.pitch_actuator + 1], s->stall_torque_nm);
+    EXPECT_EQ(m->actuator_gainprm[mjNGAIN * r.tail.pitch_actuator], s->kp_nm_per_rad);
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->geom_bodyid[g] != r.base_body && m->body_parentid[m->geom_bodyid[g]] == 0) continue;
+      const char* n = mj_id2name(m.get(), mjOBJ_GEOM, g);
+      if (n == nullptr || std::string(n).rfind("tail", 0) != 0) continue;
+      EXPECT_EQ(m->geom_contype[g], 2) << n;
+      EXPECT_EQ(m->geom_conaffinity[g], 1) << n;
+    }
+  }
+}
+
+// The mass the tail adds is its parts' sum: servo(s) from the catalogue, rod and tip.
+TEST(Tail, MassAddedIsThePartsSum) {
+  ModelPtr plain = Compile(PresetDesign("gecko"), "plain_mass");
+  ASSERT_TRUE(plain);
+  for (const std::string servo : {"hs35hd", "sg90"}) {
+    TailDesign t;
+    t.servo = servo;
+    t.yaw = servo == "sg90";
+    t.mass_kg = 0.002;
+    t.tip_mass_kg = 0.001;
+    ModelPtr m = Compile(GeckoWithTail(t), "mass");
+    ASSERT_TRUE(m);
+    const double added = m->body_subtreemass[1] - plain->body_subtreemass[1];
+    const double parts = FindServo(servo)->mass_kg * (t.yaw ? 2 : 1) + 0.002 + 0.001;
+    EXPECT_NEAR(added, parts, 1e-12) << servo;
+    EXPECT_NEAR(TailMassKg(t), parts, 1e-15) << servo;
+  }
+}
+
+// A tail that cannot reach the surface, or a servo not in the catalogue, is refused naming
+// the key.
+TEST(Tail, RefusesATailThatCannotReachTheSurface) {
+  TailDesign t;
+  t.length_m = 0.04;  // the gecko's base stands 0.055 m above the surface
+  try {
+    GenerateRobotMjcf(GeckoWithTail(t));
+    FAIL() << "a 0.04 m tail was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("robot.tail.length_m"), std::string::npos) << e.what();
+  }
+  t = TailDesign{};
+  t.servo = "nope";
+  EXPECT_THROW(GenerateRobotMjcf(GeckoWithTail(t)), std::invalid_argument);
+}
+
+struct Outcome {
+  RunResult result;
+  nlohmann::json summary;
+  std::string events;
+};
+
+// examples/gecko_tail.yaml as `bench robustness` runs its pad_failure case of seed 0 at
+// probability 0.035 (10 s, a fall ends the run), with the tail held `rest_rad` off the wall,
+// and pressed or not.
+Outcome PadFailureCase(double rest_rad, bool press) {
+  Scenario s = LoadScenario(Source("examples/gecko_tail.yaml"));
+  s.duration_s = 10;
+  s.fall.stop = true;
+  s.outputs.trajectory_rate_hz = 0;
+  s.adhesion->pad_failure_probability = 0.035;
+  reflex::TailReflexParams& tail = *s.reflex->tail;
+  tail.rest_rad = rest_rad;
+  if (!press) {
+    tail.on_front_pad_loss = false;
+    tail.pitch_threshold_rad = 1.0;  // never reached: the tail stays at rest
+  }
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  Outcome o;
+  o.result = sim.Run();
+  o.summary = sim.Summary();
+  o.events = sim.EventsCsv();
+  return o;
+}
+
+// The same failing front pad (LF, at 1.62 s and again at 4.21 s) with the tail held
+// 0.3 rad clear of the wall: without the press the gecko falls; pressed, it climbs on.
+TEST(TailReflex, PressOnPadFailureSavesWhatAClearTailCannot) {
+  const Outcome off = PadFailureCase(-0.3, false);
+  const Outcome on = PadFailureCase(-0.3, true);
+  ASSERT_TRUE(on.result.stable && off.result.stable);
+  EXPECT_TRUE(off.result.fell);
+  EXPECT_FALSE(on.result.fell) << "fell at " << on.result.fall_time_s;
+  EXPECT_GT(on.result.distance_m, 0.15);
+  EXPECT_EQ(off.summary["reflex"]["tail"]["presses"], 0);
+  EXPECT_GE(on.summary["reflex"]["tail"]["presses"], 1);
+  // Every press is logged on the pad "tail" with its trigger, and released afterwards.
+  int presses = 0, releases = 0;
+  for (const auto& e : climbsim::testing::ParseEvents(on.events)) {
+    if (e.pad != "tail") continue;
+    presses += e.event == "tail_press";
+    releases += e.event == "tail_release";
+    if (e.event == "tail_press") {
+      EXPECT_TRUE(e.cause == "front_pad_lost" || e.cause.rfind("pitch=", 0) == 0) << e.cause;
+    }
+  }
+  EXPECT_EQ(presses, on.summary["reflex"]["tail"]["presses"]);
+  EXPECT_GE(releases, presses - 1);
+}
+
+// Held 0.1 rad clear (tip ~14 mm off the wall), the unpressed tail catches the body too, later:
+// the press keeps the nose's largest turn off the wall smaller and the climb longer.
+TEST(TailReflex, PressBoundsThePitchOfAClearTail) {
+  const Outcome off = PadFailureCase(-0.1, false);
+  const Outcome on = PadFailureCase(-0.1, true);
+  ASSERT_FALSE(on.result.fell);
+  const double pitch_on = on.summary["reflex"]["tail"]["max_pitch_rad"];
+  const double pitch_off = off.summary["reflex"]["tail"]["max_pitch_rad"];
+  EXPECT_LT(pitch_on, 0.8 * pitch_off) << pitch_on << " vs " << pitch_off;
+  EXPECT_GT(on.result.distance_m, off.result.distance_m + 0.02);
+}
+
+// examples/gecko_tail_robot.xml is the gecko preset with the default tail, generated; with
+// CLIMBSIM_REGENERATE=1 this test writes it. (The scenario names the file until the scenario
+// reads a robot design as a map.)
+TEST(Tail, ExampleRobotFileIsCurrent) {
+  const std::string path = Source("examples/gecko_tail_robot.xml");
+  const std::string generated = GenerateRobotMjcf(GeckoWithTail(TailDesign{}));
+  if (std::getenv("CLIMBSIM_REGENERATE") != nullptr) std::ofstream(path) << generated;
+  std::ifstream in(path);
+  const std::string stored((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(stored, generated) << path << " is stale: run this test with CLIMBSIM_REGENERATE=1";
+}
+
+}  // namespace
+}  // namespace climbsim::sim
