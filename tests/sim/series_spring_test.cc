@@ -1,0 +1,170 @@
+// Series-elastic legs (robot/compliance.h): the spring joint AddSeriesSprings writes, how it
+// deflects under a known torque, what it does to a push on the wall, and that the shipped
+// example's robot file is what AddSeriesSprings makes of mjcf/gecko.xml.
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "robot/compliance.h"
+#include "robot/leg_chain.h"
+#include "robot/robot.h"
+#include "sim/sim.h"
+#include "tests/common/test_util.h"
+
+namespace climbsim::sim {
+namespace {
+
+using climbsim::testing::ReadFile;
+using climbsim::testing::Source;
+using climbsim::testing::SplitCsv;
+using climbsim::testing::WriteFile;
+
+// The hip-yaw spring of examples/gecko_compliant.yaml (its robot file gecko_compliant.xml).
+ComplianceDesign ExampleDesign() {
+  ComplianceDesign d;
+  d.hip_yaw = {.stiffness_nm_per_rad = 0.6, .damping_nms_per_rad = 0.002, .travel_rad = 0.2};
+  return d;
+}
+
+std::string CompliantGecko(const ComplianceDesign& design, const std::string& extra = "") {
+  tinyxml2::XMLDocument doc;
+  EXPECT_EQ(doc.LoadFile(Source("mjcf/gecko.xml").c_str()), tinyxml2::XML_SUCCESS);
+  AddSeriesSprings(design, &doc);
+  if (!extra.empty()) {
+    tinyxml2::XMLDocument part;
+    part.Parse(extra.c_str());
+    for (auto* c = part.RootElement()->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      doc.RootElement()->InsertEndChild(c->DeepClone(&doc));
+    }
+  }
+  tinyxml2::XMLPrinter printer;
+  doc.Print(&printer);
+  return printer.CStr();
+}
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+
+ModelPtr Compile(const std::string& xml, const std::string& name) {
+  const std::string path = WriteFile(name, xml);
+  char error[1000] = "";
+  ModelPtr m(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
+  EXPECT_NE(m, nullptr) << error;
+  EXPECT_STREQ(error, "");
+  return m;
+}
+
+TEST(SeriesSpring, SpringJointHasTheKeysValuesAndTheContractHolds) {
+  const ModelPtr m = Compile(CompliantGecko(ExampleDesign()), "spring_gecko.xml");
+  ASSERT_NE(m, nullptr);
+  const RobotInfo robot = ReadRobot(m.get());
+  ASSERT_EQ(robot.legs.size(), 4u);
+  for (int leg = 0; leg < 4; ++leg) {
+    const LegInfo& l = robot.legs[leg];
+    const int servo = l.joint[0];
+    const int j = mj_name2id(m.get(), mjOBJ_JOINT, SpringJointName(l.name + "_hip_yaw").c_str());
+    ASSERT_GE(j, 0) << l.name;
+    EXPECT_EQ(j, servo + 1);  // right after the servo, in the same body, same axis and anchor
+    EXPECT_EQ(m->jnt_bodyid[j], m->jnt_bodyid[servo]);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(m->jnt_axis[3 * j + k], m->jnt_axis[3 * servo + k]);
+      EXPECT_EQ(m->jnt_pos[3 * j + k], m->jnt_pos[3 * servo + k]);
+    }
+    EXPECT_EQ(m->jnt_stiffness[j], 0.6);
+    EXPECT_EQ(m->dof_damping[m->jnt_dofadr[j]], 0.002);
+    EXPECT_EQ(m->dof_armature[m->jnt_dofadr[j]], 0.0);
+    EXPECT_EQ(m->jnt_range[2 * j], -0.2);
+    EXPECT_EQ(m->jnt_range[2 * j + 1], 0.2);
+    // The servo keeps its armature and back-EMF damping; the actuator still drives it.
+    EXPECT_EQ(m->dof_armature[m->jnt_dofadr[servo]], 3e-5);
+    EXPECT_EQ(m->dof_damping[m->jnt_dofadr[servo]], 0.0075);
+    EXPECT_EQ(m->actuator_trnid[2 * l.actuator[0]], servo);
+    EXPECT_EQ(LegChain::Problem(m.get(), robot, leg), "") << l.name;
+    // No spring where the design asks for none.
+    EXPECT_LT(mj_name2id(m.get(), mjOBJ_JOINT, (l.name + "_knee_spring").c_str()), 0);
+  }
+  EXPECT_EQ(m->njnt, 1 + 4 * (3 + 3 + 1));
+}
+
+// Statics: the base held, no gravity, a torque τ about the hip-yaw axis on the coxa. Servo and
+// spring are in series, so each carries τ: the spring turns τ/k, the servo τ/kp.
+TEST(SeriesSpring, KnownTorqueDeflectsTheSpringByTorqueOverStiffness) {
+  const std::string hold =
+      "<mujoco><option gravity=\"0 0 0\"/><equality><weld body1=\"base\"/></equality></mujoco>";
+  const ModelPtr m = Compile(CompliantGecko(ExampleDesign(), hold), "spring_static.xml");
+  ASSERT_NE(m, nullptr);
+  mjData* d = mj_makeData(m.get());
+  const int coxa = mj_name2id(m.get(), mjOBJ_BODY, "LF_coxa");
+  const int servo = mj_name2id(m.get(), mjOBJ_JOINT, "LF_hip_yaw");
+  const int spring = mj_name2id(m.get(), mjOBJ_JOINT, "LF_hip_yaw_spring");
+  const double torque_nm = 0.02;  // below the servo's 0.078 N·m limit, 0.033 rad of 0.2 travel
+  mj_forward(m.get(), d);
+  for (int k = 0; k < 3; ++k) {  // the axis in the world (the base at rest, aligned)
+    d->xfrc_applied[6 * coxa + 3 + k] = torque_nm * m->jnt_axis[3 * servo + k];
+  }
+  for (int i = 0; i < 4000; ++i) mj_step(m.get(), d);
+  const double q_spring = d->qpos[m->jnt_qposadr[spring]];
+  const double q_servo = d->qpos[m->jnt_qposadr[servo]];
+  EXPECT_NEAR(q_spring, torque_nm / 0.6, 0.02 * torque_nm / 0.6);
+  const double kp = m->actuator_gainprm[mjNGAIN * mj_name2id(m.get(), mjOBJ_ACTUATOR, "LF_hip_yaw")];
+  EXPECT_NEAR(q_servo, torque_nm / kp, 0.02 * torque_nm / kp);
+  mj_deleteData(d);
+}
+
+// The peak pad load (|(fn, fx, fy)|, largest pad) within 60 ms of a 10 ms push down the wall.
+double PeakPadLoadAfterPush(const std::string& robot, double push_ns) {
+  std::string yaml = ReadFile(Source("examples/gecko_wall.yaml"));
+  yaml.replace(yaml.find("robot: gecko"), 12, "robot: " + robot);
+  yaml.replace(yaml.find("duration_s: 20"), 14, "duration_s: 1.6");
+  yaml += "outputs: {trajectory_rate_hz: 1000}\nperturbations:\n  - {time_s: 1.5, impulse_ns: [" +
+          std::to_string(-push_ns) + ", 0, 0]}\n";
+  const Scenario s = ParseScenario(YAML::Load(yaml), Source("examples/gecko_wall.yaml"));
+  const auto model = CompileScenario(s);
+  Simulation run(s, *model);
+  run.Run();
+  std::istringstream in(run.TrajectoryCsv());
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> head = SplitCsv(line);
+  double peak = 0.0;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> row = SplitCsv(line);
+    const double t = std::stod(row[0]);
+    if (t < 1.5 || t > 1.56) continue;
+    for (size_t c = 0; c + 2 < head.size(); ++c) {
+      if (head[c].size() < 9 || head[c].compare(head[c].size() - 9, 9, "_pad_fn_n") != 0) continue;
+      peak = std::max(peak, std::hypot(std::stod(row[c]), std::stod(row[c + 1]),
+                                       std::stod(row[c + 2])));
+    }
+  }
+  return peak;
+}
+
+// The push the stiff gecko cannot take (0.03 N·s): the springs let the body move against them
+// instead of handing the push to the pads within a few ms.
+TEST(SeriesSpring, PushDownTheWallLoadsThePadsLessWithSprings) {
+  const std::string compliant = WriteFile("spring_wall.xml", CompliantGecko(ExampleDesign()));
+  const double stiff = PeakPadLoadAfterPush("gecko", 0.03);
+  const double sprung = PeakPadLoadAfterPush(compliant, 0.03);
+  std::printf("peak pad load after a 0.03 N s push: stiff %.3f N, springs %.3f N\n", stiff, sprung);
+  EXPECT_LT(sprung, 0.9 * stiff);  // measured: 1.25 N against 1.53 N
+}
+
+// examples/gecko_compliant.xml is generated: AddSeriesSprings on mjcf/gecko.xml with the
+// example's springs. After a change to either, write it again from this test's output file.
+TEST(SeriesSpring, ShippedCompliantGeckoIsTheGeneratedOne) {
+  const std::string generated = CompliantGecko(ExampleDesign());
+  const std::string out = WriteFile("gecko_compliant.xml", generated);
+  EXPECT_EQ(ReadFile(Source("examples/gecko_compliant.xml")), generated)
+      << "regenerate: cp " << out << " " << Source("examples/gecko_compliant.xml");
+}
+
+}  // namespace
+}  // namespace climbsim::sim
