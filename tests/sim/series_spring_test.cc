@@ -1,6 +1,6 @@
-// Series-elastic legs (robot/compliance.h): the spring joint AddSeriesSprings writes, how it
+// Series-elastic legs (robot/compliance.h): the spring joint the generator adds, how it
 // deflects under a known torque, what it does to a push on the wall, and that the shipped
-// example's robot file is what AddSeriesSprings makes of mjcf/gecko.xml.
+// example's robot file is the generated gecko with the example's springs.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 #include <tinyxml2.h>
@@ -11,6 +11,7 @@
 #include <string>
 
 #include "robot/compliance.h"
+#include "robot/design.h"
 #include "robot/leg_chain.h"
 #include "robot/robot.h"
 #include "sim/sim.h"
@@ -31,16 +32,18 @@ ComplianceDesign ExampleDesign() {
   return d;
 }
 
+// The gecko preset with these springs, as the generator writes it, plus `extra` (a <mujoco>
+// document whose children are appended).
 std::string CompliantGecko(const ComplianceDesign& design, const std::string& extra = "") {
-  tinyxml2::XMLDocument doc;
-  EXPECT_EQ(doc.LoadFile(Source("mjcf/gecko.xml").c_str()), tinyxml2::XML_SUCCESS);
-  AddSeriesSprings(design, &doc);
-  if (!extra.empty()) {
-    tinyxml2::XMLDocument part;
-    part.Parse(extra.c_str());
-    for (auto* c = part.RootElement()->FirstChildElement(); c; c = c->NextSiblingElement()) {
-      doc.RootElement()->InsertEndChild(c->DeepClone(&doc));
-    }
+  RobotDesign robot = PresetDesign("gecko");
+  robot.compliance = design;
+  const std::string xml = GenerateRobotMjcf(robot);
+  if (extra.empty()) return xml;
+  tinyxml2::XMLDocument doc, part;
+  EXPECT_EQ(doc.Parse(xml.c_str()), tinyxml2::XML_SUCCESS);
+  EXPECT_EQ(part.Parse(extra.c_str()), tinyxml2::XML_SUCCESS);
+  for (auto* c = part.RootElement()->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    doc.RootElement()->InsertEndChild(c->DeepClone(&doc));
   }
   tinyxml2::XMLPrinter printer;
   doc.Print(&printer);
@@ -157,8 +160,8 @@ TEST(SeriesSpring, PushDownTheWallLoadsThePadsLessWithSprings) {
   EXPECT_LT(sprung, 0.9 * stiff);  // measured: 1.25 N against 1.53 N
 }
 
-// examples/gecko_compliant.xml is generated: AddSeriesSprings on mjcf/gecko.xml with the
-// example's springs. After a change to either, write it again from this test's output file.
+// examples/gecko_compliant.xml is generated: the gecko preset with the example's springs
+// (GenerateRobotMjcf). After a change to either, write it again from this test's output file.
 TEST(SeriesSpring, ShippedCompliantGeckoIsTheGeneratedOne) {
   const std::string generated = CompliantGecko(ExampleDesign());
   const std::string out = WriteFile("gecko_compliant.xml", generated);
