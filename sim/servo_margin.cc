@@ -24,9 +24,15 @@ void ScenarioGait(const Scenario& s, int n, std::vector<double>* offsets, double
   if (!s.cpg) return;
   const CpgParams& p = *s.cpg;
   double preset_duty = 0.5;
+  // A gait that does not fit the robot is refused when the cpg is built; until then: all legs.
   if (!p.phase_bias_rad.empty()) {
-    for (int i = 0; i < n; ++i) (*offsets)[i] = p.phase_bias_rad[i][0] / (2 * M_PI);
+    if (static_cast<int>(p.phase_bias_rad.size()) != n) return;
+    for (int i = 0; i < n; ++i) {
+      if (p.phase_bias_rad[i].empty()) return;
+      (*offsets)[i] = p.phase_bias_rad[i][0] / (2 * M_PI);
+    }
   } else if (!p.offsets_cycles.empty()) {
+    if (static_cast<int>(p.offsets_cycles.size()) != n) return;
     *offsets = p.offsets_cycles;
   } else {
     const std::string name = p.gait.empty() ? (n == 6 ? "tripod" : "trot") : p.gait;
