@@ -18,7 +18,9 @@ void AddSeriesSpring(const SeriesSpring& spring, tinyxml2::XMLElement* servo_joi
     throw std::invalid_argument("robot.compliance: a servo joint needs a name and an axis");
   }
   const char* pos = servo_joint->Attribute("pos");
-  InsertElementAfter(
+  const double k = spring.stiffness_nm_per_rad;
+  const bool preloaded = spring.preload_nm > 0;
+  tinyxml2::XMLElement* joint = InsertElementAfter(
       servo_joint, "joint",
       {{"name", SpringJointName(name)},
        {"type", "hinge"},
@@ -26,10 +28,17 @@ void AddSeriesSpring(const SeriesSpring& spring, tinyxml2::XMLElement* servo_joi
        {"pos", pos ? pos : "0 0 0"},
        {"stiffness", MjcfNumber(spring.stiffness_nm_per_rad)},
        {"damping", MjcfNumber(spring.damping_nms_per_rad)},
-       {"springref", "0"},
+       {"springref", preloaded ? MjcfNumber(-spring.preload_nm / k) : "0"},
        {"armature", "0"},
        {"limited", "true"},
-       {"range", MjcfNumbers({-spring.travel_rad, spring.travel_rad})}});
+       {"range", MjcfNumbers({preloaded ? 0.0 : -spring.travel_rad, spring.travel_rad})}});
+  if (preloaded) {
+    // MuJoCo's default stop (solref 0.02 s) lets the preload press the light spring joint
+    // 0.06 rad into it: the leg would sit that far off. The stiffest stop the solver takes
+    // (time constant 2 timesteps at 1 ms; shorter is clamped to that) and a harder impedance.
+    joint->SetAttribute("solreflimit", "0.002 1");
+    joint->SetAttribute("solimplimit", "0.95 0.99 0.001");
+  }
 }
 
 namespace {

@@ -18,6 +18,7 @@ struct SeriesSpring {
   double stiffness_nm_per_rad = 0.0;
   double damping_nms_per_rad = 0.0;
   double travel_rad = 0.2;
+  double preload_nm = 0.0;
 
   template <class A>
   void Serialize(A* a) {
@@ -37,6 +38,16 @@ struct SeriesSpring {
     a->Visit({"travel_rad", "rad", "the spring's stops, ± this about the servo's angle",
               Range::OpenClosed(0.0, 1.0)},
              &travel_rad);
+    // A torsion spring whose arms are preloaded against a pin in the horn (as a break-away horn
+    // in an RC servo): rigid until the torque through it passes the preload, compliant beyond,
+    // in one direction only, the one a push down the wall loads (pad forward: the servo angle
+    // positive). Between the weight's torque per stance leg and the servo's stall torque; above
+    // the stall torque the spring never moves. 1 N·m is more than any catalogue servo holds.
+    a->Visit({"preload_nm", "N·m",
+              "torque the spring's arms are preloaded with against their stop; 0: a symmetric "
+              "spring (± travel_rad); above 0: rigid below this torque, then travel_rad one way",
+              Range::Closed(0.0, 1.0)},
+             &preload_nm);
   }
 };
 
@@ -59,9 +70,11 @@ std::string SpringJointName(const std::string& servo_joint);
 // Inserts the spring hinge "<servo joint name>_spring" right after `servo_joint` (a <joint>
 // element with name and axis) when spring.stiffness_nm_per_rad > 0; nothing otherwise. The
 // spring joint has no class of its own beyond the body's childclass and sets every attribute
-// that matters (stiffness, damping, springref 0, range, armature 0), so a servo class's damping
-// and armature stay on the servo joint. Throws std::invalid_argument when the element has no
-// name or axis.
+// that matters (stiffness, damping, springref, range, armature 0), so a servo class's damping
+// and armature stay on the servo joint. Preloaded (preload_nm > 0): range [0, travel] and
+// springref -preload/k, so the spring presses the joint onto its stop at 0 with the preload and
+// leaves it only when a positive torque passes the preload; a stiff stop (solreflimit) keeps
+// it there. Throws std::invalid_argument when the element has no name or axis.
 void AddSeriesSpring(const SeriesSpring& spring, tinyxml2::XMLElement* servo_joint);
 
 // AddSeriesSpring on every leg's hip_yaw, hip_pitch and knee joint of a robot document (legs

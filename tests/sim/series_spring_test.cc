@@ -96,29 +96,57 @@ TEST(SeriesSpring, SpringJointHasTheKeysValuesAndTheContractHolds) {
   EXPECT_EQ(m->njnt, 1 + 4 * (3 + 3 + 1));
 }
 
-// Statics: the base held, no gravity, a torque τ about the hip-yaw axis on the coxa. Servo and
-// spring are in series, so each carries τ: the spring turns τ/k, the servo τ/kp.
-TEST(SeriesSpring, KnownTorqueDeflectsTheSpringByTorqueOverStiffness) {
+struct Deflection {
+  double spring_rad, servo_rad, servo_kp;
+};
+
+// Statics: the base held, no gravity, a torque τ about LF's hip-yaw axis on its coxa, 4 s to
+// settle. Servo and spring are in series, so each carries τ.
+Deflection UnderTorque(const ComplianceDesign& design, double torque_nm) {
   const std::string hold =
       "<mujoco><option gravity=\"0 0 0\"/><equality><weld body1=\"base\"/></equality></mujoco>";
-  const ModelPtr m = Compile(CompliantGecko(ExampleDesign(), hold), "spring_static.xml");
-  ASSERT_NE(m, nullptr);
+  const ModelPtr m = Compile(CompliantGecko(design, hold), "spring_static.xml");
+  if (!m) return {};
   mjData* d = mj_makeData(m.get());
   const int coxa = mj_name2id(m.get(), mjOBJ_BODY, "LF_coxa");
   const int servo = mj_name2id(m.get(), mjOBJ_JOINT, "LF_hip_yaw");
   const int spring = mj_name2id(m.get(), mjOBJ_JOINT, "LF_hip_yaw_spring");
-  const double torque_nm = 0.02;  // below the servo's 0.078 N·m limit, 0.033 rad of 0.2 travel
   mj_forward(m.get(), d);
   for (int k = 0; k < 3; ++k) {  // the axis in the world (the base at rest, aligned)
     d->xfrc_applied[6 * coxa + 3 + k] = torque_nm * m->jnt_axis[3 * servo + k];
   }
   for (int i = 0; i < 4000; ++i) mj_step(m.get(), d);
-  const double q_spring = d->qpos[m->jnt_qposadr[spring]];
-  const double q_servo = d->qpos[m->jnt_qposadr[servo]];
-  EXPECT_NEAR(q_spring, torque_nm / 0.6, 0.02 * torque_nm / 0.6);
-  const double kp = m->actuator_gainprm[mjNGAIN * mj_name2id(m.get(), mjOBJ_ACTUATOR, "LF_hip_yaw")];
-  EXPECT_NEAR(q_servo, torque_nm / kp, 0.02 * torque_nm / kp);
+  const Deflection out{d->qpos[m->jnt_qposadr[spring]], d->qpos[m->jnt_qposadr[servo]],
+                       m->actuator_gainprm[mjNGAIN * mj_name2id(m.get(), mjOBJ_ACTUATOR,
+                                                                 "LF_hip_yaw")]};
   mj_deleteData(d);
+  return out;
+}
+
+// The spring turns τ/k, the servo τ/kp.
+TEST(SeriesSpring, KnownTorqueDeflectsTheSpringByTorqueOverStiffness) {
+  const double torque_nm = 0.02;  // below the servo's 0.078 N·m limit, 0.033 rad of 0.2 travel
+  const Deflection q = UnderTorque(ExampleDesign(), torque_nm);
+  EXPECT_NEAR(q.spring_rad, torque_nm / 0.6, 0.02 * torque_nm / 0.6);
+  EXPECT_NEAR(q.servo_rad, torque_nm / q.servo_kp, 0.02 * torque_nm / q.servo_kp);
+}
+
+// A preloaded spring: below the preload it stays on its stop (the servo alone gives), above
+// it turns by (τ - preload)/k.
+TEST(SeriesSpring, PreloadedSpringMovesOnlyBeyondThePreload) {
+  ComplianceDesign design;
+  const double k = 0.2, preload_nm = 0.045;
+  design.hip_yaw = {.stiffness_nm_per_rad = k, .damping_nms_per_rad = 0.005, .travel_rad = 0.15,
+                    .preload_nm = preload_nm};
+  const Deflection below = UnderTorque(design, 0.9 * preload_nm);
+  // Unpreloaded, the same spring would turn 0.2 rad (past its travel): on the stop it turns
+  // less than 1 % of that (the stop is a soft constraint).
+  EXPECT_NEAR(below.spring_rad, 0.0, 0.01 * 0.9 * preload_nm / k);
+  EXPECT_NEAR(below.servo_rad, 0.9 * preload_nm / below.servo_kp, 0.02 * below.servo_rad);
+  const double torque_nm = 0.06;  // (0.06 - 0.045)/0.2 = 0.075 rad of the 0.15 travel
+  const Deflection above = UnderTorque(design, torque_nm);
+  EXPECT_NEAR(above.spring_rad, (torque_nm - preload_nm) / k, 0.03 * (torque_nm - preload_nm) / k);
+  EXPECT_NEAR(above.servo_rad, torque_nm / above.servo_kp, 0.02 * torque_nm / above.servo_kp);
 }
 
 // The peak pad load (|(fn, fx, fy)|, largest pad) within 60 ms of a 10 ms push down the wall.
