@@ -19,7 +19,8 @@ void AddSeriesSpring(const SeriesSpring& spring, tinyxml2::XMLElement* servo_joi
   }
   const char* pos = servo_joint->Attribute("pos");
   const double k = spring.stiffness_nm_per_rad;
-  const bool preloaded = spring.preload_nm > 0;
+  const double p = spring.preload_nm;
+  const bool preloaded = p != 0;
   tinyxml2::XMLElement* joint = InsertElementAfter(
       servo_joint, "joint",
       {{"name", SpringJointName(name)},
@@ -28,10 +29,11 @@ void AddSeriesSpring(const SeriesSpring& spring, tinyxml2::XMLElement* servo_joi
        {"pos", pos ? pos : "0 0 0"},
        {"stiffness", MjcfNumber(spring.stiffness_nm_per_rad)},
        {"damping", MjcfNumber(spring.damping_nms_per_rad)},
-       {"springref", preloaded ? MjcfNumber(-spring.preload_nm / k) : "0"},
+       {"springref", preloaded ? MjcfNumber(-p / k) : "0"},
        {"armature", "0"},
        {"limited", "true"},
-       {"range", MjcfNumbers({preloaded ? 0.0 : -spring.travel_rad, spring.travel_rad})}});
+       {"range",
+        MjcfNumbers({p > 0 ? 0.0 : -spring.travel_rad, p < 0 ? 0.0 : spring.travel_rad})}});
   if (preloaded) {
     // MuJoCo's default stop (solref 0.02 s) lets the preload press the light spring joint
     // 0.06 rad into it: the leg would sit that far off. The stiffest stop the solver takes
@@ -63,7 +65,9 @@ void AddSeriesSprings(const ComplianceDesign& design, tinyxml2::XMLDocument* rob
     for (const auto& [suffix, spring] : joints) {
       if (spring->stiffness_nm_per_rad <= 0) continue;
       tinyxml2::XMLElement* j = FindNamed(robot->RootElement(), "joint", leg + suffix);
-      if (!j) throw std::invalid_argument("robot.compliance: the robot has no joint " + leg + suffix);
+      if (!j) {
+        throw std::invalid_argument("robot.compliance: the robot has no joint " + leg + suffix);
+      }
       AddSeriesSpring(*spring, j);
     }
   }

@@ -40,13 +40,15 @@ struct SeriesSpring {
              &travel_rad);
     // A torsion spring whose arms are preloaded against a pin in the horn (as a break-away horn
     // in an RC servo): rigid until the torque through it passes the preload, compliant beyond,
-    // in one direction only, the one a push down the wall loads (pad forward: the servo angle
-    // positive). Between the weight's torque per stance leg and the servo's stall torque; above
-    // the stall torque the spring never moves. 1 N·m is more than any catalogue servo holds.
+    // one way only: positive gives for a positive torque (hip yaw: the pad forward, the way a
+    // push down the wall loads every stance leg), negative for a negative one (hip pitch: the
+    // pad pulled towards the wall, the way a pitch off the wall loads the front legs). Above
+    // the weight's torque per stance leg, below the servo's stall torque (above it the spring
+    // never moves); 1 N·m is more than any catalogue servo holds.
     a->Visit({"preload_nm", "N·m",
               "torque the spring's arms are preloaded with against their stop; 0: a symmetric "
-              "spring (± travel_rad); above 0: rigid below this torque, then travel_rad one way",
-              Range::Closed(0.0, 1.0)},
+              "spring (± travel_rad); else rigid below |preload|, then travel_rad its way",
+              Range::Closed(-1.0, 1.0)},
              &preload_nm);
   }
 };
@@ -71,10 +73,10 @@ std::string SpringJointName(const std::string& servo_joint);
 // element with name and axis) when spring.stiffness_nm_per_rad > 0; nothing otherwise. The
 // spring joint has no class of its own beyond the body's childclass and sets every attribute
 // that matters (stiffness, damping, springref, range, armature 0), so a servo class's damping
-// and armature stay on the servo joint. Preloaded (preload_nm > 0): range [0, travel] and
-// springref -preload/k, so the spring presses the joint onto its stop at 0 with the preload and
-// leaves it only when a positive torque passes the preload; a stiff stop (solreflimit) keeps
-// it there. Throws std::invalid_argument when the element has no name or axis.
+// and armature stay on the servo joint. Preloaded (preload_nm p != 0): range [0, travel] (p > 0)
+// or [-travel, 0] (p < 0) and springref -p/k, so the spring presses the joint onto its stop at
+// 0 with |p| and leaves it only when a torque of p's sign passes |p|; a stiff stop
+// (solreflimit) keeps it there. Throws std::invalid_argument when the element has no name or axis.
 void AddSeriesSpring(const SeriesSpring& spring, tinyxml2::XMLElement* servo_joint);
 
 // AddSeriesSpring on every leg's hip_yaw, hip_pitch and knee joint of a robot document (legs
