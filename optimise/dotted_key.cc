@@ -2,6 +2,7 @@
 #include <charconv>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "optimise/optimise.h"
@@ -51,10 +52,33 @@ std::vector<Part> Split(std::string_view key) {
   return parts;
 }
 
+// A top-level key the file may give as a scalar, short for a map of one key ("scene: wall" is
+// {name: wall}, "robot: gecko" is {preset: gecko}): setting a key under it writes the map out.
+// A robot file's path has no keys to set.
+void ExpandShorthand(YAML::Node root, const std::string& key) {
+  static const std::pair<const char*, const char*> kShorthands[] = {{"scene", "name"},
+                                                                    {"robot", "preset"}};
+  if (!root.IsMap()) return;
+  YAML::Node n = root[key];
+  if (!n.IsDefined() || !n.IsScalar()) return;
+  for (const auto& [top, inner] : kShorthands) {
+    if (key != top) continue;
+    const std::string value = n.Scalar();
+    if (key == "robot" && sim::IsRobotPath(value)) {
+      throw std::invalid_argument("robot: the file's robot is an MJCF file (" + value +
+                                  "); robot.* keys change a preset (robot: gecko) or a design");
+    }
+    YAML::Node map(YAML::NodeType::Map);
+    map[inner] = value;
+    root[key] = map;
+  }
+}
+
 // Walks to the node a key names. With `create`, missing map keys are made (maps on the way,
 // the last one null); list elements are never made: a tuned list must be written out.
 YAML::Node Walk(YAML::Node root, std::string_view key, bool create) {
   const std::vector<Part> parts = Split(key);
+  if (create && parts.size() > 1 && parts[0].index.empty()) ExpandShorthand(root, parts[0].key);
   YAML::Node cur;
   cur.reset(root);
   std::string done;

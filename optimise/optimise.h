@@ -98,12 +98,17 @@ class Problem {
 
 // ---- Compiled models -------------------------------------------------------------------
 // One thread's compiled models, by structure: scenarios that differ only in values (which the
-// World applies per run) share one. Not thread-safe: one cache per thread.
+// World applies per run) share one; a robot design's keys change the structure (a model is
+// generated and compiled per design). Not thread-safe: one cache per thread. A reference
+// For returns holds until the next call.
 class ModelCache {
  public:
   const sim::CompiledModel& For(const sim::Scenario& scenario);
 
  private:
+  // At most this many models (a few MB each): the structures a sweep or optimise of effect
+  // keys visits fit; one of robot keys replaces them as it goes.
+  static constexpr size_t kMaxModels = 16;
   std::map<std::string, std::unique_ptr<sim::CompiledModel>> models_;
 };
 

@@ -331,9 +331,14 @@ int ProcessCount() { return Comm::World().size(); }
 
 const sim::CompiledModel& ModelCache::For(const sim::Scenario& s) {
   const sim::MjcfAdditions add = sim::EffectAdditions(s);
-  const std::string key = sim::ComposeMjcf(sim::RobotFile(s), sim::SceneFile(s), add);
+  const std::string key = sim::ComposeScenarioMjcf(s, add);
   auto it = models_.find(key);
-  if (it == models_.end()) it = models_.emplace(key, sim::CompiledModel::Build(s, add)).first;
+  if (it == models_.end()) {
+    // A robot key that varies makes a model per evaluation: keep the cache bounded. The
+    // model handed out last is done with (one rollout at a time per cache).
+    if (models_.size() >= kMaxModels) models_.clear();
+    it = models_.emplace(key, sim::CompiledModel::Build(s, add)).first;
+  }
   return *it->second;
 }
 

@@ -254,6 +254,9 @@ struct RobotDesign {
 std::vector<std::string> PresetNames();
 // The preset of this name; throws std::invalid_argument naming the presets for another.
 RobotDesign PresetDesign(const std::string& name);
+// The keys where a design differs from its preset, in declaration order, each as
+// "legs.femur_m 0.072" (a list element "legs.knee_range_rad[1] 1.1"; an absent part "tail none").
+std::vector<std::string> ChangedKeys(const RobotDesign& design);
 // The robot file of a design: a complete <mujoco> document (what mjcf/<preset>.xml holds for
 // a preset). Throws std::invalid_argument (key path and reason) for a design it cannot build.
 std::string GenerateRobotMjcf(const RobotDesign& design);

@@ -3,6 +3,7 @@
 // contract of mjcf/README.md.
 #include "robot/generate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -36,8 +37,13 @@ std::vector<Leg> LegsOf(const RobotDesign& d) {
                               std::to_string(d.legs.count));
 }
 
-void AddServoClass(tinyxml2::XMLElement* parent, const std::string& name, const ServoModel& s,
-                   const std::vector<double>& range) {
+// A servo's joint and actuator class, after a comment naming the part (key: the design's key).
+void AddServoClass(tinyxml2::XMLElement* parent, const std::string& name, const std::string& key,
+                   const ServoModel& s, const std::vector<double>& range) {
+  AddComment(parent, {key + ": " + std::string(s.part) + " at " + MjcfNumber(s.voltage_v) +
+                          " V, stall " + MjcfNumber(s.stall_torque_nm) + " N m,",
+                      "no-load " + MjcfNumber(s.no_load_speed_rad_s) +
+                          " rad/s (mjcf/README.md, \"Servo catalogue\")."});
   tinyxml2::XMLElement* c = AddElement(parent, "default", {{"class", name}});
   const std::string r = MjcfNumbers({range[0], range[1]});
   AddElement(c, "joint",
@@ -49,6 +55,17 @@ void AddServoClass(tinyxml2::XMLElement* parent, const std::string& name, const 
               {"forcelimited", "true"},
               {"forcerange", MjcfNumbers({-s.stall_torque_nm, s.stall_torque_nm})},
               {"ctrlrange", r}});
+}
+
+// What the foot post is for: a peel lever, or (an active-release foot) only the ankle's height.
+void AddPostComment(tinyxml2::XMLElement* parent, const FeetDesign& feet) {
+  const bool peel = feet.release == "peel";
+  AddComment(
+      parent,
+      {std::string("The foot post, ankle to pad (feet.post_m): ") +
+           (peel ? "the lever that peels the pad" : "short, a toe tendon releases the pad"),
+       std::string("(mjcf/README.md, ") + (peel ? "\"Feet\"" : "\"Active-release feet\"") + ").",
+       "Visual only: the pad geom carries the mass."});
 }
 
 }  // namespace
@@ -70,24 +87,86 @@ Plan MakePlan(const RobotDesign& d) {
   return p;
 }
 
+namespace {
+
+// A pad's footprint in the base frame: centre, half side, angle about z.
+struct Footprint {
+  double x, y, half, angle;
+};
+
+// Where leg's pad lies with its hip yaw at yaw_rad (all other joints 0): the leg's plane turns
+// about the hip axis; the pad turns with it (its frame cancels the splay).
+Footprint PadAt(const RobotDesign& d, const Leg& leg, double yaw_rad) {
+  const double reach = d.legs.coxa_m + d.legs.femur_m - d.legs.tibia_inset_m;
+  const double turn = -leg.side * yaw_rad, psi = leg.yaw_rad + turn;
+  return {leg.hip_x_m - leg.side * reach * std::sin(psi),
+          leg.side * (d.body.hip_y_m + reach * std::cos(psi)), d.pads.size_m / 2, turn};
+}
+
+// The gap between two squares (separating-axis test on their edges' normals); < 0: overlap.
+double Gap(const Footprint& a, const Footprint& b) {
+  double gap = -1e300;
+  for (const double axis : {a.angle, a.angle + M_PI / 2, b.angle, b.angle + M_PI / 2}) {
+    const double ux = std::cos(axis), uy = std::sin(axis);
+    double extent = 0;
+    for (const Footprint& f : {a, b})
+      extent += f.half * (std::abs(std::cos(f.angle - axis)) + std::abs(std::sin(f.angle - axis)));
+    gap = std::max(gap, std::abs((a.x - b.x) * ux + (a.y - b.y) * uy) - extent);
+  }
+  return gap;
+}
+
+// Robot geoms never collide with each other, so pads must not meet: none overlapping in qpos0,
+// nor neighbours on a side swung towards each other by the gait's 0.4 rad of hip yaw. (The
+// presets keep 5 mm there, the contract's margin; a design may come closer.)
+void CheckPads(const Plan& p) {
+  const RobotDesign& d = *p.design;
+  const std::vector<Leg>& legs = p.legs;
+  for (size_t i = 0; i < legs.size(); ++i)
+    for (size_t j = i + 1; j < legs.size(); ++j)
+      if (Gap(PadAt(d, legs[i], 0), PadAt(d, legs[j], 0)) < 0)
+        throw std::invalid_argument("robot.pads.size_m: the pads of " + legs[i].name + " and " +
+                                    legs[j].name + " overlap in the neutral pose (pad side " +
+                                    MjcfNumber(d.pads.size_m) + " m)");
+  // Legs are listed front to back per side: a leg's neighbour is the next one on its side.
+  for (size_t i = 0; i < legs.size(); ++i) {
+    size_t j = i + 1;
+    while (j < legs.size() && legs[j].side != legs[i].side) ++j;
+    if (j == legs.size()) continue;
+    const double gap = Gap(PadAt(d, legs[i], -kGaitYaw_rad), PadAt(d, legs[j], kGaitYaw_rad));
+    if (gap < 0)
+      throw std::invalid_argument(
+          "robot.body.hip_x_m: the pads of " + legs[i].name + " and " + legs[j].name +
+          " overlap by " + MjcfNumber(std::round(-gap * 1e5) / 1e2) +
+          " mm at 0.4 rad of hip yaw: move the hips apart, or shorten the legs (legs.coxa_m, "
+          "legs.femur_m) or the pads (pads.size_m)");
+  }
+}
+
+void CheckRange(const std::string& key, const std::vector<double>& range) {
+  if (!(range[0] < 0 && 0 < range[1]))
+    throw std::invalid_argument("robot." + key + ": [" + MjcfNumbers({range[0], range[1]}) +
+                                "] must hold 0, the neutral pose, inside its ends");
+}
+
+}  // namespace
+
 void CheckGeometry(const Plan& p) {
   const RobotDesign& d = *p.design;
   if (d.feet.post_m <= d.pads.thickness_m)
     throw std::invalid_argument("robot.feet.post_m: the post (" + MjcfNumber(d.feet.post_m) +
                                 " m) must be longer than the pad is thick (" +
                                 MjcfNumber(d.pads.thickness_m) + " m)");
-  const double reach = d.legs.coxa_m + d.legs.femur_m - d.legs.tibia_inset_m;
-  std::vector<std::pair<double, double>> pads;
-  for (const Leg& leg : p.legs)
-    pads.emplace_back(leg.hip_x_m - leg.side * reach * std::sin(leg.yaw_rad),
-                      leg.side * (d.body.hip_y_m + reach * std::cos(leg.yaw_rad)));
-  for (size_t i = 0; i < pads.size(); ++i)
-    for (size_t j = i + 1; j < pads.size(); ++j)
-      if (std::abs(pads[i].first - pads[j].first) < d.pads.size_m &&
-          std::abs(pads[i].second - pads[j].second) < d.pads.size_m)
-        throw std::invalid_argument("robot.pads.size_m: the pads of " + p.legs[i].name + " and " +
-                                    p.legs[j].name + " overlap in the neutral pose (pad side " +
-                                    MjcfNumber(d.pads.size_m) + " m)");
+  const double belly = p.base_z_m - d.body.height_m / 2;
+  if (belly < 2 * kPadGap_m)
+    throw std::invalid_argument(
+        "robot.legs.tibia_m: the body's underside would stand " + MjcfNumber(belly * 1e3) +
+        " mm above the surface (1 mm needed): the tibia's drop less the femur's rise plus the "
+        "post must exceed half the body's height");
+  CheckRange("legs.hip_yaw_range_rad", d.legs.hip_yaw_range_rad);
+  CheckRange("legs.hip_pitch_range_rad", d.legs.hip_pitch_range_rad);
+  CheckRange("legs.knee_range_rad", d.legs.knee_range_rad);
+  CheckPads(p);
 }
 
 tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
@@ -102,13 +181,15 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
               {"rgba", p.palette.body}});
   AddElement(top, "joint", {{"type", "hinge"}, {"limited", "true"}});
   AddElement(top, "site", {{"group", "3"}, {"size", "0.002"}});
-  AddServoClass(top, p.prefix + "_hip_yaw", *p.hip_yaw, d.legs.hip_yaw_range_rad);
-  AddServoClass(top, p.prefix + "_hip_pitch", *p.hip_pitch, d.legs.hip_pitch_range_rad);
-  AddServoClass(top, p.prefix + "_knee", *p.knee, d.legs.knee_range_rad);
+  AddServoClass(top, p.prefix + "_hip_yaw", "servos.hip_yaw", *p.hip_yaw, d.legs.hip_yaw_range_rad);
+  AddServoClass(top, p.prefix + "_hip_pitch", "servos.hip_pitch", *p.hip_pitch,
+                d.legs.hip_pitch_range_rad);
+  AddServoClass(top, p.prefix + "_knee", "servos.knee", *p.knee, d.legs.knee_range_rad);
   if (p.tilt)
-    AddServoClass(top, p.prefix + "_ankle_tilt", *p.tilt,
+    AddServoClass(top, p.prefix + "_ankle_tilt", "ankles.tilt_servo", *p.tilt,
                   {-d.ankles.range_rad, d.ankles.range_rad});
   const double ankle = d.pads.ankle_range_rad;
+  AddComment(top, {"Passive compliant ankle: torsion spring, neutral (springref) at 0."});
   AddElement(AddElement(top, "default", {{"class", p.prefix + "_ankle"}}), "joint",
              {{"stiffness", MjcfNumber(d.pads.ankle_stiffness_nm_per_rad)},
               {"damping", MjcfNumber(d.pads.ankle_damping_nms_per_rad)},
@@ -116,6 +197,7 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
               {"range", MjcfNumbers({-ankle, ankle})}});
   AddElement(AddElement(top, "default", {{"class", p.prefix + "_link"}}), "geom",
              {{"type", "capsule"}, {"rgba", p.palette.link}});
+  AddPostComment(top, d.feet);
   AddElement(AddElement(top, "default", {{"class", p.prefix + "_post"}}), "geom",
              {{"type", "capsule"},
               {"size", MjcfNumber(d.feet.post_radius_m)},
@@ -124,6 +206,9 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
               {"conaffinity", "0"},
               {"group", "1"},
               {"rgba", "0.3 0.3 0.32 1"}});
+  AddComment(top,
+             {"Dry-adhesive pad, polymer on a hard surface. priority 1 makes MuJoCo take friction,",
+              "solref and solimp of a pad contact from the pad alone."});
   tinyxml2::XMLElement* pad = AddElement(top, "default", {{"class", p.prefix + "_pad"}});
   const double half = d.pads.size_m / 2;
   const std::vector<double>&f = d.pads.friction, &r = d.pads.solref, &i = d.pads.solimp;
@@ -155,16 +240,58 @@ tinyxml2::XMLElement* AddActuators(const Plan& p, tinyxml2::XMLElement* mujoco) 
 
 }  // namespace generate
 
+namespace {
+
+// The mjcf/README.md section that explains a preset's numbers.
+std::string ReadmeSection(const std::string& preset) {
+  if (preset.ends_with("_active")) return "Active-release feet";
+  if (preset.ends_with("_ankle")) return "Actuated ankles";
+  return preset == "spider" ? "Spider" : "Gecko";
+}
+
+// The file's header. Its second line names no preset, so a variant's file is its robot's file
+// line for line but for the lines that differ (MjcfVariants.ActiveFeetDifferOnlyInTheFeet).
+// "  Keys changed from the preset: a 1, b 2," lines of at most 100 columns; "" for a preset.
+std::string ChangedKeysText(const RobotDesign& d) {
+  std::string text, line = "  Keys changed from the preset:";
+  for (const std::string& key : ChangedKeys(d)) {
+    if (line.size() + key.size() + 2 > 100) {
+      text += line + "\n";
+      line = "   ";
+    }
+    line += " " + key + ",";
+  }
+  if (line.back() != ',') return text;
+  line.back() = '.';
+  return text + line + "\n";
+}
+
+std::string Header(const RobotDesign& d) {
+  return "\n"
+         "  Generated by `climbsim model` from a robot design (robot/README.md): change the "
+         "design\n"
+         "  and generate again rather than edit this file. mjcf/README.md explains the numbers.\n"
+         "  The design: the preset " +
+         d.preset + " and its keys (mjcf/README.md, \"" + ReadmeSection(d.preset) + "\").\n" +
+         ChangedKeysText(d) +
+         "  Frames: base x forward, y left, z up. In qpos0 (all joint angles 0) the robot stands "
+         "in\n"
+         "  its neutral pose with the pad faces 0.5 mm above the plane z = 0.\n"
+         "  Sign convention, the same for every leg (axes are mirrored on the right side):\n"
+         "    L_hip_yaw   > 0 swings the pad forward (+x of the base)\n"
+         "    L_hip_pitch > 0 lifts the pad away from the surface\n"
+         "    L_knee      > 0 flexes the knee, which lifts the pad where the tibia leans inwards\n"
+         "  Collision bits: robot geoms contype 2 / conaffinity 1, scene geoms contype 1 /\n"
+         "  conaffinity 2, so the robot collides with the scene and never with itself.\n"
+         "  This file has no <option>: timestep and gravity belong to the scene files.\n";
+}
+
+}  // namespace
+
 std::string GenerateRobotMjcf(const RobotDesign& design) {
   const generate::Plan plan = generate::MakePlan(design);
   tinyxml2::XMLDocument doc;
-  doc.InsertEndChild(doc.NewComment(
-      ("\n  climbsim " + design.preset + ": generated by `climbsim model` from the preset " +
-       design.preset +
-       "\n  (robot/presets.cc) and the design's keys; mjcf/README.md explains "
-       "the numbers.\n  Frames: base x forward, y left, z up; in qpos0 the pad faces stand "
-       "0.5 mm above z = 0.\n")
-          .c_str()));
+  doc.InsertEndChild(doc.NewComment(Header(design).c_str()));
   tinyxml2::XMLElement* mujoco = doc.NewElement("mujoco");
   doc.InsertEndChild(mujoco);
   mujoco->SetAttribute("model", design.preset.c_str());
@@ -179,9 +306,7 @@ std::string GenerateRobotMjcf(const RobotDesign& design) {
   if (design.tail)
     AddTail(*design.tail, {plan.prefix, -design.body.length_m / 2, 0.0, plan.base_z_m}, defaults,
             base, actuator);
-  tinyxml2::XMLPrinter printer;
-  doc.Print(&printer);
-  return printer.CStr();
+  return PrintMjcf(doc);
 }
 
 }  // namespace climbsim::sim

@@ -16,6 +16,9 @@ namespace climbsim::sim::generate {
 
 // Pad faces stand this far above the plane z = 0 in qpos0 (mjcf/README.md, "Frames").
 inline constexpr double kPadGap_m = 0.0005;
+// Neighbouring pads swung towards each other by this much hip yaw (the gait's largest swing,
+// mjcf/README.md) must not meet.
+inline constexpr double kGaitYaw_rad = 0.4;
 
 struct Leg {
   std::string name;  // "LF", "L1"
@@ -46,7 +49,9 @@ struct Plan {
 // Resolves servos and legs; throws std::invalid_argument ("robot.<key>: ...") for a design
 // that cannot be built.
 Plan MakePlan(const RobotDesign& design);
-// Pad centres in the base frame at qpos0 overlapping, a post shorter than the pad.
+// Refuses what cannot be built: pads that overlap in qpos0 or meet at the gait's hip yaw, a
+// post no longer than the pad is thick, a body plate at or below the pads, a joint range
+// without 0 inside it.
 void CheckGeometry(const Plan& plan);
 
 // <default>: the robot's classes; returns the robot's top class.

@@ -119,6 +119,14 @@ void AddTibia(const Plan& p, const Leg& leg, XMLElement* femur) {
 
 XMLElement* AddBase(const Plan& p, XMLElement* worldbody) {
   const BodyDesign& b = p.design->body;
+  const LegsDesign& l = p.design->legs;
+  const std::string post = MjcfNumber(p.design->feet.post_m);
+  AddComment(worldbody,
+             {"Base height: the ankle " + MjcfNumber(l.tibia_m - l.femur_rise_m) +
+                  " below the hip axes (legs.tibia_m - legs.femur_rise_m),",
+              "the pad face " + post + " below the ankle (feet.post_m), and a 0.5 mm gap:",
+              MjcfNumber(l.tibia_m) + " - " + MjcfNumber(l.femur_rise_m) + " + " + post +
+                  " + 0.0005 = " + MjcfNumber(p.base_z_m) + "."});
   XMLElement* base = AddElement(
       worldbody, "body",
       {{"name", "base"}, {"pos", MjcfNumbers({0, 0, p.base_z_m})}, {"childclass", p.prefix}});
@@ -145,6 +153,9 @@ XMLElement* AddBase(const Plan& p, XMLElement* worldbody) {
 void AddLeg(const Plan& p, const Leg& leg, XMLElement* base) {
   const RobotDesign& d = *p.design;
   const LegsDesign& l = d.legs;
+  const char* place = leg.hip_x_m > 0 ? "front" : leg.hip_x_m < 0 ? "hind" : "middle";
+  AddComment(base, {"===================== " + leg.name + ": " +
+                    (leg.side > 0 ? "left " : "right ") + place + " ====================="});
   XMLElement* coxa =
       AddElement(base, "body",
                  {{"name", leg.name + "_coxa"},

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scenario/robot_key.h"
 #include "scenario/yaml_reader.h"
 
 namespace climbsim::sim {
@@ -165,15 +166,17 @@ class YamlReadArchive {
     YamlReadArchive sub(map_.Map(f.key), places_);
     sub.Read(nested);
   }
+  // Absent keys keep the value they have (a scenario's blocks start absent: the effect is not
+  // constructed; a robot design's parts start as its preset has them). A given block is read
+  // over that value, or over the block's defaults when there was none.
   template <HasSerialize T>
   void Visit(const Field& f, std::optional<T>* nested) {
     Place(f);
     if (!map_.Has(f.key)) {
-      map_.Raw(f.key);  // known key, absent: the effect is not constructed
-      nested->reset();
+      map_.Raw(f.key);  // known key, absent
       return;
     }
-    nested->emplace();
+    if (!nested->has_value()) nested->emplace();
     YamlReadArchive sub(map_.Map(f.key), places_);
     sub.Read(&**nested);
   }
@@ -193,6 +196,8 @@ class YamlReadArchive {
       list->push_back(std::move(item));
     }
   }
+
+  void Visit(const Field& f, RobotKey* robot);  // robot_key.cc
 
   const YamlMap& map() const { return map_; }
 
@@ -282,6 +287,7 @@ class YamlWriteArchive {
     for (const auto& item : *list) seq.push_back(Write(item));
     node_[std::string(f.key)] = seq;
   }
+  void Visit(const Field& f, RobotKey* robot);  // robot_key.cc
 
  private:
   YAML::Node node_{YAML::NodeType::Map};
@@ -365,6 +371,7 @@ struct DocArchive {
     auto sub = List<T>(prefix + std::string(f.key) + "[].");
     rows.insert(rows.end(), sub.begin(), sub.end());
   }
+  void Visit(const Field& f, RobotKey* robot);  // robot_key.cc
 };
 
 }  // namespace climbsim::sim

@@ -1,5 +1,6 @@
 #include "scenario/scenario.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,9 +10,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool IsPath(const std::string& s) {
-  return s.find('/') != std::string::npos || s.ends_with(".xml");
-}
+bool IsPath(const std::string& s) { return IsRobotPath(s); }
 
 // A path in the file is relative to the file's folder, so scenarios can travel with models.
 std::string Absolute(const std::string& path, const std::string& scenario_file) {
@@ -33,6 +32,47 @@ const std::vector<std::string>& BuiltinScenes() {
                                           "floor_to_wall", "floor_to_wall_fillet",
                                           "wall_to_ceiling", "wall_to_top"};
   return k;
+}
+
+// A generator's refusal "robot.legs.femur_m: why" as an InputError at that key's line (the
+// nearest enclosing key the file gives when it does not give this one).
+InputError DesignError(const Scenario& s, const std::string& what) {
+  const size_t colon = what.find(": ");
+  std::string key = colon == std::string::npos ? "robot" : what.substr(0, colon);
+  const std::string why = colon == std::string::npos ? what : what.substr(colon + 2);
+  if (key != "robot" && !key.starts_with("robot.")) key = "robot." + key;
+  std::string place = key;
+  while (!s.places.contains(place) && place.rfind('.') != std::string::npos) {
+    place.resize(place.rfind('.'));
+  }
+  const auto it = s.places.find(place);
+  const SourcePlace at = it == s.places.end() ? SourcePlace{} : it->second;
+  return InputError(s.source_file, at.line, at.column, key, why);
+}
+
+// The robot exists before anything runs: a file is there, a name is a preset, a design
+// builds.
+void CheckRobot(Scenario* s, const std::string& file) {
+  if (IsPath(s->robot)) {
+    s->robot = Absolute(s->robot, file);
+    if (!Exists(s->robot)) throw ScenarioError(*s, "robot", "file not found: " + s->robot);
+    return;
+  }
+  if (!s->robot_design) {
+    const std::vector<std::string> presets = PresetNames();
+    std::string names;
+    for (const auto& p : presets) names += (names.empty() ? "" : ", ") + p;
+    if (std::find(presets.begin(), presets.end(), s->robot) == presets.end()) {
+      throw ScenarioError(*s, "robot", "no bundled robot '" + s->robot + "' (" + names +
+                                           ", or a path to an MJCF robot file)");
+    }
+    return;
+  }
+  try {
+    GenerateRobotMjcf(*s->robot_design);
+  } catch (const std::invalid_argument& e) {
+    throw DesignError(*s, e.what());
+  }
 }
 
 }  // namespace
@@ -68,6 +108,12 @@ std::string RobotFile(const Scenario& s) {
   return IsPath(s.robot) ? s.robot : MjcfDir() + "/" + s.robot + ".xml";
 }
 
+std::optional<RobotDesign> DesignOf(const Scenario& s) {
+  if (s.robot_design) return s.robot_design;
+  if (IsPath(s.robot)) return std::nullopt;
+  return PresetDesign(s.robot);
+}
+
 std::string SceneFile(const Scenario& s) {
   return IsPath(s.scene.name) ? s.scene.name : MjcfDir() + "/scenes/" + s.scene.name + ".xml";
 }
@@ -88,13 +134,7 @@ Scenario ParseScenario(const YAML::Node& root, const std::string& file) {
   archive.Read(&s);
 
   // Model files must exist before anything runs.
-  if (IsPath(s.robot)) s.robot = Absolute(s.robot, file);
-  if (!Exists(RobotFile(s))) {
-    throw ScenarioError(s, "robot",
-                        IsPath(s.robot) ? "file not found: " + s.robot
-                                        : "no bundled robot '" + s.robot +
-                                              "' (gecko, spider) at " + RobotFile(s));
-  }
+  CheckRobot(&s, file);
   if (IsPath(s.scene.name)) {
     s.scene.name = Absolute(s.scene.name, file);
   } else {

@@ -244,7 +244,10 @@ struct FallParams {
 };
 
 struct Scenario {
+  // A preset name or an MJCF file's path (absolute once parsed); for a design, its preset.
   std::string robot;
+  // The body when the file gives `robot` as a map: its preset changed by the keys given.
+  std::optional<RobotDesign> robot_design;
   SceneParams scene;
   double duration_s = 0.0;
   int seed = 0;
@@ -266,12 +269,16 @@ struct Scenario {
 
   template <class A>
   void Serialize(A* a) {
+    RobotKey robot_key{&robot, &robot_design};
     a->Visit({"robot",
               "",
-              "gecko, spider, or a path to an MJCF robot file (relative to the scenario file)",
+              "a preset (gecko, gecko_active, gecko_ankle, spider, spider_active, spider_ankle), "
+              "a path to an MJCF robot file (relative to the scenario file), or a map: a design, "
+              "its preset changed by the robot.* keys given (the others keep the preset's value; "
+              "defaults listed: the gecko's)",
               {},
               true},
-             &robot);
+             &robot_key);
     a->Visit({"scene", "", "the scene: a name or a map with name and options", {}, true}, &scene);
     a->Visit({"duration_s", "s", "simulated time", Range::OpenClosed(0, 1e6), true}, &duration_s);
     a->Visit({"seed", "", "seed of every random draw in the run", Range::Closed(0, 2147483647)},
@@ -338,6 +345,10 @@ std::string ScenarioKeysMarkdown();
 // PREFIX/bin/climbsim.
 std::string MjcfDir();
 void SetPackageMjcfDir(const char* dir);
+// The robot as a design: the scenario's map, or the preset its name gives; nullopt for a
+// robot file.
+std::optional<RobotDesign> DesignOf(const Scenario& scenario);
+
 // "gecko" → <MjcfDir>/gecko.xml, "wall" → <MjcfDir>/scenes/wall.xml; a path is returned as
 // given (already made absolute by ParseScenario).
 std::string RobotFile(const Scenario& scenario);

@@ -6,9 +6,17 @@
 #   scripts/compare_outputs.sh /path/to/reference/climbsim build/climbsim
 #   scripts/compare_outputs.sh REF NEW examples/gecko_wall.yaml examples/spider_wall.yaml
 # Prints one line per example and exits 1 when any file differs (the runs are kept then).
+# --model compiled compares model.xml as MuJoCo compiles it (mujoco-compile to MJB, byte for
+# byte: the same model whatever its text's comments and layout, e.g. a generated robot beside
+# the hand-written file it replaces); --model skip leaves model.xml out.
 set -euo pipefail
-if (($# < 2)); then
-  echo "usage: $0 REFERENCE_CLIMBSIM NEW_CLIMBSIM [EXAMPLE.yaml ...]" >&2
+model=xml
+if [[ ${1:-} == --model ]]; then
+  model=${2:-}
+  shift 2 || true
+fi
+if (($# < 2)) || [[ $model != xml && $model != compiled && $model != skip ]]; then
+  echo "usage: $0 [--model xml|compiled|skip] REFERENCE_CLIMBSIM NEW_CLIMBSIM [EXAMPLE.yaml ...]" >&2
   exit 2
 fi
 ref=$1
@@ -27,9 +35,21 @@ for example in "${examples[@]}"; do
     true
   wait || true
   differs=()
-  for f in trajectory.csv events.csv model.xml; do
+  for f in trajectory.csv events.csv; do
     cmp -s "$work/ref/$name/$f" "$work/new/$name/$f" || differs+=("$f")
   done
+  case $model in
+    xml) cmp -s "$work/ref/$name/model.xml" "$work/new/$name/model.xml" || differs+=(model.xml) ;;
+    compiled)
+      for side in ref new; do
+        mujoco-compile "$work/$side/$name/model.xml" "$work/$side/$name.mjb" >/dev/null 2>&1 ||
+          true
+      done
+      if [[ ! -s $work/ref/$name.mjb ]] || ! cmp -s "$work/ref/$name.mjb" "$work/new/$name.mjb"; then
+        differs+=("model.xml (compiled)")
+      fi
+      ;;
+  esac
   # summary.json less what depends on the machine's load.
   if ! python3 - "$work/ref/$name/summary.json" "$work/new/$name/summary.json" <<'EOF'; then
 import json, sys

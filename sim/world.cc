@@ -11,6 +11,7 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -133,11 +134,8 @@ size_t SkipProlog(const std::string& xml, size_t i) {
   return i;
 }
 
-// The children of an MJCF file's <mujoco> root, with its own includes expanded in turn
-// (MuJoCo splices an included file's root children in place of the <include>).
-std::string IncludedChildren(const std::string& path, int depth) {
-  if (depth > 16) throw std::runtime_error("includes nested too deep at " + path);
-  const std::string xml = ReadMjcfFile(path);
+// The children of an MJCF text's <mujoco> root, as written (`name` names it in messages).
+std::string RootChildren(const std::string& xml, const std::string& path) {
   const size_t open = SkipProlog(xml, 0);
   if (xml.compare(open, 7, "<mujoco") != 0) {
     throw std::runtime_error(path + ": the root element is not <mujoco>");
@@ -149,8 +147,31 @@ std::string IncludedChildren(const std::string& path, int depth) {
   if (close == std::string::npos || close < open_end) {
     throw std::runtime_error(path + ": no </mujoco>");
   }
-  return ExpandIncludes(xml.substr(open_end + 1, close - open_end - 1),
+  return xml.substr(open_end + 1, close - open_end - 1);
+}
+
+// The children of an MJCF file's <mujoco> root, with its own includes expanded in turn
+// (MuJoCo splices an included file's root children in place of the <include>).
+std::string IncludedChildren(const std::string& path, int depth) {
+  if (depth > 16) throw std::runtime_error("includes nested too deep at " + path);
+  return ExpandIncludes(RootChildren(ReadMjcfFile(path), path),
                         std::filesystem::path(path).parent_path().string(), depth + 1);
+}
+
+// The composed model around the robot's part (an <include> of its file, or a generated
+// robot's root children spliced in as ExpandIncludes would splice them).
+std::string Compose(const std::string& robot_part, const std::string& scene_file,
+                    const MjcfAdditions& add) {
+  std::string xml = "<mujoco model=\"climbsim\">\n";
+  xml += "  <include file=\"" + XmlAttribute(scene_file) + "\"/>\n";
+  xml += robot_part;
+  if (!add.worldbody.empty()) xml += "  <worldbody>\n" + add.worldbody + "  </worldbody>\n";
+  if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
+  if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
+  if (!add.actuator.empty()) xml += "  <actuator>\n" + add.actuator + "  </actuator>\n";
+  if (!add.sensor.empty()) xml += "  <sensor>\n" + add.sensor + "  </sensor>\n";
+  xml += "</mujoco>\n";
+  return xml;
 }
 
 // Where each element <tag ...> of an MJCF text starts and ends (just past its '>'), comments
@@ -267,17 +288,29 @@ bool CustomNumeric(const mjModel* m, const char* name, int size, double* out) {
 
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& add) {
-  std::string xml = "<mujoco model=\"climbsim\">\n";
-  xml += "  <include file=\"" + XmlAttribute(scene_file) + "\"/>\n";
-  xml += "  <include file=\"" + XmlAttribute(robot_file) + "\"/>\n";
-  xml += RobotAssetDirs(robot_file);
-  if (!add.worldbody.empty()) xml += "  <worldbody>\n" + add.worldbody + "  </worldbody>\n";
-  if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
-  if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
-  if (!add.actuator.empty()) xml += "  <actuator>\n" + add.actuator + "  </actuator>\n";
-  if (!add.sensor.empty()) xml += "  <sensor>\n" + add.sensor + "  </sensor>\n";
-  xml += "</mujoco>\n";
-  return xml;
+  return Compose("  <include file=\"" + XmlAttribute(robot_file) + "\"/>\n" +
+                     RobotAssetDirs(robot_file),
+                 scene_file, add);
+}
+
+std::string RobotMjcf(const Scenario& s) {
+  const std::optional<RobotDesign> design = DesignOf(s);
+  if (!design) return ReadMjcfFile(RobotFile(s));
+  try {
+    return GenerateRobotMjcf(*design);
+  } catch (const std::invalid_argument& e) {
+    throw ScenarioError(s, "robot", e.what());  // ParseScenario placed a design's refusals
+  }
+}
+
+std::string ComposeScenarioMjcf(const Scenario& s, const MjcfAdditions& add) {
+  if (!DesignOf(s)) return ComposeMjcf(RobotFile(s), SceneFile(s), add);
+  // Marked as the preset's file would be: a preset's model.xml reads as it did from its file.
+  const std::string name = s.robot + (s.robot_design ? " design" : ".xml");
+  return Compose("  <!-- climbsim: begin of " + name + " -->" +
+                     RootChildren(RobotMjcf(s), name) + "<!-- climbsim: end of " + name +
+                     " -->\n",
+                 SceneFile(s), add);
 }
 
 std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
@@ -287,7 +320,9 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
   // Self-contained: what is compiled here is what the run folder's model.xml holds. A file
   // that cannot be read is reported at the robot key (its file and the scenario's line).
   try {
-    c->xml_ = ExpandIncludes(ComposeMjcf(RobotFile(s), SceneFile(s), additions), "");
+    c->xml_ = ExpandIncludes(ComposeScenarioMjcf(s, additions), "");
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception& e) {
     throw ScenarioError(s, "robot", e.what());
   }

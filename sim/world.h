@@ -111,6 +111,14 @@ bool CustomNumeric(const mjModel* model, const char* name, int size, double* out
 // The composed top-level MJCF for a robot and a scene file (absolute paths).
 std::string ComposeMjcf(const std::string& robot_file, const std::string& scene_file,
                         const MjcfAdditions& additions);
+// The scenario's robot file text: generated (robot/design.h) for a preset or a design, read
+// for a path. A design the generator refuses is an InputError at the robot key.
+std::string RobotMjcf(const Scenario& scenario);
+// The scenario's composed top-level MJCF, before ExpandIncludes: ComposeMjcf for a robot
+// file; for a preset or a design, its generated root children spliced in where the include
+// would be expanded (between the same "climbsim: begin of" and "end of" comments). Equal
+// texts compile to equal models: the key of a cache of compiled models.
+std::string ComposeScenarioMjcf(const Scenario& scenario, const MjcfAdditions& additions);
 
 // `xml` with every <include file="..."/> replaced by the included file's root children (its
 // own includes expanded in turn; relative names resolve against base_dir, or against the

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   climbsim::tools::AddPulloffCommand(app);
   climbsim::tools::AddInspectCommand(app);
   climbsim::tools::AddRenderCommand(app);
+  climbsim::tools::AddModelCommand(app);
   climbsim::tools::AddKeysCommand(app);
   try {
     app.parse(argc, argv);

@@ -27,6 +27,7 @@ void AddBenchCommand(CLI::App& app);
 void AddPulloffCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
+void AddModelCommand(CLI::App& app);
 
 }  // namespace climbsim::tools
 

@@ -1,65 +1,22 @@
-// The model contract of mjcf/README.md, checked on each robot file alone: names, joint and
-// actuator types, servo figures, pad geometry, masses, the neutral pose and the one sign
-// convention for every leg.
+// The model contract of mjcf/README.md, checked on each robot file alone (the robots of
+// robots_under_test.h): names, joint and actuator types, servo figures, pad geometry, masses,
+// the neutral pose and the one sign convention for every leg.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "mjcf_test_util.h"
+#include "robots_under_test.h"
 
 namespace climbsim::mjcf_test {
 namespace {
-
-// The documented figures of each robot (mjcf/README.md).
-struct RobotSpec {
-  std::string robot;
-  std::vector<std::string> legs;
-  double mass_min_kg, mass_max_kg;     // total mass range
-  double pad_side_m, pad_thickness_m;  // pad box, full sizes
-  double pad_mass_min_kg, pad_mass_max_kg;
-  double stall_torque_nm;      // servo stall torque = forcerange
-  double no_load_speed_rad_s;  // servo no-load speed (60 deg per t_60)
-  // The ankle option's tilt servo (0: the robot has none).
-  double tilt_stall_torque_nm = 0;
-  double tilt_no_load_speed_rad_s = 0;
-};
-// Names the case in test listings (gtest would print the struct's bytes).
-void PrintTo(const RobotSpec& spec, std::ostream* os) { *os << spec.robot; }
-
-const RobotSpec kGecko{"gecko", {"LF", "RF", "LH", "RH"}, 0.080, 0.150, 0.025, 0.002, 0.001, 0.005,
-                       0.078,   (M_PI / 3) / 0.10};
-const RobotSpec kSpider{"spider", {"L1", "L2", "L3", "R1", "R2", "R3"},
-                        0.300,    0.420,
-                        0.035,    0.003,
-                        0.003,    0.015,
-                        0.176,    (M_PI / 3) / 0.14};
-// The same robots with active-release feet: the same contract.
-RobotSpec Variant(RobotSpec spec, const std::string& name) {
-  spec.robot = name;
-  return spec;
-}
-const RobotSpec kGeckoActive = Variant(kGecko, "gecko_active");
-const RobotSpec kSpiderActive = Variant(kSpider, "spider_active");
-// The options (README, "Actuated ankles"): gecko + 4 x 1.7 g ultra-micro servos (109.3 g),
-// spider + 6 x 4.5 g sub-micro servos (381.2 g).
-RobotSpec WithTilt(RobotSpec spec, const std::string& robot, double mass_min_kg, double mass_max_kg,
-                   double stall_nm, double t60_s) {
-  spec.robot = robot;
-  spec.mass_min_kg = mass_min_kg;
-  spec.mass_max_kg = mass_max_kg;
-  spec.tilt_stall_torque_nm = stall_nm;
-  spec.tilt_no_load_speed_rad_s = (M_PI / 3) / t60_s;
-  return spec;
-}
-const RobotSpec kGeckoAnkle = WithTilt(kGecko, "gecko_ankle", 0.108, 0.111, 0.0078, 0.06);
-const RobotSpec kSpiderAnkle = WithTilt(kSpider, "spider_ankle", 0.378, 0.385, 0.078, 0.10);
 
 class MjcfContract : public testing::TestWithParam<RobotSpec> {
  protected:
   void SetUp() override {
     std::string error;
-    m_ = Load(RobotFile(GetParam().robot), &error);
+    m_ = LoadRobot(GetParam().robot, &error);
     ASSERT_NE(m_, nullptr) << error;
     d_.reset(mj_makeData(m_.get()));
     mj_kinematics(m_.get(), d_.get());
@@ -390,9 +347,7 @@ TEST_P(MjcfContract, NeighbouringPadsStayApartAtGaitYawAngles) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, MjcfContract,
-                         testing::Values(kGecko, kSpider, kGeckoActive, kSpiderActive,
-                                         kGeckoAnkle, kSpiderAnkle),
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfContract, testing::ValuesIn(ContractRobots()),
                          [](const testing::TestParamInfo<RobotSpec>& info) {
                            return info.param.robot;
                          });

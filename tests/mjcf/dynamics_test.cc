@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "mjcf_test_util.h"
+#include "robots_under_test.h"
 
 namespace climbsim::mjcf_test {
 namespace {
@@ -89,7 +90,7 @@ TEST_P(MjcfStanding, StaysStillForFiveSecondsWithCtrlZero) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RobotsAndIntegrators, MjcfStanding,
-                         testing::Combine(testing::ValuesIn(AllRobotNames()),
+                         testing::Combine(testing::ValuesIn(StandingRobots()),
                                           testing::Values(int{mjINT_EULER}, int{mjINT_IMPLICIT})),
                          [](const testing::TestParamInfo<RobotIntegrator>& info) {
                            return std::get<0>(info.param) + "_" +
@@ -123,7 +124,7 @@ TEST_P(MjcfStatics, FloorNormalForcesCarryTheWeight) {
   EXPECT_NEAR(normal_sum, weight, 0.01 * weight);
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, MjcfStatics, testing::ValuesIn(AllRobotNames()),
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfStatics, testing::ValuesIn(StandingRobots()),
                          [](const testing::TestParamInfo<std::string>& info) {
                            return info.param;
                          });
@@ -148,18 +149,11 @@ TEST_P(MjcfFriction, StandsOnThirtyDegreeInclineByPadFriction) {
   EXPECT_EQ(WarningCount(d.get()), 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, MjcfFriction, testing::ValuesIn(AllRobotNames()),
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(MjcfFriction);  // no design runs it
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfFriction, testing::ValuesIn(InclineRobots()),
                          [](const testing::TestParamInfo<std::string>& info) {
                            return info.param;
                          });
-
-struct HoldCase {
-  std::string robot;
-  std::string scene;
-  std::vector<std::string> stance;  // legs welded to the surface (the gait's stance set)
-  double max_torque_ratio;          // max |servo torque| / stall torque allowed
-};
-void PrintTo(const HoldCase& c, std::ostream* os) { *os << c.robot << " on " << c.scene; }
 
 class MjcfHold : public testing::TestWithParam<HoldCase> {};
 
@@ -211,16 +205,7 @@ TEST_P(MjcfHold, StanceLegsHoldTheRobotWithinTorqueMargin) {
   EXPECT_EQ(WarningCount(d.get()), 0);
 }
 
-const std::vector<std::string> kGeckoTrot = {"LF", "RH"};
-const std::vector<std::string> kSpiderTripod = {"L1", "R2", "L3"};
-
-INSTANTIATE_TEST_SUITE_P(StanceSets, MjcfHold,
-                         testing::Values(HoldCase{"gecko", "wall", kGeckoTrot, 0.5},
-                                         HoldCase{"gecko", "ceiling", kGeckoTrot, 0.5},
-                                         HoldCase{"gecko", "incline", kGeckoTrot, 0.5},
-                                         HoldCase{"spider", "wall", kSpiderTripod, 0.6},
-                                         HoldCase{"spider", "ceiling", kSpiderTripod, 0.5},
-                                         HoldCase{"spider", "incline", kSpiderTripod, 0.5}),
+INSTANTIATE_TEST_SUITE_P(StanceSets, MjcfHold, testing::ValuesIn(HoldCases()),
                          [](const testing::TestParamInfo<HoldCase>& info) {
                            return info.param.robot + "_" + info.param.scene;
                          });

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace climbsim::mjcf_test {
@@ -73,13 +74,42 @@ inline ModelPtr Load(const std::filesystem::path& path, std::string* error) {
   return ModelPtr(m);
 }
 
+// A robot file held in memory (a generated design, tests/mjcf/design_robots.cc) under this
+// robot name; nullptr: the robot is mjcf/<robot>.xml. Each test executable defines it.
+const std::string* RobotText(const std::string& robot);
+
 // The top file that the simulator generates: the scene and the robot included by absolute
-// path, then `extra` (equality/sensor/actuator sections) verbatim.
+// path (a robot held in memory by its bare name, from the VFS), then `extra`
+// (equality/sensor/actuator sections) verbatim.
 inline std::string TopFileXml(const std::string& robot, const std::string& scene,
                               const std::string& extra) {
+  const std::string robot_file = RobotText(robot) ? robot + ".xml" : RobotFile(robot).string();
   return "<mujoco model=\"" + robot + "_" + scene + "\">\n" + "  <include file=\"" +
-         SceneFile(scene).string() + "\"/>\n" + "  <include file=\"" + RobotFile(robot).string() +
-         "\"/>\n" + extra + "</mujoco>\n";
+         SceneFile(scene).string() + "\"/>\n" + "  <include file=\"" + robot_file + "\"/>\n" +
+         extra + "</mujoco>\n";
+}
+
+// Compiles MJCF held in memory: `files` (name, text) go into a MuJoCo VFS under bare names and
+// the first is the top file; an <include> of another's name reads it from the VFS, any other
+// include from the file system. Nothing is written to disk. *error as for Load.
+inline ModelPtr LoadFromMemory(const std::vector<std::pair<std::string, std::string>>& files,
+                               std::string* error) {
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  for (const auto& [name, text] : files) {
+    if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(text.size())) != 0) {
+      mj_deleteVFS(vfs.get());
+      *error = "VFS full";
+      return nullptr;
+    }
+    std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), name.c_str())], text.data(), text.size());
+  }
+  std::array<char, 1024> buffer{};
+  mjModel* m = mj_loadXML(files.front().first.c_str(), vfs.get(), buffer.data(),
+                          static_cast<int>(buffer.size()));
+  mj_deleteVFS(vfs.get());
+  *error = buffer.data();
+  return ModelPtr(m);
 }
 
 // Loads the composed model. The top file goes into a MuJoCo VFS under a bare name: MuJoCo
@@ -88,21 +118,17 @@ inline std::string TopFileXml(const std::string& robot, const std::string& scene
 // VFS file name has no directory, and the includes are then read from the file system.
 inline ModelPtr LoadComposed(const std::string& robot, const std::string& scene,
                              const std::string& extra, std::string* error) {
-  const std::string xml = TopFileXml(robot, scene, extra);
-  const std::string name = robot + "_" + scene + ".xml";
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(xml.size())) != 0) {
-    *error = "VFS full";
-    return nullptr;
-  }
-  const int file = mj_findFileVFS(vfs.get(), name.c_str());
-  std::memcpy(vfs->filedata[file], xml.data(), xml.size());
-  std::array<char, 1024> buffer{};
-  mjModel* m = mj_loadXML(name.c_str(), vfs.get(), buffer.data(), static_cast<int>(buffer.size()));
-  mj_deleteVFS(vfs.get());
-  *error = buffer.data();
-  return ModelPtr(m);
+  std::vector<std::pair<std::string, std::string>> files = {
+      {robot + "_" + scene + ".xml", TopFileXml(robot, scene, extra)}};
+  if (const std::string* text = RobotText(robot)) files.emplace_back(robot + ".xml", *text);
+  return LoadFromMemory(files, error);
+}
+
+// The robot file alone: mjcf/<robot>.xml, or the text RobotText holds.
+inline ModelPtr LoadRobot(const std::string& robot, std::string* error) {
+  if (const std::string* text = RobotText(robot))
+    return LoadFromMemory({{robot + ".xml", *text}}, error);
+  return Load(RobotFile(robot), error);
 }
 
 inline std::string Name(const mjModel* m, mjtObj type, int id) {

@@ -188,6 +188,9 @@ const std::map<std::string, std::string> kRuleAtBound = {
     {"adhesion.min_bonds", "at most the bonds a pad has (grid_x * grid_y)"},
     {"optimise.max_evaluations", "at least one evaluation per start"},
     {"optimise.starts", "at most max_evaluations starts"},
+    {"robot.body.hip_x_m", "pads of neighbouring legs must not overlap (robot.pads.size_m)"},
+    {"robot.legs.count", "the scenario's gait is a 4-leg gait (cpg.gait)"},
+    {"robot.feet.post_m", "longer than the pad is thick (robot.pads.thickness_m)"},
 };
 
 TEST(KeysDeclaredOnce, TheModulesAcceptEveryClosedBoundOfEachRange) {

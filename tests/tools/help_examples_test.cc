@@ -55,6 +55,7 @@ const std::vector<VerbCase>& Verbs() {
       {"inspect", {{"--from", "0.1"}, {"--to", "0.3"}}},
       {"render", {{"--at", "0.2"}, {"--width", "64"}, {"--height", "48"}}},
       {"keys", {}},
+      {"model", {}},
   };
   return verbs;
 }
