@@ -1,6 +1,6 @@
 // Series-elastic legs (robot/compliance.h): the spring joint the generator adds, how it
-// deflects under a known torque, what it does to a push on the wall, and that the shipped
-// example's robot file is the generated gecko with the example's springs.
+// deflects under a known torque (with and without a preload), what it does to a push on the
+// wall, and that the shipped example designs the robot tested here.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 #include <tinyxml2.h>
@@ -29,8 +29,8 @@ using climbsim::testing::WriteFile;
 // gecko_compliant.xml).
 ComplianceDesign ExampleDesign() {
   ComplianceDesign d;
-  d.hip_yaw = {.stiffness_nm_per_rad = 0.6, .damping_nms_per_rad = 0.002, .travel_rad = 0.2,
-               .preload_nm = 0.03};
+  d.hip_yaw = {.stiffness_nm_per_rad = 0.2, .damping_nms_per_rad = 0.005, .travel_rad = 0.15,
+               .preload_nm = 0.045};
   return d;
 }
 
@@ -89,12 +89,12 @@ TEST(SeriesSpring, SpringJointHasTheKeysValuesAndTheContractHolds) {
       EXPECT_EQ(m->jnt_axis[3 * j + k], m->jnt_axis[3 * servo + k]);
       EXPECT_EQ(m->jnt_pos[3 * j + k], m->jnt_pos[3 * servo + k]);
     }
-    EXPECT_EQ(m->jnt_stiffness[j], 0.6);
-    EXPECT_EQ(m->dof_damping[m->jnt_dofadr[j]], 0.002);
+    EXPECT_EQ(m->jnt_stiffness[j], 0.2);
+    EXPECT_EQ(m->dof_damping[m->jnt_dofadr[j]], 0.005);
     EXPECT_EQ(m->dof_armature[m->jnt_dofadr[j]], 0.0);
     EXPECT_EQ(m->jnt_range[2 * j], 0.0);  // preloaded: one way only, from its stop at 0
-    EXPECT_EQ(m->jnt_range[2 * j + 1], 0.2);
-    EXPECT_DOUBLE_EQ(m->qpos_spring[m->jnt_qposadr[j]], -0.03 / 0.6);
+    EXPECT_EQ(m->jnt_range[2 * j + 1], 0.15);
+    EXPECT_DOUBLE_EQ(m->qpos_spring[m->jnt_qposadr[j]], -0.045 / 0.2);
     // The servo keeps its armature and back-EMF damping; the actuator still drives it.
     EXPECT_EQ(m->dof_armature[m->jnt_dofadr[servo]], 3e-5);
     EXPECT_EQ(m->dof_damping[m->jnt_dofadr[servo]], 0.0075);
@@ -204,16 +204,18 @@ TEST(SeriesSpring, PushDownTheWallLoadsThePadsLessWithSprings) {
   std::printf("peak pad load after a 0.03 N s push: stiff %.3f N, symmetric springs %.3f N, "
               "preloaded %.3f N\n", stiff, symmetric, preloaded);
   EXPECT_LT(symmetric, 0.9 * stiff);  // measured: 1.25 N against 1.53 N
-  EXPECT_LT(preloaded, 0.9 * stiff);  // measured: 1.31 N
+  EXPECT_LT(preloaded, 0.9 * stiff);  // measured: 1.15 N
 }
 
-// examples/gecko_compliant.xml is generated: the gecko preset with the example's springs
-// (GenerateRobotMjcf). After a change to either, write it again from this test's output file.
-TEST(SeriesSpring, ShippedCompliantGeckoIsTheGeneratedOne) {
-  const std::string generated = CompliantGecko(ExampleDesign());
-  const std::string out = WriteFile("gecko_compliant.xml", generated);
-  EXPECT_EQ(ReadFile(Source("examples/gecko_compliant.xml")), generated)
-      << "regenerate: cp " << out << " " << Source("examples/gecko_compliant.xml");
+// examples/gecko_compliant.yaml designs the robot these tests check: the gecko preset with
+// ExampleDesign's springs and nothing else changed.
+TEST(SeriesSpring, ExampleDesignsTheTestedRobot) {
+  const Scenario s = ParseScenario(YAML::LoadFile(Source("examples/gecko_compliant.yaml")),
+                                   Source("examples/gecko_compliant.yaml"));
+  ASSERT_TRUE(s.robot_design.has_value());
+  RobotDesign expected = PresetDesign("gecko");
+  expected.compliance = ExampleDesign();
+  EXPECT_EQ(GenerateRobotMjcf(*s.robot_design), GenerateRobotMjcf(expected));
 }
 
 }  // namespace
