@@ -47,7 +47,7 @@ struct SeriesSpring {
     // never moves); 1 N·m is more than any catalogue servo holds.
     a->Visit({"preload_nm", "N·m",
               "torque the spring's arms are preloaded with against their stop; 0: a symmetric "
-              "spring (± travel_rad); else rigid below |preload|, then travel_rad its way",
+              "spring (± travel_rad); else rigid below its size, then travel_rad its way",
               Range::Closed(-1.0, 1.0)},
              &preload_nm);
   }
