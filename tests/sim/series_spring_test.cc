@@ -25,8 +25,7 @@ using climbsim::testing::Source;
 using climbsim::testing::SplitCsv;
 using climbsim::testing::WriteFile;
 
-// The preloaded hip-yaw spring of examples/gecko_compliant.yaml (its robot file
-// gecko_compliant.xml).
+// The preloaded hip-yaw spring of examples/gecko_compliant.yaml.
 ComplianceDesign ExampleDesign() {
   ComplianceDesign d;
   d.hip_yaw = {.stiffness_nm_per_rad = 0.2, .damping_nms_per_rad = 0.005, .travel_rad = 0.15,
