@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "experiments/experiments.h"
+#include "sim/servo_margin.h"
 #include "sim/sim.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
@@ -55,12 +56,30 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
       dir.c_str());
 }
 
+// The servo margins on the terminal: the worst servo, and a warning per servo over its rating.
+void PrintServoMargins(const sim::ServoMargins& margins) {
+  const sim::ServoHold* worst = margins.Worst();
+  if (worst == nullptr) return;
+  std::printf("  servos          %.1f g robot; worst %s holds %.4f N m of its %.4f rated (%.0f %%) "
+              "in stance %s\n",
+              1e3 * margins.mass_kg, worst->name.c_str(), worst->holding_torque_nm,
+              worst->rated_torque_nm, 100.0 * worst->load_fraction(), worst->stance.c_str());
+}
+
+void WarnServoMargins(const sim::ServoMargins& margins, bool strict) {
+  for (const std::string& s : margins.Overloaded()) {
+    std::fprintf(stderr, "climbsim simulate: %s: servo %s of its rating (half its stall torque) "
+                 "holding the robot in a stance set of its gait\n",
+                 strict ? "error" : "warning", s.c_str());
+  }
+}
+
 }  // namespace
 
 void AddSimulateCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("simulate", "Simulate a gait from a scenario file");
   static std::string scenario_path, out_dir;
-  static bool quiet = false, force = false, keep = false;
+  static bool quiet = false, force = false, keep = false, strict = false;
   cmd->add_option("scenario", scenario_path, "scenario file (YAML; keys in docs/scenario.md)")
       ->required();
   cmd->add_option("--out", out_dir,
@@ -73,9 +92,19 @@ void AddSimulateCommand(CLI::App& app) {
                 "with --force: carry files climbsim did not write (notes, added folders) into "
                 "the new run folder instead of refusing (docs/run-folders.md)");
   cmd->add_flag("--quiet", quiet, "no progress and no summary on the terminal");
+  cmd->add_flag("--strict", strict,
+                "exit 2 before the run when a servo holds more than its rating (half its stall "
+                "torque) in a stance set of the gait (docs/climbing.md, \"Servo margins\")");
   cmd->footer("Example:\n  climbsim simulate examples/gecko_floor.yaml --out runs/gecko_floor");
   cmd->callback([] {
     const sim::Scenario scenario = sim::LoadScenario(scenario_path);
+    // The statics first: --strict refuses an overloaded robot before anything is written.
+    const sim::ServoMargins margins = sim::MeasureServoMargins(scenario);
+    WarnServoMargins(margins, strict);
+    if (strict && !margins.Overloaded().empty()) {
+      ExitCode() = 2;
+      return;
+    }
     // The folder is checked and locked before anything runs; the run appears there whole.
     sim::RunFolder folder(out_dir, {.made_by = "simulate",
                                     .force = force,
@@ -87,6 +116,7 @@ void AddSimulateCommand(CLI::App& app) {
     const sim::RunResult r = run.Run([&](double f) { progress.Update(f); });
     // A scenario with an optimise block (best.yaml) also reports the cost the optimiser saw.
     nlohmann::json extra = nlohmann::json::object();
+    extra["servo_margins"] = margins.ToJson();
     if (scenario.optimise) extra["objective"] = optimise::NominalCost(run).total;
     sim::WriteRunFiles(folder.path(), run, extra);
     folder.Commit();
@@ -94,6 +124,7 @@ void AddSimulateCommand(CLI::App& app) {
       nlohmann::json summary = run.Summary();
       summary.update(extra);
       PrintSummary(summary, out_dir);
+      PrintServoMargins(margins);
     }
     if (!r.stable) {
       std::fprintf(stderr, "climbsim simulate: the run went numerically bad: %s\n",
