@@ -5,6 +5,7 @@
 #ifndef CLIMBSIM_CPG_PARAMS_H_
 #define CLIMBSIM_CPG_PARAMS_H_
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,25 @@ struct HopfKeys {
   }
 };
 
+// A spine (robot.body.spine) bent by the gait: spine_yaw = amplitude_rad·sin(θ_0 + phase_rad),
+// θ_0 the first leg's oscillator phase, so the trunk bends locked to the legs.
+struct SpineKeys {
+  double amplitude_rad = 0.0;
+  double phase_rad = 0.0;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"amplitude_rad", "rad",
+              "spine yaw amplitude; 0-1: a gecko's trunk swings about 0.3 rad each way in a trot "
+              "(the spine's servo range bounds the command)",
+              Range::Closed(0, 1)},
+             &amplitude_rad);
+    a->Visit({"phase_rad", "rad", "phase of the bend after the first leg's oscillator",
+              Range::Closed(-2 * M_PI, 2 * M_PI)},
+             &phase_rad);
+  }
+};
+
 // The CPG: one oscillator per leg (cpg/README.md has the laws), its phase shaped into the
 // leg's joint targets either in joint space (stride_rad, lift_rad) or in foot space
 // (stride_m, lift_m: straight foot paths in the body frame through the legs' inverse
@@ -71,6 +91,7 @@ struct CpgKeys {
   double tegotae_sigma_rad_per_n_s = 0.0;
   bool wait_for_support = false;
   double support_bond_fraction = 0.95;
+  std::optional<SpineKeys> spine;
 
   template <class A>
   void Serialize(A* a) {
@@ -171,6 +192,8 @@ struct CpgKeys {
               "wait_for_support: the bonded fraction a support pad must have built",
               Range::Closed(0, 1)},
              &support_bond_fraction);
+    a->Visit({"spine", "", "drive the robot's spine (robot.body.spine) with the gait; absent: off"},
+             &spine);
   }
 
   void Validate(const Checker& c) const {

@@ -11,6 +11,7 @@
 
 #include "keys/keys.h"
 #include "robot/compliance.h"
+#include "robot/spine.h"
 #include "robot/tail.h"
 
 namespace climbsim::sim {
@@ -28,6 +29,7 @@ struct BodyDesign {
   double head_ahead_m = 0.008;
   double head_z_m = 0.002;
   double head_mass_kg = 0.0005;
+  std::optional<SpineDesign> spine;
 
   template <class A>
   void Serialize(A* a) {
@@ -59,6 +61,8 @@ struct BodyDesign {
     a->Visit({"head_z_m", "m", "head centre above the plate centre", Range::Closed(-0.02, 0.05)},
              &head_z_m);
     a->Visit({"head_mass_kg", "kg", "the head", Range::Closed(0.0, 0.05)}, &head_mass_kg);
+    a->Visit({"spine", "", "a yaw joint splitting the plate (robot/spine.h); absent: rigid"},
+             &spine);
   }
 };
 

@@ -10,6 +10,7 @@
 
 #include "robot/design.h"
 #include "robot/mjcf_dom.h"
+#include "robot/spine.h"
 #include "robot/tail.h"
 
 namespace climbsim::sim {
@@ -306,6 +307,13 @@ std::string GenerateRobotMjcf(const RobotDesign& design) {
   if (design.tail)
     AddTail(*design.tail, {plan.prefix, -design.body.length_m / 2, 0.0, plan.base_z_m}, defaults,
             base, actuator);
+  if (design.body.spine) {  // last: a tail behind the joint moves to the hind half
+    const BodyDesign& b = design.body;
+    AddSpine(*b.spine,
+             {plan.prefix, b.length_m, b.width_m, b.height_m, b.mass_kg, b.hip_x_m, -b.hip_x_m,
+              plan.palette.servo},
+             defaults, base, actuator);
+  }
   return PrintMjcf(doc);
 }
 

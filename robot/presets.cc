@@ -47,7 +47,8 @@ RobotDesign Spider() {
             .head_radius_m = 0.01,
             .head_ahead_m = 0.005,
             .head_z_m = 0.004,
-            .head_mass_kg = 0.0005};
+            .head_mass_kg = 0.0005,
+            .spine = std::nullopt};
   d.legs.count = 6;
   d.legs.coxa_m = 0.015;
   d.legs.femur_m = 0.06928;

@@ -82,6 +82,11 @@ RobotInfo ReadRobot(const mjModel* m) {
   r.mass_kg = m->body_subtreemass[r.base_body];
   for (const std::string& leg : LegNames(m)) r.legs.push_back(ReadLeg(m, leg));
   r.tail = ReadTail(m);
+  r.spine_joint = Id(m, mjOBJ_JOINT, "spine_yaw");
+  if (r.spine_joint >= 0) {
+    r.spine_qpos_adr = m->jnt_qposadr[r.spine_joint];
+    r.spine_actuator = Need(m, mjOBJ_ACTUATOR, "spine_yaw");
+  }
   return r;
 }
 

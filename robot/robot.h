@@ -51,6 +51,11 @@ struct RobotInfo {
   int root_dof_adr = -1;
   std::vector<LegInfo> legs;           // order of the custom text "climbsim_legs"
   TailInfo tail;
+  // Optional (a designed robot with robot.body.spine): the hinge "spine_yaw" between base and
+  // base_hind and its servo; -1 when the body is rigid.
+  int spine_joint = -1;
+  int spine_qpos_adr = -1;
+  int spine_actuator = -1;
   double mass_kg = 0.0;
 };
 

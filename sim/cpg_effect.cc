@@ -40,6 +40,10 @@ CpgEffect::CpgEffect(const Scenario& scenario, const CpgParams& p, const World& 
     : params_(p) {
   const int n = static_cast<int>(world.robot().legs.size());
   CheckFitsScenario(scenario, n);
+  if (p.spine && world.robot().spine_actuator < 0) {
+    throw ScenarioError(scenario, "cpg.spine",
+                        "the robot has no spine: give it one (robot.body.spine) or drop this key");
+  }
   ResolveGait(n);
   support_ = SupportLegs(offsets_cycles_, *params_.duty_factor);
   ResolveShape(scenario, world);
@@ -223,6 +227,7 @@ void CpgEffect::InitialPose(World& world, RunContext& ctx) {
     const std::array<double, 3> q = Targets(i, &(*ctx.legs)[i]);
     for (int k = 0; k < 3; ++k) world.data()->qpos[legs[i].qpos_adr[k]] = q[k];
   }
+  if (params_.spine) world.data()->qpos[world.robot().spine_qpos_adr] = SpineTarget();
   placing_ = false;
 }
 
@@ -382,6 +387,12 @@ void CpgEffect::WriteTargets(World& world, RunContext& ctx) {
       ctrl[legs[i].actuator[k]] = q[k] + s.offset_rad[k] + (w > 0.0 ? w * blend_[i][k] : 0.0);
     }
   }
+  if (params_.spine) ctrl[world.robot().spine_actuator] = SpineTarget();
+}
+
+double CpgEffect::SpineTarget() const {
+  const double phase = network_->phase_rad()[0];
+  return params_.spine->amplitude_rad * std::sin(phase + params_.spine->phase_rad);
 }
 
 void CpgEffect::Summarise(const World& world, nlohmann::json* summary) const {

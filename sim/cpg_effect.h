@@ -81,6 +81,8 @@ class CpgEffect final : public Effect {
   // This tick's targets of leg i (before reflex offsets); sets its LegSignals' CPG fields.
   std::array<double, 3> Targets(size_t i, LegSignals* s) const;
   void Feedback(RunContext& ctx);
+  // cpg.spine: this tick's spine_yaw target, locked to the first leg's oscillator.
+  double SpineTarget() const;
 
   CpgParams params_;
   std::vector<double> offsets_cycles_;

@@ -119,7 +119,8 @@ TEST_P(MjcfContract, ActuatedJointsAreLimitedPositionServos) {
     }
   }
   const int tilts = GetParam().tilt_stall_torque_nm > 0 ? static_cast<int>(spec.legs.size()) : 0;
-  EXPECT_EQ(m_->nu, actuated + tilts) << "no other actuators in a robot file";
+  EXPECT_EQ(m_->nu, actuated + tilts + spec.body_actuators)
+      << "no other actuators in a robot file";
 }
 
 // The ankle option: a hinge L_ankle_tilt about the pad's y axis, first in the pad body (so

@@ -49,6 +49,10 @@ const std::map<std::string, RobotDesign>& Designs() {
     body.servos.pack_side_m = 0.018;
     d["design_gecko_ankle_long_legs"] = LongerLegs(PresetDesign("gecko_ankle"));
     d["design_gecko_ankle_long_legs"].pads.size_m = 0.03;
+    // A spine 1 cm ahead of mid-plate: the halves' masses differ (0.6 and 0.4 of the plate).
+    d["design_gecko_spine"] = PresetDesign("gecko");
+    d["design_gecko_spine"].body.spine = sim::SpineDesign{};
+    d["design_gecko_spine"].body.spine->joint_x_m = 0.01;
     return d;
   }();
   return kDesigns;
@@ -69,15 +73,16 @@ const sim::ServoModel& Servo(const std::string& name) {
   return *s;
 }
 
-// The parts' masses summed: body and head, per leg the three links and the pad, and the servos
-// not counted as a link (on the legs the hip-pitch servo is the coxa link).
+// The parts' masses summed: body and head (and a spine's servo), per leg the three links and
+// the pad, and the servos not counted as a link (on the legs the hip-pitch servo is the coxa).
 double ExpectedMass(const RobotDesign& d) {
   double servos = Servo(d.servos.hip_yaw).mass_kg + Servo(d.servos.knee).mass_kg;
   if (d.servos.placement == "body") servos += Servo(d.servos.hip_pitch).mass_kg;
   if (d.ankles.actuated) servos += Servo(d.ankles.tilt_servo).mass_kg;
   const double leg =
       d.legs.coxa_mass_kg + d.legs.femur_mass_kg + d.legs.tibia_mass_kg + d.pads.mass_kg + servos;
-  return d.body.mass_kg + d.body.head_mass_kg + d.legs.count * leg;
+  const double spine = d.body.spine ? Servo(d.body.spine->servo).mass_kg : 0.0;
+  return d.body.mass_kg + d.body.head_mass_kg + spine + d.legs.count * leg;
 }
 
 RobotSpec SpecOf(const std::string& name, const RobotDesign& d) {
@@ -100,6 +105,7 @@ RobotSpec SpecOf(const std::string& name, const RobotDesign& d) {
     spec.tilt_stall_torque_nm = Servo(d.ankles.tilt_servo).stall_torque_nm;
     spec.tilt_no_load_speed_rad_s = Servo(d.ankles.tilt_servo).no_load_speed_rad_s;
   }
+  spec.body_actuators = d.body.spine ? 1 : 0;
   return spec;
 }
 

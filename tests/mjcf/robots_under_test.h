@@ -22,6 +22,8 @@ struct RobotSpec {
   // The ankle option's tilt servo (0: the robot has none).
   double tilt_stall_torque_nm = 0;
   double tilt_no_load_speed_rad_s = 0;
+  // Servos outside the legs (a spine's spine_yaw): their count.
+  int body_actuators = 0;
 };
 // Names the case in test listings (gtest would print the struct's bytes).
 inline void PrintTo(const RobotSpec& spec, std::ostream* os) { *os << spec.robot; }

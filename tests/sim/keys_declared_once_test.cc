@@ -195,6 +195,9 @@ const std::map<std::string, std::string> kRuleAtBound = {
     {"robot.body.hip_x_m", "pads of neighbouring legs must not overlap (robot.pads.size_m)"},
     {"robot.legs.count", "the scenario's gait is a 4-leg gait (cpg.gait)"},
     {"robot.feet.post_m", "longer than the pad is thick (robot.pads.thickness_m)"},
+    {"robot.body.spine.joint_x_m", "strictly between the hind and front hips (robot.body.hip_x_m)"},
+    {"cpg.spine.amplitude_rad", "a robot with a spine (robot.body.spine)"},
+    {"cpg.spine.phase_rad", "a robot with a spine (robot.body.spine)"},
 };
 
 TEST(KeysDeclaredOnce, TheModulesAcceptEveryClosedBoundOfEachRange) {
