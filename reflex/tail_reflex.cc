@@ -68,16 +68,19 @@ TailReflex::TailReflex(const TailReflexParams& params, double dt_s)
 void TailReflex::Reset() {
   pad_lost_.Reset();
   pitch_.Reset();
-  hold_left_ = ease_left_ = 0;
+  hold_left_ = ease_left_ = side_ = 0;
 }
 
 // Trigger (delayed) → press, held hold_s after the last trigger → release: a linear ramp
 // back to rest over ease_s. A trigger during the ramp presses again.
 TailOutput TailReflex::Update(const TailSensing& in) {
-  const bool lost =
-      pad_lost_.Update(in.front_pad_lost && params_.on_front_pad_loss ? 1.0 : 0.0) > 0.5;
+  const int side = in.lost_side >= 0 ? 1 : -1;
+  const double lost_side =
+      pad_lost_.Update(in.front_pad_lost && params_.on_front_pad_loss ? side : 0.0);
+  const bool lost = std::abs(lost_side) > 0.5;
   const bool pitched = pitch_.Update(in.pitch_rad) > params_.pitch_threshold_rad;
   TailOutput out;
+  if (lost) side_ = lost_side > 0 ? 1 : -1;
   if (lost || pitched) {
     if (hold_left_ == 0) {
       out.event = TailEventType::kPress;
@@ -88,8 +91,9 @@ TailOutput TailReflex::Update(const TailSensing& in) {
   } else if (hold_left_ > 0 && --hold_left_ == 0) {
     out.event = TailEventType::kRelease;
     ease_left_ = ease_samples_;
-  } else if (ease_left_ > 0) {
-    --ease_left_;
+    if (ease_left_ == 0) side_ = 0;
+  } else if (ease_left_ > 0 && --ease_left_ == 0) {
+    side_ = 0;
   }
   double press = 0.0;
   if (hold_left_ > 0) {
@@ -99,6 +103,7 @@ TailOutput TailReflex::Update(const TailSensing& in) {
   }
   // Exact at either end: the press and the rest commands as given.
   out.command_rad = press * params_.press_rad + (1.0 - press) * params_.rest_rad;
+  out.yaw_command_rad = press * side_ * params_.yaw_rad;
   return out;
 }
 

@@ -31,6 +31,7 @@ struct TailReflexParams {
   double delay_s = 0.01;
   double hold_s = 0.6;
   double ease_s = 0.2;
+  double yaw_rad = 0.0;
 
   template <class A>
   void Serialize(A* a) {
@@ -64,12 +65,19 @@ struct TailReflexParams {
     a->Visit({"ease_s", "s", "then the command ramps back to rest over this long",
               Range::Closed(0.0, 10.0)},
              &ease_s);
+    a->Visit({"yaw_rad", "rad",
+              "a pad-loss press also swings the tail this far towards the lost pad's side "
+              "(robot.tail.yaw: the tip widens the support on the side that has no pad; "
+              "geckos right themselves so); 0: no swing. The yaw joint's range is ±0.5 rad",
+              Range::Closed(0.0, 0.5)},
+             &yaw_rad);
   }
 };
 
 // One control tick's input: what the robot's sensors tell the tail.
 struct TailSensing {
   bool front_pad_lost = false;  // a front pad let go in stance, outside its release, this tick
+  int lost_side = 0;            // the lost pad's side: +1 left (+y), -1 right
   double pitch_rad = 0.0;       // the body's nose away from the surface (+), from its start
 };
 
@@ -77,7 +85,8 @@ enum class TailEventType { kNone, kPress, kRelease };
 enum class TailTrigger { kNone, kFrontPadLoss, kPitch };
 
 struct TailOutput {
-  double command_rad = 0.0;  // the tail servo's target, from its neutral angle
+  double command_rad = 0.0;      // the tail servo's target, from its neutral angle
+  double yaw_command_rad = 0.0;  // the tip's swing towards +y (left), from straight back
   TailEventType event = TailEventType::kNone;
   TailTrigger trigger = TailTrigger::kNone;  // of a kPress
 };
@@ -98,12 +107,13 @@ class TailReflex {
 
  private:
   TailReflexParams params_;
-  DelayLine pad_lost_;  // 1 on the tick a front pad was lost, delayed
+  DelayLine pad_lost_;  // the lost pad's side (±1) on the tick a front pad was lost, delayed
   DelayLine pitch_;     // the pitch, delayed
   int hold_samples_ = 0;
   int ease_samples_ = 0;
   int hold_left_ = 0;  // ticks of press left (> 0: pressing)
   int ease_left_ = 0;  // ticks of the ramp back left
+  int side_ = 0;       // the side the tail swings to (the last pad loss's), 0 after a rest
 };
 
 // The tail block's checks that need the control period (delay_s, hold_s, ease_s), through

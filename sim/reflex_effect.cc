@@ -98,6 +98,10 @@ void ReflexEffect::CheckScenario(const Scenario& scenario, const World& world,
     throw ScenarioError(scenario, "reflex.tail",
                         "needs a robot with a tail (robot.tail: a joint and servo 'tail_pitch')");
   }
+  if (params_.tail && params_.tail->yaw_rad > 0.0 && world.robot().tail.yaw_actuator < 0) {
+    throw ScenarioError(scenario, "reflex.tail.yaw_rad",
+                        "needs a tail with a yaw servo (robot.tail.yaw: true)");
+  }
   if (params_.landing.settle_s > 0.0) {
     if (adhesion_ == nullptr) {
       throw ScenarioError(scenario, "reflex.landing",

@@ -19,6 +19,15 @@ std::vector<int> FrontLegs(const mjModel* m, const RobotInfo& robot) {
   return front;
 }
 
+// Each leg's side: its hip's y on the body.
+std::vector<int> Sides(const mjModel* m, const RobotInfo& robot, const std::vector<int>& legs) {
+  std::vector<int> side;
+  for (int i : legs) {
+    side.push_back(m->body_pos[3 * m->jnt_bodyid[robot.legs[i].joint[0]] + 1] >= 0 ? 1 : -1);
+  }
+  return side;
+}
+
 // The base's rotation from its root quaternion (qpos, so it holds before mj_forward has run).
 Eigen::Matrix3d BaseRotation(const World& world) {
   double r[9];
@@ -32,8 +41,10 @@ TailDriver::TailDriver(const reflex::TailReflexParams& params, const World& worl
                        int event_pad)
     : reflex_(params, dt_s),
       actuator_(world.robot().tail.pitch_actuator),
+      yaw_actuator_(world.robot().tail.yaw_actuator),
       event_pad_(event_pad),
       front_(FrontLegs(world.model(), world.robot())),
+      front_side_(Sides(world.model(), world.robot(), front_)),
       was_attached_(front_.size(), false) {}
 
 void TailDriver::Reset(World& world) {
@@ -41,6 +52,7 @@ void TailDriver::Reset(World& world) {
   normal_ = BaseRotation(world).col(2);
   std::fill(was_attached_.begin(), was_attached_.end(), false);
   world.data()->ctrl[actuator_] = reflex_.params().rest_rad;
+  if (yaw_actuator_ >= 0) world.data()->ctrl[yaw_actuator_] = 0.0;
   presses_ = 0;
   max_pitch_rad_ = 0.0;
 }
@@ -59,6 +71,7 @@ void TailDriver::Update(World& world, RunContext& ctx, const std::vector<reflex:
     // A pad lost in stance while its leg is not peeling it: a failure, not a release.
     if (was_attached_[k] && !s.attached && s.stance && !legs[front_[k]].state().peeling) {
       in.front_pad_lost = true;
+      in.lost_side = front_side_[k];
     }
     was_attached_[k] = s.attached;
   }
@@ -66,6 +79,8 @@ void TailDriver::Update(World& world, RunContext& ctx, const std::vector<reflex:
   max_pitch_rad_ = std::max(max_pitch_rad_, in.pitch_rad);
   const reflex::TailOutput out = reflex_.Update(in);
   world.data()->ctrl[actuator_] = out.command_rad;
+  // tail_yaw turns about the base's z: + swings the tip (behind the body) towards −y.
+  if (yaw_actuator_ >= 0) world.data()->ctrl[yaw_actuator_] = -out.yaw_command_rad;
   if (out.event == reflex::TailEventType::kNone) return;
   Event row;
   row.time_s = ctx.time_s;

@@ -35,8 +35,10 @@ class TailDriver {
  private:
   reflex::TailReflex reflex_;
   int actuator_;
+  int yaw_actuator_;                // -1: no yaw servo
   int event_pad_;
   std::vector<int> front_;          // front legs' indices
+  std::vector<int> front_side_;     // per front leg: +1 left (+y on the body), -1 right
   std::vector<bool> was_attached_;  // per front leg, at the last tick
   Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();
   long presses_ = 0;

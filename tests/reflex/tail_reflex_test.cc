@@ -65,6 +65,26 @@ TEST(ReflexTail, PitchHoldsThePressWhileItLasts) {
   EXPECT_EQ(pressing_ticks, 15 + 5);
 }
 
+// yaw_rad: a pad loss on the right (-1) swings the tip right by yaw_rad with the press, and
+// back with the ramp; a pitch press alone (no pad lost) does not swing it.
+TEST(ReflexTail, PadLossSwingsTheTipTowardsTheLostSide) {
+  TailReflexParams p = Params();
+  p.yaw_rad = 0.4;
+  TailReflex tail(p, kDt);
+  std::vector<TailOutput> out;
+  for (int k = 0; k < 14; ++k) {
+    out.push_back(tail.Update({.front_pad_lost = k == 0, .lost_side = -1}));
+  }
+  EXPECT_EQ(out[1].yaw_command_rad, 0.0);
+  for (int k = 2; k < 8; ++k) EXPECT_EQ(out[k].yaw_command_rad, -0.4) << k;
+  EXPECT_NEAR(out[9].yaw_command_rad, -0.4 * 2 / 4.0, 1e-12);
+  EXPECT_EQ(out[11].yaw_command_rad, 0.0);
+  TailReflex pitched(p, kDt);
+  for (int k = 0; k < 10; ++k) {
+    EXPECT_EQ(pitched.Update({.pitch_rad = 0.2}).yaw_command_rad, 0.0) << k;
+  }
+}
+
 TEST(ReflexTail, RejectsAHoldShorterThanHalfAPeriod) {
   TailReflexParams p = Params();
   p.hold_s = 0.001;

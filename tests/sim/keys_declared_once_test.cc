@@ -147,7 +147,7 @@ std::string ModulesRefuse(const std::string& key, double value) {
     root.remove("transition");  // a corner manoeuvre needs a corner
   }
   if (key.rfind("reflex.tail.", 0) == 0) {  // the tail reflex needs a robot with a tail
-    root["robot"] = "gecko_tail_robot.xml";
+    root["robot"] = YAML::Load("{preset: gecko, tail: {yaw: true}}");
     root.remove("transition");  // which has no actuated ankles
   }
   optimise::SetDottedKeyText(root, key, Text(value));

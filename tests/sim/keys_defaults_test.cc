@@ -180,6 +180,7 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.tail.delay_s", Text(tail.delay_s)},
       {"reflex.tail.hold_s", Text(tail.hold_s)},
       {"reflex.tail.ease_s", Text(tail.ease_s)},
+      {"reflex.tail.yaw_rad", Text(tail.yaw_rad)},
   };
 }
 
