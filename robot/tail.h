@@ -37,9 +37,9 @@ struct TailDesign {
   void Serialize(A* a) {
     a->Visit({"length_m", "m",
               "from the pitch servo's axis to the tip's centre; at least the base's height "
-              "above the surface (the tip must reach it), up to 0.3 m: a longer rod of a "
-              "sub-gram weight bends like a whip",
-              Range::Closed(0.02, 0.3)},
+              "above the surface (the tip must reach it: gecko 0.055 m, spider 0.084 m), up to 0.3 "
+              "m: a longer rod of a sub-gram weight bends like a whip",
+              Range::Closed(0.06, 0.3)},
              &length_m);
     a->Visit({"segments", "",
               "rigid segments of equal length, joined by passive torsion springs (a rod of "
