@@ -98,7 +98,10 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->footer("Example:\n  climbsim simulate examples/gecko_floor.yaml --out runs/gecko_floor");
   cmd->callback([] {
     const sim::Scenario scenario = sim::LoadScenario(scenario_path);
-    // The statics first: --strict refuses an overloaded robot before anything is written.
+    // The run's own checks (its size among them) before the statics, which step the model too.
+    const auto model = sim::CompileScenario(scenario);
+    sim::Simulation run(scenario, *model);
+    // The statics next: --strict refuses an overloaded robot before anything is written.
     const sim::ServoMargins margins = sim::MeasureServoMargins(scenario);
     WarnServoMargins(margins, strict);
     if (strict && !margins.Overloaded().empty()) {
@@ -110,8 +113,6 @@ void AddSimulateCommand(CLI::App& app) {
                                     .force = force,
                                     .keep_other_files = keep,
                                     .inputs = sim::ScenarioInputs(scenario)});
-    const auto model = sim::CompileScenario(scenario);
-    sim::Simulation run(scenario, *model);
     Progress progress("simulate", !quiet);
     const sim::RunResult r = run.Run([&](double f) { progress.Update(f); });
     // A scenario with an optimise block (best.yaml) also reports the cost the optimiser saw.
