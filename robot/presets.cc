@@ -14,24 +14,26 @@ RobotDesign Gecko() {
   return d;
 }
 
-// Active-release feet: a toe tendon lets the pad go, so no peel lever (a 5 mm post) and the
-// tendon hardware adds 0.5 g to each pad.
-RobotDesign GeckoActive() {
-  RobotDesign d = Gecko();
-  d.preset = "gecko_active";
-  d.feet.post_m = 0.005;
+// Active-release feet: a toe tendon lets the pad go, so no peel lever (a short post) and the
+// tendon hardware adds to each pad's mass.
+RobotDesign WithActiveFeet(RobotDesign d, const char* name, double post_m, double pad_mass_kg) {
+  d.preset = name;
+  d.feet.post_m = post_m;
   d.feet.release = "active";
-  d.pads.mass_kg = 0.003;
+  d.pads.mass_kg = pad_mass_kg;
   return d;
 }
 
-RobotDesign GeckoAnkle() {
-  RobotDesign d = Gecko();
-  d.preset = "gecko_ankle";
+// A tilt servo per ankle, ahead of the passive ankle.
+RobotDesign WithActuatedAnkles(RobotDesign d, const char* name, const char* tilt_servo) {
+  d.preset = name;
   d.ankles.actuated = true;
-  d.ankles.tilt_servo = "hk5320";
+  d.ankles.tilt_servo = tilt_servo;
   return d;
 }
+
+RobotDesign GeckoActive() { return WithActiveFeet(Gecko(), "gecko_active", 0.005, 0.003); }
+RobotDesign GeckoAnkle() { return WithActuatedAnkles(Gecko(), "gecko_ankle", "hk5320"); }
 
 // The seed's six-legged spider: all 18 servos on the platform, femur 0.08 m rising 30 deg,
 // tibia 0.10 m leaning 10 deg inwards, front and hind legs splayed 30 deg.
@@ -80,23 +82,9 @@ RobotDesign Spider() {
   return d;
 }
 
-RobotDesign SpiderActive() {
-  RobotDesign d = Spider();
-  d.preset = "spider_active";
-  d.feet.post_m = 0.007;
-  d.feet.release = "active";
-  d.pads.mass_kg = 0.007;
-  return d;
-}
-
+RobotDesign SpiderActive() { return WithActiveFeet(Spider(), "spider_active", 0.007, 0.007); }
 // The tilt servo sits on the platform with the others (the gecko's hs35hd, cable-driven).
-RobotDesign SpiderAnkle() {
-  RobotDesign d = Spider();
-  d.preset = "spider_ankle";
-  d.ankles.actuated = true;
-  d.ankles.tilt_servo = "hs35hd";
-  return d;
-}
+RobotDesign SpiderAnkle() { return WithActuatedAnkles(Spider(), "spider_ankle", "hs35hd"); }
 
 struct Preset {
   const char* name;
