@@ -17,6 +17,7 @@ void AddSweepCommand(CLI::App& app) {
   static std::string out_dir;
   static bool force = false, keep = false;
   cmd->add_option("scenarios", files, "scenario files (one curve each)")->required();
+  AddSetOption(cmd);
   cmd->add_option("--key", o.key, "dotted key to sweep, e.g. scene.incline_deg")->required();
   cmd->add_option("--from", o.from, "first value")->required();
   cmd->add_option("--to", o.to, "last value")->required();
