@@ -22,6 +22,7 @@
 #include "adhesion/adhesion.h"
 #include "experiments/experiments.h"
 #include "experiments/option_ranges.h"
+#include "python/scenario_keys.h"
 #include "python/tick_objects.h"
 #include "sim/sim.h"
 #include "sim/trajectory.h"
@@ -275,12 +276,17 @@ py::dict CommandDict(const Command& c) {
   d["target_rad"] = py::array_t<double>(c.target_rad.size(), c.target_rad.data());
   d["offset_rad"] = py::array_t<double>(c.offset_rad.size(), c.offset_rad.data());
   d["release"] = py::array_t<uint8_t>(c.release.size(), c.release.data());
+  d["kp_scale"] = py::array_t<double>(c.kp_scale.size(), c.kp_scale.data());
   return d;
 }
 
 void BindScenario(py::module_& m) {
-  py::class_<sim::Scenario>(m, "Scenario")
-      .def_property(
+  py::class_<sim::Scenario> cls(m, "Scenario", R"doc(
+A scenario: s["cpg.frequency_hz"] reads and s["cpg.frequency_hz"] = 0.8 writes any key of the
+file, dotted as optimise parameters and --set are (cpg.stride_rad[0]); a write is checked as
+the file's and raises climbsim.InputError with its text. get, keys, `in`, del, to_dict.)doc");
+  BindScenarioKeys(cls);
+  cls.def_property(
           "duration_s", [](const sim::Scenario& s) { return s.duration_s; },
           [](sim::Scenario& s, double v) { SetScenarioKey(&s, "duration_s", YamlNumber(v)); },
           "Simulated time (s), checked like the file's key.")
@@ -357,7 +363,11 @@ void BindTickObjects(py::module_& m) {
   py::class_<TickCommand>(m, "Command", "What update() writes, for its call only.")
       .def_property_readonly("target_rad", &TickCommand::target)
       .def_property_readonly("offset_rad", &TickCommand::offset)
-      .def_property_readonly("release", &TickCommand::release);
+      .def_property_readonly("release", &TickCommand::release)
+      .def_property_readonly("kp_scale", &TickCommand::kp_scale,
+                             "Servo stiffness over its own kp, legs x 3, clamped to [0, 1]; "
+                             "held from tick to tick (the reflexes' compliance and GTO write "
+                             "it when the scenario has them).");
 
   py::class_<TickPose>(m, "StartPose", "What initial_pose() writes, for its call only.")
       .def_property_readonly("joint_angle_rad", &TickPose::joints)
@@ -441,7 +451,7 @@ void BindSimulation(py::module_& m) {
             if (c == nullptr) return py::none();
             return CommandDict(c->command());
           },
-          "The last command applied (copies): target_rad, offset_rad, release.");
+          "The last command applied (copies): target_rad, offset_rad, release, kp_scale.");
 }
 
 py::dict Optimise(const std::string& scenario_file, const std::string& out_dir, long long threads,
