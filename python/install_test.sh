@@ -37,6 +37,12 @@ echo "default: $sitearch/climbsim"
 mkdir -p "$work/path"
 printf '#!/bin/sh\necho "not this python" >&2\nexit 3\n' >"$work/path/python3"
 chmod +x "$work/path/python3"
-PATH="$work/path:$PATH" "$bin/climbsim-python" -c "import climbsim; print('launcher:', climbsim.__file__)"
+PATH="$work/path:$PATH" "$bin/climbsim-python" - "$bin" <<'PY'
+import os, sys
+import climbsim
+want = os.path.realpath(sys.argv[1]) + "/python/"
+assert os.path.realpath(climbsim.__file__).startswith(want), (climbsim.__file__, want)
+print("launcher:", climbsim.__file__)
+PY
 rm -rf "$work"
 echo PASS
