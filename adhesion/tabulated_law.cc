@@ -96,6 +96,29 @@ TabulatedLaw::TabulatedLaw(const TabulatedParams& params) : params_(params) {
   }
   std::sort(curves_.begin(), curves_.end(),
             [](const Curve& a, const Curve& b) { return a.azimuth_rad < b.azimuth_rad; });
+  ShareStraightPull();
+}
+
+// A straight pull (θ = 0) has no azimuth: every curve starts at the mean of the rows given
+// there, so that the limit is continuous as θ → 0 from any azimuth.
+void TabulatedLaw::ShareStraightPull() {
+  double sum = 0.0;
+  int count = 0;
+  for (const Curve& c : curves_) {
+    if (c.angle_rad.front() == 0.0) {
+      sum += c.traction_pa.front();
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  for (Curve& c : curves_) {
+    if (c.angle_rad.front() == 0.0) {
+      c.traction_pa.front() = sum / count;
+    } else {
+      c.angle_rad.insert(c.angle_rad.begin(), 0.0);
+      c.traction_pa.insert(c.traction_pa.begin(), sum / count);
+    }
+  }
 }
 
 double TabulatedLaw::CurveAt(const Curve& c, double angle_rad) const {

@@ -7,7 +7,8 @@
 // +x towards +y, F_k the pull-off force of a central pull on the measured pad of area
 // A_m = width_m·length_m). Each distinct azimuth is one curve F(θ), linear between its
 // angles and constant beyond its first and last; between curves the limit is linear in the
-// azimuth, periodic over 360° (one azimuth: the same at every azimuth). Angles lie in
+// azimuth, periodic over 360° (one azimuth: the same at every azimuth). A straight pull
+// (θ = 0) has no azimuth: the rows at 0° are averaged and every curve starts there. Angles lie in
 // [0°, 90°] (pulls); the table is stored as the limit TRACTION T(θ, φ) = F/A_m, so a pad of
 // another size scales with its area.
 //
@@ -103,6 +104,7 @@ class TabulatedLaw {
     std::vector<double> traction_pa;   // T at those angles
   };
   double CurveAt(const Curve& c, double angle_rad) const;
+  void ShareStraightPull();
 
   TabulatedParams params_;
   std::vector<Curve> curves_;  // by azimuth, ascending

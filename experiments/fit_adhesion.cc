@@ -59,7 +59,9 @@ void TabulatedSpecs(const PulloffData& d, Model* m) {
                        "law tabulated takes pulls only (angles 0 to 90), got " +
                            ShortNumber(r.angle_from_normal_deg));
     }
-    auto& s = sums[{r.angle_from_normal_deg, d.has_azimuth ? r.azimuth_deg : 0.0}];
+    // A straight pull has no azimuth: one node.
+    const bool azimuth = d.has_azimuth && r.angle_from_normal_deg > 0.0;
+    auto& s = sums[{r.angle_from_normal_deg, azimuth ? r.azimuth_deg : 0.0}];
     s.first += r.force_n * area / (r.width_m * r.length_m);
     ++s.second;
     largest = std::max(largest, r.force_n * area / (r.width_m * r.length_m));
@@ -213,7 +215,9 @@ void Fitter::Global() {
   opt.set_lower_bounds(std::vector<double>(free.size(), 0.0));
   opt.set_upper_bounds(std::vector<double>(free.size(), 1.0));
   opt.set_min_objective(objective, &ctx);
-  opt.set_maxeval(std::max(1, o_.max_evaluations / 8));  // two evaluations per point
+  // Two table predictions per point; DIRECT-L divides the box by thirds, so 60 points per
+  // dimension resolve it to about 1/3^4 of each range before the local stage.
+  opt.set_maxeval(std::min(o_.max_evaluations / 2, 60 * static_cast<int>(free.size())));
   std::vector<double> u(free.size(), 0.5);
   double f = 0.0;
   try {
@@ -376,33 +380,41 @@ void Uncertainties(Fitter* f, const Model& m, const PulloffData& d, double sigma
 
 void Verdict(const PulloffData& d, const FitAdhesionOptions& o, AdhesionFit* fit) {
   const size_t rows = d.rows.size();
-  double sse = 0.0, yy = 0.0;
+  const double repeats = RepeatSpread(d);
+  fit->spread_from_repeats = std::isfinite(repeats);
+  double sse = 0.0, yy = 0.0, zz = 0.0, worst_z = 0.0;
+  for (size_t k = 0; k < rows; ++k) yy += d.rows[k].force_n * d.rows[k].force_n;
+  fit->spread_n = fit->spread_from_repeats ? repeats : o.assumed_spread * std::sqrt(yy / rows);
   for (size_t k = 0; k < rows; ++k) {
-    const double r = d.rows[k].force_n - fit->predicted_n[k];
+    const double y = d.rows[k].force_n, p = fit->predicted_n[k], r = y - p;
+    // Without repeats each force is taken as known to assumed_spread of itself (of the
+    // prediction where larger: a measured 0 is no better known than the force it misses).
+    const double spread = fit->spread_from_repeats
+                              ? repeats
+                              : o.assumed_spread * std::max({y, p, 1e-3 * fit->spread_n});
+    const double z = r / spread;
     sse += r * r;
-    yy += d.rows[k].force_n * d.rows[k].force_n;
-    if (std::abs(r) > fit->worst_n) {
+    zz += z * z;
+    if (std::abs(z) > worst_z) {
+      worst_z = std::abs(z);
       fit->worst_n = std::abs(r);
       fit->worst_row = static_cast<int>(k);
     }
   }
   fit->rms_n = std::sqrt(sse / rows);
-  const double repeats = RepeatSpread(d);
-  fit->spread_from_repeats = std::isfinite(repeats);
-  fit->spread_n = fit->spread_from_repeats ? repeats : o.assumed_spread * std::sqrt(yy / rows);
-  // Residuals of a law that fits scatter like the measurements: RMS about the spread, the
-  // worst within a few spreads (4: rarely exceeded by 40 normal residuals).
-  fit->represents = fit->rms_n <= 2.0 * fit->spread_n && fit->worst_n <= 4.0 * fit->spread_n;
+  // Residuals of a law that fits scatter like the measurements: their RMS about one spread,
+  // the worst within four (rarely exceeded by 50 normal residuals).
+  fit->represents = std::sqrt(zz / rows) <= 2.0 && worst_z <= 4.0;
   const PulloffMeasurement& w = d.rows[fit->worst_row];
   std::ostringstream s;
   s.precision(3);
-  s << fit->law << ": RMS residual " << fit->rms_n << " N, worst " << fit->worst_n
-    << " N (line " << w.line << ", " << w.angle_from_normal_deg << " deg from the normal), "
-    << "measurement spread " << fit->spread_n << " N ("
-    << (fit->spread_from_repeats ? "from the repeats"
-                                 : "assumed " + ShortNumber(100 * o.assumed_spread) +
-                                       " % of the forces: no repeats")
-    << "): "
+  s << fit->law << ": RMS residual " << fit->rms_n << " N, " << std::sqrt(zz / rows)
+    << " spreads; worst " << fit->worst_n << " N, " << worst_z << " spreads (line " << w.line
+    << ", " << w.angle_from_normal_deg << " deg from the normal); measurement spread "
+    << (fit->spread_from_repeats
+            ? ShortNumber(repeats) + " N from the repeats"
+            : "assumed " + ShortNumber(100 * o.assumed_spread) + " % of each force (no repeats)")
+    << ": "
     << (fit->represents ? "the law represents your data"
                         : "this law cannot represent your data");
   fit->verdict = s.str();
@@ -445,7 +457,12 @@ AdhesionFit FitAdhesion(const PulloffData& data, const FitAdhesionOptions& optio
   Apply(model, x, data, options, &fit);
   fit.predicted_n = PredictAll(fit, data, options.grid);
   // σ for the curvature: the repeats' spread, else the residuals' (with n − p degrees).
-  const size_t n = data.rows.size(), p = model.specs.size();
+  // Rows measured and predicted 0 (a directional pad pulled too steeply) carry no scatter.
+  size_t n = 0;
+  for (size_t k = 0; k < data.rows.size(); ++k) {
+    n += data.rows[k].force_n > 0.0 || fit.predicted_n[k] > 0.0 ? 1 : 0;
+  }
+  const size_t p = model.specs.size();
   double sigma = RepeatSpread(data);
   if (!std::isfinite(sigma)) {
     sigma = n > p ? std::sqrt(Sse(fit.predicted_n, data) / (n - p))

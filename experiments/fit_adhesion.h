@@ -58,7 +58,7 @@ struct FitAdhesionOptions {
   double grip_deg = 0.0;          // frictional: the gripping direction's azimuth in the data
   double assumed_spread = 0.05;   // relative measurement spread when the data has no repeats
   int max_evaluations = 3000;     // NLopt, per stage
-  std::function<void(const std::string&)> progress;  // a line now and then (may be empty)
+  std::function<void(const std::string&)> progress{};  // a line now and then (may be empty)
 };
 
 struct AdhesionFit {

@@ -22,6 +22,7 @@
 #include "adhesion/adhesion.h"
 #include "experiments/experiments.h"
 #include "experiments/option_ranges.h"
+#include "python/adhesion_bindings.h"
 #include "python/tick_objects.h"
 #include "sim/sim.h"
 #include "sim/trajectory.h"
@@ -546,4 +547,5 @@ PYBIND11_MODULE(_core, m) {
   BindController(m);
   BindSimulation(m);
   BindTools(m);
+  BindAdhesion(m);  // python/adhesion_bindings.h: pulloff (any law), fit_adhesion
 }
