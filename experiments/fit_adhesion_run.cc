@@ -154,8 +154,9 @@ std::string FittedYaml(const AdhesionFit& fit, const PulloffData& data) {
     y << "  frictional:\n    shear_limit_pa: " << Num(fit.frictional.shear_limit_pa)
       << "\n    critical_angle_deg: " << Num(fit.frictional.critical_angle_deg)
       << "\n    friction_mu: " << Num(fit.frictional.friction_mu)
-      << "\n    # grip_x, grip_y: the scenario's (the data's azimuth " << Num(0.0)
-      << " was taken along the grip)\n";
+      << "\n    # grip_x, grip_y: the scenario's; the data's azimuth "
+      << Num(std::atan2(fit.frictional.grip_y, fit.frictional.grip_x) * 180.0 / M_PI)
+      << " deg was taken as the gripping direction\n";
   } else {
     const adhesion::TabulatedParams& t = fit.tabulated;
     const auto list = [](const std::vector<double>& v) {
