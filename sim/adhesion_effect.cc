@@ -16,8 +16,11 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   s.bonds = p;  // the pad's width and length are read from its geom
   s.attach = p;
   s.actuator_ctrl = p.ctrl;
-  s.law = p.law == "frictional" ? adhesion::PadLaw::kFrictional : adhesion::PadLaw::kVonMises;
+  s.law = p.law == "frictional"  ? adhesion::PadLaw::kFrictional
+          : p.law == "tabulated" ? adhesion::PadLaw::kTabulated
+                                 : adhesion::PadLaw::kVonMises;
   s.frictional = p.frictional;
+  s.tabulated = p.tabulated;
   s.release_contact_delay_s = p.release_contact_delay_s;
   return s;
 }
@@ -195,7 +198,7 @@ void AdhesionEffect::UpdateUtilisation() {
     double u = 0.0;
     peak_bond_[i] = -1;
     if (p.attached() && p.params().model == adhesion::AdhesionModel::kBonds) {
-      u = std::min(p.params().law == adhesion::PadLaw::kFrictional
+      u = std::min(p.params().law != adhesion::PadLaw::kVonMises
                        ? p.frictional_utilisation()
                        : p.grid().PeakUtilisation(&peak_bond_[i]),
                    kUtilisationCap);

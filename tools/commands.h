@@ -30,6 +30,7 @@ void AddOptimiseCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
 void AddBenchCommand(CLI::App& app);
 void AddPulloffCommand(CLI::App& app);
+void AddFitAdhesionCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
 void AddModelCommand(CLI::App& app);
