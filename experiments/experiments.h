@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "experiments/bench_speed.h"
+#include "optimise/disturbance.h"
 #include "optimise/optimise.h"
 
 namespace climbsim::optimise {
@@ -106,22 +107,9 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 // Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
 // roughness off the plane scenes, pushes without cpg) are left out; named in `families`, one
 // is refused (InputError saying why), before any run.
-struct RobustnessOptions {
-  double duration_s = 10.0;   // 0: the scenario's
-  int seeds = 3;
-  int phases = 4;
-  // First push, at most a third of the duration (else InputError); default: 4 s, or a
-  // third of the duration when that is earlier.
-  std::optional<double> push_time_s;
-  double tolerance = 0.1;
-  int threads = 0;            // 0: all cores
-  std::vector<std::string> families;  // empty: all
-};
+// RobustnessOptions and RobustnessFamily: optimise/disturbance.h (the objective's robustness
+// term builds the same cases).
 
-struct RobustnessFamily {
-  std::string name, unit, what;
-  double lo = 0.0, hi = 0.0;
-};
 // The families a scenario can take (ranges resolved: payload from the robot's mass).
 std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario);
 // The names of every family, in order.
