@@ -104,8 +104,10 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 //                                                                      -     0.02 .. 0.99
 //   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
 // Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
-// roughness off the plane scenes, pushes without cpg) are left out; named in `families`, one
-// is refused (InputError saying why), before any run.
+// roughness off the plane scenes, pushes without cpg, and a family whose key the scenario sets
+// itself: scene.roughness, scene.weak_patches, adhesion.pad_failure_probability > 0, which the
+// search would replace) are left out; named in `families`, one is refused (InputError saying
+// why), before any run. So are pushes whose last phase would end after the run (--phases).
 struct RobustnessOptions {
   double duration_s = 10.0;   // 0: the scenario's
   int seeds = 3;
