@@ -237,6 +237,8 @@ double AdhesionEffect::stance_p99_utilisation(int pad) const {
     seen += h[b];
     if (seen >= rank) break;
   }
+  // The bin's upper edge; the last bin (≥ 1) ends at the peak.
+  if (b == kStanceBins) return stance_peak_[pad];
   return std::min(static_cast<double>(b + 1) / kStanceBins, stance_peak_[pad]);
 }
 

@@ -27,7 +27,8 @@
 // utilisation_peel_peak over the steps it was attached and peeling. The 99th percentile is the
 // nearest rank over those steps, read from a histogram of kStanceBins bins on [0, 1) (sized
 // once: the step loop allocates nothing) as its bin's upper edge, never above the peak;
-// demands ≥ 1 fall in one more bin. 0 when there was no such step.
+// demands ≥ 1 fall in one more bin, whose upper edge is the peak. 0 when there was no such
+// step.
 //
 // Disturbances (`climbsim bench robustness`): with adhesion.pad_failure_probability p each
 // attach draws (from the seed, the pad and its attach count) whether it fails and when
