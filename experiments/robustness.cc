@@ -433,8 +433,9 @@ double SuggestedDuration(const Setup& u, bool pushes) {
   const double need_s = kRobustnessMinCycles / u.frequency_hz;
   if (!pushes) return need_s;
   const double after_first_s = PushTime(u, u.options.phases - 1) - u.push_time_s + need_s;
-  if (u.options.push_time_s) return std::max(*u.options.push_time_s + after_first_s,
-                                             3.0 * *u.options.push_time_s);
+  if (u.options.push_time_s) {
+    return std::max(*u.options.push_time_s + after_first_s, 3.0 * *u.options.push_time_s);
+  }
   return after_first_s * 1.5 <= 3.0 * kDefaultPushTimeS ? after_first_s * 1.5
                                                         : kDefaultPushTimeS + after_first_s;
 }

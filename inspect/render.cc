@@ -267,8 +267,7 @@ class Renderer {
       }
       throw InputError(kCli, 0, 0, "--camera",
                        "'" + o_.camera + "' is not follow, fixed or a camera of the model (" +
-                           (names.empty() ? std::string("it has no named camera") : names) +
-                           ")");
+                           (names.empty() ? std::string("it has no named camera") : names) + ")");
     }
     camera_.type = mjCAMERA_FIXED;
     camera_.fixedcamid = id;

@@ -388,8 +388,8 @@ std::string ResultText(const Result& r, const std::string& out_dir) {
   // The parameters themselves, as given (start 0's first evaluation) and at the best.
   if (!r.parameter_keys.empty()) out += "  parameters (as given -> best):\n";
   for (size_t i = 0; i < r.parameter_keys.size() && i < r.best.x.size(); ++i) {
-    Appendf(&out, "    %-36s %12.6g -> %.6g\n", r.parameter_keys[i].c_str(),
-            r.history.front().x[i], r.best.x[i]);
+    Appendf(&out, "    %-36s %12.6g -> %.6g\n", r.parameter_keys[i].c_str(), r.history.front().x[i],
+            r.best.x[i]);
   }
   Appendf(&out, "  outputs %s/{best.yaml,history.csv,convergence.png,summary.json}\n",
           out_dir.c_str());

@@ -63,8 +63,7 @@ void AddRenderCommand(CLI::App& app) {
         "climbsim render: %d frame%s %dx%d (%s quality, %s camera) in %.2f s; renderer %.2f "
         "s = %.1f frames/s\n  wrote %s\n",
         r.stats.frames, r.stats.frames == 1 ? "" : "s", o.width, o.height, quality.c_str(),
-        r.stats.camera.c_str(),
-        r.stats.total_s, r.stats.render_s,
+        r.stats.camera.c_str(), r.stats.total_s, r.stats.render_s,
         r.stats.render_s > 0 ? r.stats.frames / r.stats.render_s : 0.0, r.written.c_str());
   });
 }

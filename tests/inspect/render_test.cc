@@ -190,8 +190,8 @@ TEST(Render, BadRequestsAreInputErrors) {
 
 // Where the base is in a frame, in pixels from the top left, seen by `c` (a pinhole with the
 // vertical field of view fovy over `height` pixels, square pixels).
-Eigen::Vector2d ImageOf(const climbsim::inspect::CameraPose& c, const Eigen::Vector3d& p,
-                        int width, int height) {
+Eigen::Vector2d ImageOf(const climbsim::inspect::CameraPose& c, const Eigen::Vector3d& p, int width,
+                        int height) {
   const Eigen::Vector3d v = p - c.pos, right = c.forward.cross(c.up);
   const double depth = v.dot(c.forward);
   const double f_px = 0.5 * height / std::tan(0.5 * c.fovy_deg * M_PI / 180.0);
@@ -245,8 +245,7 @@ TEST(Render, FixedCameraStaysWhileTheBodyCrossesTheImage) {
   const inspect::RenderStats follow = inspect::RenderFrames(run, o, TempDir() + "/cam_follow");
   EXPECT_NE(follow.cameras.back().pos, follow.cameras.front().pos);
   for (size_t k = 0; k < times.size(); ++k) {
-    const Eigen::Vector2d px =
-        ImageOf(follow.cameras[k], BaseAt(run, times[k]), o.width, o.height);
+    const Eigen::Vector2d px = ImageOf(follow.cameras[k], BaseAt(run, times[k]), o.width, o.height);
     EXPECT_NEAR(px.y(), 0.5 * o.height, 0.1 * o.height) << times[k];
   }
   // A still follows by default.

@@ -191,8 +191,8 @@ json PeakUtilisation(const std::string& dir, const std::string& pad, double a, d
 // The utilisation split into stance (attached, not peeling) and peel rows of trajectory.csv
 // with a <= t <= b: spans [start, end) from attach to detach and from peel to peel_end or
 // detach; the stance's 99th percentile by nearest rank. Nulls without stance or peel rows.
-json UtilisationSplit(const std::string& dir, const std::vector<Ev>& events,
-                      const std::string& pad, double a, double b, double duration) {
+json UtilisationSplit(const std::string& dir, const std::vector<Ev>& events, const std::string& pad,
+                      double a, double b, double duration) {
   using Spans = std::vector<std::pair<double, double>>;
   Spans stances, peels;
   bool attached = false, peeling = false;
@@ -349,8 +349,7 @@ TEST(InspectTable, StanceUtilisationIsApartFromThePeelsAndBelowIt) {
 // the same steps must agree to a bin (the two tell stance from peel by different means, the
 // controller's flag against the peel events: a few steps at the boundaries may differ).
 TEST(InspectTable, SummaryPercentileAgreesWithAnExactOneOverEveryStep) {
-  climbsim::sim::Scenario s =
-      climbsim::sim::LoadScenario(Source("examples/gecko_wall.yaml"));
+  climbsim::sim::Scenario s = climbsim::sim::LoadScenario(Source("examples/gecko_wall.yaml"));
   s.duration_s = 6.0;
   s.outputs.trajectory_rate_hz = 1000.0;
   const std::string yaml = TempDir() + "/every_step.yaml";

@@ -39,8 +39,7 @@ TEST(RobustnessPlan, WarnsWhenTheRunsEndTooSoonAfterTheLastPush) {
   // D − D/3 − 3/(4 f) = 3/f.
   const double want = 1.5 * (3 / (4 * f) + 3 / f);
   EXPECT_NEAR(plan.suggested_duration_s, want, 1e-12);
-  EXPECT_NE(plan.warning.find("--duration 9.38 would leave 3"), std::string::npos)
-      << plan.warning;
+  EXPECT_NE(plan.warning.find("--duration 9.38 would leave 3"), std::string::npos) << plan.warning;
   // That duration gives no warning.
   o.duration_s = want;
   const RobustnessPlan enough = PlanRobustness(Gecko(), o);
@@ -66,7 +65,8 @@ TEST(RobustnessPlan, NamesTheFamiliesLeftOut) {
   const RobustnessPlan plan =
       PlanRobustness(sim::LoadScenario(Source("examples/gecko_ceiling_mujoco.yaml")), o);
   bool said = false;
-  for (const auto& s : plan.skipped) said = said || s.rfind("weak_patch: its adhesion.model", 0) == 0;
+  for (const auto& s : plan.skipped)
+    said = said || s.rfind("weak_patch: its adhesion.model", 0) == 0;
   EXPECT_TRUE(said);
   EXPECT_NE(RobustnessPlanText(plan).find("left out: weak_patch"), std::string::npos);
 }
