@@ -262,6 +262,8 @@ std::string RunBenchRobustness(const std::string& file, const RobustnessOptions&
       out, {.made_by = "bench robustness",
             .force = sim::RunFolderMadeBy(out) == "bench robustness",
             .inputs = {file}});
+  // Push times, families left out, a too-short duration: said before the runs (or refused).
+  std::fputs(RobustnessPlanText(PlanRobustness(sim::LoadScenario(file), options)).c_str(), stderr);
   const RobustnessReport r = BenchRobustness(file, options, progress);
   const std::string warning = WriteRobustness(folder.path(), r);
   folder.Commit();

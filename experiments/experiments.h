@@ -190,8 +190,10 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 //                                                                      -     0.02 .. 0.99
 //   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
 // Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
-// roughness off the plane scenes, pushes without cpg) are left out; named in `families`, one
-// is refused (InputError saying why), before any run.
+// roughness off the plane scenes, pushes without cpg, and a family whose key the scenario sets
+// itself: scene.roughness, scene.weak_patches, adhesion.pad_failure_probability > 0, which the
+// search would replace) are left out; named in `families`, one is refused (InputError saying
+// why), before any run. So are pushes whose last phase would end after the run (--phases).
 // RobustnessOptions and RobustnessFamily: optimise/disturbance.h (the objective's robustness
 // term builds the same cases).
 
@@ -217,9 +219,32 @@ struct RobustnessRow {
   int evaluations = 0, runs = 0;
   bool same_as_reflexes = false;  // spindle and GTO were already off: the rows are one search
 };
+// What a bench will do, known before any run: each push's time (one per phase; empty without
+// push families) and a warning when the runs are too short to show a fall. A case survives
+// only what its run lasts: a disturbance needs at least kRobustnessMinCycles gait cycles of
+// run after the last push (push families) or in the whole run (the others, present from the
+// start) before a survival means anything; otherwise `warning` says how many there are and
+// which --duration would give them. Throws InputError (exit 2), like BenchRobustness, for what
+// it refuses: an unknown family, one the scenario cannot take, a push outside the run.
+inline constexpr double kRobustnessMinCycles = 3.0;
+struct RobustnessPlan {
+  double duration_s = 0.0;
+  double frequency_hz = 0.0;            // 0: no cpg
+  std::vector<std::string> families;    // those that will be searched, in table order
+  std::vector<std::string> skipped;     // "family: why", families left out (none named)
+  std::vector<double> push_times_s;     // phase j's push, s
+  double cycles_left = 0.0;             // after the last push (or in the run), gait cycles
+  double suggested_duration_s = 0.0;    // the shortest --duration with kRobustnessMinCycles
+  std::string warning;                  // "" when the runs are long enough
+};
+RobustnessPlan PlanRobustness(const sim::Scenario& scenario, const RobustnessOptions& options);
+// The plan as the verb prints it before the runs: push times, families left out, the warning.
+std::string RobustnessPlanText(const RobustnessPlan& plan);
+
 struct RobustnessReport {
   std::string scenario_file;
   RobustnessOptions options;
+  RobustnessPlan plan;
   double robot_mass_kg = 0.0;
   std::vector<std::vector<double>> baseline_m;  // [mode][seed] undisturbed distance
   std::vector<RobustnessRow> rows;              // per family: reflexes, then spindle_gto_off

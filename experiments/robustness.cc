@@ -29,6 +29,10 @@ std::string CannotTake(const Setup& u, const std::string& family) {
   return CannotTakeFamily(u, family);
 }
 
+bool PushFamily(const std::string& family) { return family.rfind("push_", 0) == 0; }
+
+double PushTime(const Setup& u, int phase) { return DisturbancePushTime(u, phase); }
+
 bool Applicable(const Setup& u, const std::string& family) { return CannotTake(u, family).empty(); }
 
 sim::Scenario MakeCase(const Setup& u, const std::string& family, double magnitude, int mode,
@@ -107,6 +111,17 @@ void CheckOptions(const Setup& u, const RobustnessOptions& options) {
     std::snprintf(buf, sizeof(buf), "must be in [0, %g] s (a third of the %g s run), got %g",
                   latest_s, u.duration_s, *options.push_time_s);
     throw InputError("climbsim bench robustness", 0, 0, "--push-time", buf);
+  }
+  // Every phase's push inside the run (a push after its end would "survive" anything).
+  const bool pushes = std::any_of(options.families.begin(), options.families.end(), PushFamily) ||
+                      (options.families.empty() && u.frequency_hz > 0);
+  if (pushes && PushTime(u, u.options.phases - 1) + kPushDuration > u.duration_s) {
+    char buf[200];
+    std::snprintf(buf, sizeof(buf),
+                  "the last of %d push phases, at %.3f s, ends after the %g s run: give a longer "
+                  "--duration or fewer --phases",
+                  u.options.phases, PushTime(u, u.options.phases - 1), u.duration_s);
+    throw InputError("climbsim bench robustness", 0, 0, "--phases", buf);
   }
 }
 
@@ -275,13 +290,86 @@ std::vector<RobustnessRow> PairedRows(std::vector<RobustnessRow> rows, size_t fa
   return out;
 }
 
+// The shortest duration that leaves kRobustnessMinCycles after the last push (pushes) or in
+// the run: the default first push moves with the duration (a third of it, at most 4 s).
+double SuggestedDuration(const Setup& u, bool pushes) {
+  const double need_s = kRobustnessMinCycles / u.frequency_hz;
+  if (!pushes) return need_s;
+  const double after_first_s = PushTime(u, u.options.phases - 1) - u.push_time_s + need_s;
+  if (u.options.push_time_s) {
+    return std::max(*u.options.push_time_s + after_first_s, 3.0 * *u.options.push_time_s);
+  }
+  return after_first_s * 1.5 <= 3.0 * kDefaultPushTimeS ? after_first_s * 1.5
+                                                        : kDefaultPushTimeS + after_first_s;
+}
+
+RobustnessPlan MakePlan(const Setup& u, const RobustnessOptions& options) {
+  CheckOptions(u, options);
+  RobustnessPlan plan;
+  plan.duration_s = u.duration_s;
+  plan.frequency_hz = u.frequency_hz;
+  bool pushes = false;
+  for (const auto& f : AllFamilies(u.robot_mass_kg)) {
+    const bool named = std::find(options.families.begin(), options.families.end(), f.name) !=
+                       options.families.end();
+    if (!options.families.empty() && !named) continue;
+    const std::string why = CannotTake(u, f.name);
+    if (!why.empty()) {
+      plan.skipped.push_back(f.name + ": " + why);
+      continue;
+    }
+    plan.families.push_back(f.name);
+    pushes = pushes || PushFamily(f.name);
+  }
+  if (pushes) {
+    for (int j = 0; j < options.phases; ++j) plan.push_times_s.push_back(PushTime(u, j));
+  }
+  if (u.frequency_hz <= 0 || plan.families.empty()) return plan;
+  const double left_s = u.duration_s - (pushes ? plan.push_times_s.back() : 0.0);
+  plan.cycles_left = left_s * u.frequency_hz;
+  plan.suggested_duration_s = SuggestedDuration(u, pushes);
+  if (plan.cycles_left < kRobustnessMinCycles) {
+    char buf[400];
+    std::snprintf(buf, sizeof(buf),
+                  "warning: the %g s runs leave %.2f gait cycles (%.2f s at %g Hz) %s, fewer "
+                  "than %g: a robot that falls later counts as surviving; --duration %.3g "
+                  "would leave %g",
+                  u.duration_s, plan.cycles_left, left_s, u.frequency_hz,
+                  pushes ? "after the last push" : "in the whole run", kRobustnessMinCycles,
+                  std::ceil(plan.suggested_duration_s * 100.0) / 100.0, kRobustnessMinCycles);
+    plan.warning = buf;
+  }
+  return plan;
+}
+
 }  // namespace
+
+RobustnessPlan PlanRobustness(const sim::Scenario& scenario, const RobustnessOptions& options) {
+  return MakePlan(MakeSetup(scenario, options), options);
+}
+
+std::string RobustnessPlanText(const RobustnessPlan& plan) {
+  std::string out;
+  if (!plan.push_times_s.empty()) {
+    out += "  pushes at";
+    char buf[64];
+    for (double t : plan.push_times_s) {
+      std::snprintf(buf, sizeof(buf), " %.3f", t);
+      out += buf;
+    }
+    std::snprintf(buf, sizeof(buf), " s (one per phase of the %g Hz gait)\n", plan.frequency_hz);
+    out += buf;
+  }
+  for (const std::string& s : plan.skipped) out += "  left out: " + s + "\n";
+  if (!plan.warning.empty()) out += "  " + plan.warning + "\n";
+  return out;
+}
 
 RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
                                  const std::function<void(double)>& progress) {
   const sim::Scenario base = sim::LoadScenario(file);
   const Setup u = MakeSetup(base, options);
-  CheckOptions(u, options);
+  const RobustnessPlan plan = MakePlan(u, options);
   const std::vector<RobustnessFamily> families = WantedFamilies(u, options);
   CheckLargestCases(u, families);
   // Spindle and GTO already off (or no reflexes): mode 1 is mode 0, searched once.
@@ -293,6 +381,7 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
   report.scenario_file = file;
   report.options = options;
   report.robot_mass_kg = u.robot_mass_kg;
+  report.plan = plan;
   Progress bar(options, families, modes, progress);
 
   // Undisturbed distances.
@@ -334,6 +423,7 @@ std::string RobustnessTable(const RobustnessReport& r) {
     base1 += (base1.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
   out += "  undisturbed distance [m] per seed: reflexes " + base0 + "; spindle+GTO off " + base1 +
          "\n";
+  out += RobustnessPlanText(r.plan);
   out +=
       "  survived = largest magnitude every case survives (no fall, >= half the undisturbed "
       "distance); fails = the next one tried\n";

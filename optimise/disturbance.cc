@@ -85,7 +85,21 @@ std::string CannotTakeFamily(const DisturbanceSetup& u, const std::string& famil
   if ((family == "weak_patch" || family == "roughness") && !PlaneScene(u.base)) {
     return "its scene '" + u.base.scene.name + "' is not a plane (floor, wall, ceiling, incline)";
   }
+  // The search sets these keys itself: the scenario's own would be silently replaced.
+  if (family == "roughness" && u.base.scene.roughness) {
+    return "it sets scene.roughness itself (the search replaces it: remove it)";
+  }
+  if (family == "weak_patch" && u.base.scene.weak_patches) {
+    return "it sets scene.weak_patches itself (the search replaces it: remove it)";
+  }
+  if (family == "pad_failure" && u.base.adhesion->pad_failure_probability > 0) {
+    return "it sets adhesion.pad_failure_probability itself (the search replaces it: remove it)";
+  }
   return "";
+}
+
+double DisturbancePushTime(const DisturbanceSetup& u, int phase) {
+  return u.push_time_s + phase / (u.options.phases * u.frequency_hz);
 }
 
 sim::Scenario DisturbanceCase(const DisturbanceSetup& u, const std::string& family,
@@ -105,7 +119,7 @@ sim::Scenario DisturbanceCase(const DisturbanceSetup& u, const std::string& fami
                                 : family == "push_down" ? u.down
                                                         : u.side;
     sim::PushParams p;
-    p.time_s = u.push_time_s + phase / (u.options.phases * u.frequency_hz);
+    p.time_s = DisturbancePushTime(u, phase);
     p.body = "base";
     p.impulse_ns = {magnitude * dir.x(), magnitude * dir.y(), magnitude * dir.z()};
     p.duration_s = kPushDuration;

@@ -54,6 +54,9 @@ DisturbanceSetup MakeDisturbanceSetup(const sim::Scenario& base, const Robustnes
 // Why the scenario cannot take `family`, "" when it can.
 std::string CannotTakeFamily(const DisturbanceSetup& setup, const std::string& family);
 
+// Phase j's push time, s: the first push plus j/phases of a gait cycle.
+double DisturbancePushTime(const DisturbanceSetup& setup, int phase);
+
 // One case at one magnitude: mode 0 the scenario's reflexes, 1 spindle and GTO off;
 // magnitude 0 (or family "") is the undisturbed case. Throws InputError for an unknown family.
 sim::Scenario DisturbanceCase(const DisturbanceSetup& setup, const std::string& family,

@@ -178,6 +178,7 @@ struct Result {
   double simulated_s = 0.0;       // simulated time of the computed rollouts
   int processes = 1;              // MPI ranks (1 without mpirun)
   std::string plot_warning;       // why convergence.png is missing (rank 0); "" when drawn
+  std::vector<std::string> parameter_keys;  // optimise.parameters' keys, the order of x
 };
 
 // The MPI rank of this process and the number of ranks (0 and 1 without mpirun).

@@ -271,6 +271,7 @@ void ThrowIfFailed(const StartsOutcome& outcome) {
 // The result every rank returns, less its wall time and plot warning.
 Result Collect(const Problem& problem, const Shared& shared, int threads, int processes) {
   Result result;
+  for (const auto& p : problem.params().parameters) result.parameter_keys.push_back(p.key);
   for (auto& evals : shared.by_start) {
     result.history.insert(result.history.end(), evals.begin(), evals.end());
   }
@@ -386,10 +387,19 @@ std::string ResultText(const Result& r, const std::string& out_dir) {
           r.processes == 1 ? "" : "es");
   Appendf(&out, "  rollouts %d computed, stopped early: %d stalled, %d bound (%.0f s simulated)\n",
           r.rollouts_computed, r.rollouts_stalled, r.rollouts_bounded, r.simulated_s);
+  out +=
+      "    stalled: climbed less than optimise.objective.stall_distance_m in stall_window_s\n"
+      "    bound: could no longer beat the best J even at optimise.objective.max_speed_mps\n";
   Appendf(&out, "  start  J %.6f m/s, speed %.4f m/s\n", r.start_objective,
           r.history.front().nominal.speed_mps);
   Appendf(&out, "  best   J %.6f m/s, speed %.4f m/s (start %d, evaluation %d)\n",
           r.best.objective, r.best.nominal.speed_mps, r.best.start, r.best.index);
+  // The parameters themselves, as given (start 0's first evaluation) and at the best.
+  if (!r.parameter_keys.empty()) out += "  parameters (as given -> best):\n";
+  for (size_t i = 0; i < r.parameter_keys.size() && i < r.best.x.size(); ++i) {
+    Appendf(&out, "    %-36s %12.6g -> %.6g\n", r.parameter_keys[i].c_str(), r.history.front().x[i],
+            r.best.x[i]);
+  }
   Appendf(&out, "  outputs %s/{best.yaml,history.csv,convergence.png,summary.json}\n",
           out_dir.c_str());
   return out;
