@@ -53,6 +53,8 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
   std::vector<std::string> names = params.pads;
   if (names.empty()) {
     for (const LegInfo& leg : robot.legs) names.push_back(mj_id2name(m, mjOBJ_BODY, leg.pad_body));
+    // An adhesive tail tip (robot/tail.h) is a sticky pad too, after the legs'.
+    if (robot.tail.pad_body >= 0) names.push_back(mj_id2name(m, mjOBJ_BODY, robot.tail.pad_body));
     if (names.empty()) {
       throw ScenarioError(scenario, "adhesion.pads",
                           "the robot declares no legs (custom text climbsim_legs): name the pads");

@@ -57,8 +57,9 @@
 namespace climbsim::sim {
 
 // The pads of the scenario with their parameters, resolved against a compiled model that holds
-// the robot (default pads: every leg's pad body; overrides applied; default actuator gain
-// σ_T·A of each pad). Throws InputError at the adhesion key at fault.
+// the robot (default pads: every leg's pad body, then an adhesive tail tip's tail_pad;
+// overrides applied; default actuator gain σ_T·A of each pad). Throws InputError at the
+// adhesion key at fault.
 std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
                                                 const AdhesionParams& params, const mjModel* model,
                                                 const RobotInfo& robot);
@@ -109,6 +110,8 @@ class AdhesionEffect final : public Effect, private adhesion::PadEventSink {
     const int pad = pad_of_leg(leg);
     if (pad >= 0) system_->pad(pad).SetDisengaged(disengaged);
   }
+  // The same for pad `pad` (a pad that is no leg's: an adhesive tail tip).
+  void SetDisengaged(int pad, bool disengaged) { system_->pad(pad).SetDisengaged(disengaged); }
   // Pad `pad`'s utilisation after the last step (see above).
   double utilisation(int pad) const { return utilisation_[pad]; }
   // The bond carrying it (von Mises law; −1 otherwise or when not attached), for the

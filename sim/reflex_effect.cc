@@ -51,7 +51,7 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     landing_.assign(legs_.size(), LandingState{});
     jacp_.assign(3 * world.model()->nv, 0.0);
   }
-  if (params.tail) tail_.emplace(*params.tail, world, dt, event_pad_.back());
+  if (params.tail) tail_.emplace(*params.tail, world, dt, event_pad_.back(), adhesion);
 }
 
 bool ReflexEffect::SharingOn() const {
