@@ -14,6 +14,11 @@
 
 namespace climbsim::optimise {
 
+// A push lasts 10 ms (an impulse, faster than any reflex); the first comes at 4 s, or a third
+// of the run when that is earlier.
+inline constexpr double kPushDuration = 0.01;
+inline constexpr double kDefaultPushTimeS = 4.0;
+
 struct RobustnessOptions {
   double duration_s = 10.0;   // 0: the scenario's
   int seeds = 3;
