@@ -12,8 +12,6 @@
 namespace climbsim::optimise {
 namespace {
 
-constexpr double kPushDuration = 0.01;
-constexpr double kDefaultPushTimeS = 4.0;  // or a third of the duration when that is earlier
 constexpr double kJitterOffsetM = 0.005;
 constexpr double kJitterYawDeg = 5.0;
 constexpr uint64_t kStreamJitter = 101;

@@ -14,6 +14,10 @@
 
 namespace climbsim::optimise {
 
+inline constexpr double kPushDuration = 0.01;  // [s] a push's impulse is spread over this
+// [s] the first push, or a third of the duration when that is earlier
+inline constexpr double kDefaultPushTimeS = 4.0;
+
 struct RobustnessOptions {
   double duration_s = 10.0;   // 0: the scenario's
   int seeds = 3;
