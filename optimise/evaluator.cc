@@ -135,6 +135,7 @@ void Evaluator::Enqueue(Batch& b, double bound) {
   b.index.resize(n);
   b.replayed.assign(n, 0);
   b.costs.resize(n * runs);
+  std::vector<int> slots;  // the rollouts to compute, k * runs + run
   for (size_t k = 0; k < n; ++k) {
     b.index[k] = next_index_[b.start]++;
     const auto& rec = shared_.recorded[b.start];
@@ -150,11 +151,40 @@ void Evaluator::Enqueue(Batch& b, double bound) {
                         ": evaluations from here are computed anew";
       }
     }
-    for (int run = 0; run < runs; ++run) {
-      queue_.push_back({&b, k, run, bound});
-      ++b.pending;
-    }
+    for (int run = 0; run < runs; ++run) slots.push_back(static_cast<int>(k) * runs + run);
   }
+  b.order = QueueOrder(b, slots);
+  for (int slot : b.order) {
+    queue_.push_back({&b, static_cast<size_t>(slot / runs), slot % runs, bound});
+    ++b.pending;
+  }
+}
+
+std::vector<int> Evaluator::QueueOrder(const Batch& b, std::vector<int> slots) const {
+  // A rollout's wall time is predicted from the start's previous batch: the mean over its
+  // candidates of the same run (the same start jitter and seed, or the same robustness
+  // case). Longest first, so that the batch's last rollouts to start are short ones and no
+  // core idles long before the batch is decided. Ties keep candidate order. The order
+  // changes no result: costs are kept per slot and aggregated in candidate order.
+  const int runs = problem_.rollouts();
+  const BatchRecord* previous = nullptr;
+  for (auto it = shared_.batches.rbegin(); it != shared_.batches.rend() && !previous; ++it) {
+    if (it->start == b.start && !it->order.empty()) previous = &*it;
+  }
+  if (!previous) return slots;
+  std::vector<double> sum_s(runs, 0.0);
+  std::vector<int> count(runs, 0);
+  for (int slot : previous->order) {
+    sum_s[slot % runs] += previous->wall_s[slot];
+    ++count[slot % runs];
+  }
+  const auto predicted_s = [&](int slot) {
+    const int run = slot % runs;
+    return count[run] ? sum_s[run] / count[run] : 0.0;
+  };
+  std::stable_sort(slots.begin(), slots.end(),
+                   [&](int a, int c) { return predicted_s(a) > predicted_s(c); });
+  return slots;
 }
 
 void Evaluator::Finish(int start) {
@@ -166,8 +196,10 @@ void Evaluator::Finish(int start) {
 
 void Evaluator::Serve() {
   bool failed = false;
+  shared_.worker_busy_s.assign(threads_, 0.0);
+  const auto t0 = Clock::now();
   common::ParallelFor(threads_ + 1, threads_ + 1, [&](int task) {
-    if (task > 0) return Worker();
+    if (task > 0) return Worker(task - 1);
     std::exception_ptr error;
     try {
       if (comm_.size() == 1) {
@@ -185,6 +217,7 @@ void Evaluator::Serve() {
     closing_ = true;
     changed_.notify_all();
   });
+  shared_.serve_wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   if (!failed) return;
   std::lock_guard<std::mutex> lock(mutex_);
   abandoned_ = true;
@@ -196,7 +229,7 @@ void Evaluator::Stop(std::exception_ptr error) {
   if (!stop_error_) stop_error_ = error;
 }
 
-void Evaluator::Worker() {
+void Evaluator::Worker(int w) {
   ModelCache cache;  // compiled models kept across this worker's rollouts
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
@@ -214,6 +247,7 @@ void Evaluator::Worker() {
     lock.unlock();
     const Cost c = Rollout(problem_, t.batch->xs[t.k], t.run, t.bound, cache);
     lock.lock();
+    shared_.worker_busy_s[w] += c.wall_time_s;
     Deliver(t, c);
   }
 }
@@ -241,6 +275,9 @@ void Evaluator::Complete(Batch& b) {
     shared_.best = std::min(shared_.best, e.objective);
   }
   if (b.start == 0 && b.number == 0) SetBound();
+  BatchRecord record{b.start, b.number, b.order, std::vector<double>(b.costs.size(), 0.0)};
+  for (int slot : b.order) record.wall_s[slot] = b.costs[slot].wall_time_s;
+  shared_.batches.push_back(std::move(record));
   if (comm_.root() && !stop_) WriteBatchFiles(failures, computed_any);
   if (shared_.progress && *shared_.progress && !stop_) {
     (*shared_.progress)(std::min(1.0, static_cast<double>(shared_.done) / shared_.total_budget),

@@ -1,8 +1,9 @@
 // Inside `climbsim optimise` (not a public header): the queue that evaluates the starts'
 // candidates. Each start runs its algorithm on its own thread and hands its next evaluations
 // (one for NLopt, a generation for CMA-ES) to Evaluator::Submit, which blocks until they are
-// evaluated. Their rollouts (each candidate times `objective.runs`) go to one queue, served
-// first come first served to this process's worker threads and, under MPI, to the other
+// evaluated. Their rollouts (each candidate times `objective.runs`) go to one queue, a batch's
+// longest predicted first (QueueOrder), served first come first served to this process's
+// worker threads and, under MPI, to the other
 // ranks' workers as they ask for work (ranks.cc). No start waits for another's batch, so no
 // core idles while a batch's slowest rollout finishes. A start's evaluations depend only on
 // its own candidates and on the bound (start 0's first evaluation: batches after a start's
@@ -51,6 +52,10 @@ struct Shared {
   // by start, evaluation and run, whatever order they finished in.
   std::string failures_path, failures_before;
   std::map<std::tuple<int, int, int>, std::string> failure_lines;
+  // The schedule as it ran: each worker's time in rollouts, how long they served, the batches.
+  std::vector<double> worker_busy_s;
+  double serve_wall_s = 0.0;
+  std::vector<BatchRecord> batches;
 };
 
 // One start's candidates handed to Submit, and their rollouts' costs as they come back.
@@ -62,6 +67,7 @@ struct Batch {
   std::vector<int> index;      // per candidate: its evaluation number in the start
   std::vector<char> replayed;  // per candidate: served from the checkpoint
   std::vector<Cost> costs;     // per candidate and run: [k * runs + run]
+  std::vector<int> order;      // the queued slots k * runs + run, in queue order
   int pending = 0;             // rollouts not back yet
   bool done = false;
 };
@@ -125,7 +131,10 @@ class Evaluator {
   void Enqueue(Batch& b, double bound);
   // Under mutex_: the run stops (no more rollouts or writes); the first error is kept.
   void Stop(std::exception_ptr error);
-  void Worker();
+  // Worker w (0-based) of this process.
+  void Worker(int w);
+  // Under mutex_: the order in which `slots` (k * runs + run) of `b` are queued.
+  std::vector<int> QueueOrder(const Batch& b, std::vector<int> slots) const;
 
   // ranks.cc. Rank 0 with other ranks: a rank asks for up to n tasks when it has n idle
   // workers; it gets the queue's next tasks (or waits for some), sends their costs back, and

@@ -166,6 +166,15 @@ struct Options {
   bool quiet = false;
 };
 
+// One batch's computed rollouts as the queue served them, for the schedule simulation
+// (optimise/schedule.h) of `bench optimise`: slot k * rollouts + run of candidate k.
+struct BatchRecord {
+  int start = 0;
+  int number = 0;              // the start's batch count before it
+  std::vector<int> order;      // the slots in the order they were queued
+  std::vector<double> wall_s;  // per slot (0 for a candidate served from the checkpoint)
+};
+
 struct Result {
   Evaluation best;
   double start_objective = 0.0;   // start 0's first evaluation: the scenario as given
@@ -179,6 +188,10 @@ struct Result {
   int processes = 1;              // MPI ranks (1 without mpirun)
   std::string plot_warning;       // why convergence.png is missing (rank 0); "" when drawn
   std::vector<std::string> parameter_keys;  // optimise.parameters' keys, the order of x
+  // Rank 0's workers: each one's time inside rollouts, and the time they served the queue.
+  std::vector<double> worker_busy_s;
+  double serve_wall_s = 0.0;
+  std::vector<BatchRecord> batches;  // rank 0, in the order they were decided
 };
 
 // The MPI rank of this process and the number of ranks (0 and 1 without mpirun).
