@@ -69,7 +69,22 @@ Cost RolloutCost(const sim::Simulation& sim, const sim::ObjectiveParams& objecti
 //    J would stay above `bound_j` (the cost a rollout must beat to matter); J is that lower
 //    bound, which is above bound_j (early_stop = "bound"). bound_j = +inf: rule off.
 // A rollout that reaches duration_s gets exactly RolloutCost's J.
-Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& objective, double bound_j);
+//
+// With `trace`, the run ignores bound_j (pass +inf) and records, at each point where the
+// bound rule would be checked, the lower bound it compares and the cost it would stop with:
+// BoundedCost then gives exactly what RunRollout with a bound gives, once the bound is known
+// (the optimiser's first generation runs beside the start point that sets the bound).
+struct BoundTrace {
+  std::vector<double> lower_j;
+  std::vector<Cost> stop;
+};
+Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& objective, double bound_j,
+                BoundTrace* trace = nullptr);
+
+// What RunRollout(.., bound_j) gives, from a traced run's cost: the first check point whose
+// lower bound is above bound_j stops it there, else the run's own cost. The wall time stays
+// the traced run's (the time it took).
+Cost BoundedCost(const Cost& traced, const BoundTrace& trace, double bound_j);
 
 // ---- The problem ------------------------------------------------------------------------
 // A scenario file with an optimise block. Parameter vectors are in the parameters' own units.

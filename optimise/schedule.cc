@@ -91,8 +91,13 @@ class Simulator {
     for (size_t w = 0; w < free_.size() && !queue_.empty(); ++w) {
       if (!free_[w]) continue;
       while (!queue_.empty()) {
-        const auto [c, b, j] = queue_.front();
-        queue_.pop_front();
+        auto next = queue_.begin();
+        if (s_.lowest_index_first) {
+          next = std::min_element(queue_.begin(), queue_.end(),
+                                  [](const Queued& a, const Queued& b) { return a.job < b.job; });
+        }
+        const auto [c, b, j] = *next;
+        queue_.erase(next);
         if (state_[c][b].dropped[j]) continue;
         const double d = s_.chains[c][b].jobs[j].duration_s;
         running_.push_back({now_s_ + d, static_cast<int>(w), c, b, j});

@@ -7,7 +7,7 @@
 // before it is decided. A gate delays batches until one batch of one chain is decided
 // (optimise: a start's batches after its first wait for start 0's first evaluation, the
 // bound; bench robustness: every search waits for the undisturbed runs). N identical workers
-// take the queue's front whenever they are free. A batch that stops at a failure (a
+// take the queue's front (or its lowest job index) whenever they are free. A batch that stops at a failure (a
 // bisection step: "every case survives") is decided once a job fails and every job before
 // it is done; its jobs still queued after the failure are dropped, the ones running finish
 // unheeded. Jobs run for their recorded durations; the simulation itself costs microseconds.
@@ -39,6 +39,10 @@ struct Schedule {
   // until batch 0 of gate_chain is decided; -1: no gate.
   int gate_chain = -1;
   int gated_from_batch = 0;
+  // The queue serves the lowest job index of any queued batch first (ties: the order
+  // queued), as bench robustness's case pool does: the cases every verdict needs before the
+  // ones a failure may drop. false: first come first served.
+  bool lowest_index_first = false;
 };
 
 struct ScheduleResult {

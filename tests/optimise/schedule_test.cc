@@ -94,6 +94,23 @@ TEST(Schedule, AFailureDropsTheQueuedJobsAfterIt) {
   EXPECT_DOUBLE_EQ(SimulateSchedule(s, 4).makespan_s, 4.0);
 }
 
+TEST(Schedule, LowestIndexFirstRunsFewerJobsThatAFailureDrops) {
+  // Two chains' batches of four 1 s jobs; chain 0's job 0 fails. First come first served,
+  // two workers start chain 0's jobs 0 and 1, and job 1 is wasted; lowest index first, they
+  // start both job 0s, and chain 0's jobs 1-3 are dropped before they start.
+  Schedule s;
+  s.chains = {{Batch({1, 1, 1, 1}, true, 0)}, {Batch({1, 1, 1, 1})}};
+  EXPECT_EQ(SimulateSchedule(s, 2).jobs_run, 6);
+  s.lowest_index_first = true;
+  EXPECT_EQ(SimulateSchedule(s, 2).jobs_run, 5);
+  EXPECT_DOUBLE_EQ(SimulateSchedule(s, 2).makespan_s, 3.0);
+  // One worker runs what the in-order loop runs, whatever the rule.
+  EXPECT_EQ(SimulateSchedule(s, 1).jobs_run, 5);
+  s.lowest_index_first = false;
+  EXPECT_EQ(SimulateSchedule(s, 1).jobs_run, 5);
+  EXPECT_DOUBLE_EQ(SimulateSchedule(s, 1).makespan_s, 5.0);
+}
+
 TEST(Schedule, TheGateHoldsLaterBatches) {
   // Chain 0's first batch (4 s) gates every other chain's batches: chain 1's 1 s job waits
   // although a worker is free, then both second batches run side by side.
