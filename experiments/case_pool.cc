@@ -1,5 +1,6 @@
 #include "experiments/case_pool.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace climbsim::optimise::internal {
@@ -38,8 +39,12 @@ void CasePool::Work(int w) {
   for (;;) {
     changed_.wait(lock, [&] { return closing_ || !queue_.empty(); });
     if (queue_.empty()) return;
-    const auto [step, i] = queue_.front();
-    queue_.pop_front();
+    // The lowest case index of any step first (ties: the order queued): every verdict needs
+    // its early cases, while a failure may drop the later ones.
+    const auto next = std::min_element(queue_.begin(), queue_.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+    const auto [step, i] = *next;
+    queue_.erase(next);
     if (i > step->first_failure) continue;  // dropped: an earlier case failed
     lock.unlock();
     const auto t0 = Clock::now();

@@ -1,8 +1,9 @@
 // Inside bench robustness (not a public header): the cases of many searches' current steps,
 // side by side. Each search runs on its own driver thread and hands one step's cases (a
 // magnitude's seeds × push phases) to CasePool::RunStep, which blocks until the step is
-// decided; the cases of all steps go to one queue, served first come first served to the
-// pool's workers (one model cache each). A step stops at its first failing case in case
+// decided; the cases of all steps go to one queue, served to the pool's workers (one model
+// cache each) lowest case index first, ties in the order queued: the cases every verdict
+// needs run before those a failure may drop. A step stops at its first failing case in case
 // order: once case i fails and every case before it is done, the step is decided, and its
 // cases still queued after i are dropped (those running finish unheeded). The verdict and
 // the failing case are those of the cases run one by one in order, for any worker count.
