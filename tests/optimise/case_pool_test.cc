@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <mutex>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -96,6 +97,50 @@ TEST(CasePool, CasesOfOneStepRunSideBySide) {
   const std::vector<StepOutcome> r = RunSteps(4, 4, {meet});
   EXPECT_EQ(r[0].first, 4);
   for (double w : r[0].record.wall_s) EXPECT_GT(w, 0.0);
+}
+
+TEST(CasePool, TheLowestCaseIndexOfAnyStepRunsFirst) {
+  // One worker. Step A's case 0 holds the worker until step B is queued; then B's case 0
+  // runs before A's cases 1 and 2, and B's case 1 after A's case 1 (ties: the order queued).
+  CasePool pool(1);
+  std::mutex mutex;
+  std::vector<std::string> order;
+  std::atomic<bool> a0_started{false}, b_queued{false};
+  std::atomic<int> drivers_done{0};
+  const auto note = [&](const std::string& what) {
+    std::lock_guard<std::mutex> lock(mutex);
+    order.push_back(what);
+  };
+  const auto wait_for = [](const std::atomic<bool>& flag) {
+    while (!flag.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  };
+  const CaseFn a = [&](int i, ModelCache*, std::string*) {
+    if (i == 0) {
+      a0_started = true;
+      wait_for(b_queued);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));  // B's RunStep queues
+    }
+    note("A" + std::to_string(i));
+    return true;
+  };
+  const CaseFn b = [&](int i, ModelCache*, std::string*) {
+    note("B" + std::to_string(i));
+    return true;
+  };
+  common::ParallelFor(3, 3, [&](int task) {
+    if (task == 0) return pool.Work(0);
+    std::string how;
+    int id = 0;
+    if (task == 1) {
+      pool.RunStep(3, a, &how, &id);
+    } else {
+      wait_for(a0_started);  // A's cases are queued
+      b_queued = true;
+      pool.RunStep(2, b, &how, &id);
+    }
+    if (++drivers_done == 2) pool.Close();
+  });
+  EXPECT_EQ(order, (std::vector<std::string>{"A0", "B0", "A1", "B1", "A2"}));
 }
 
 }  // namespace
