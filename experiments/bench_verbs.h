@@ -34,14 +34,20 @@ std::string RunBenchAccuracy(const std::string& file, double duration_s, int thr
 // (only "all" or "mpi"; when built with MPI and mpirun is on the PATH), each run in its
 // folder under `out`. `climbsim_exe` is the executable mpirun starts. Each run also reports
 // the CPU seconds it took (all threads, or all ranks) and the load average when it ended: on
-// a shared machine the wall time says little without them. `print` gets each line as its
-// run ends.
+// a shared machine the wall time says little without them. The thread runs also report each
+// worker thread's busy share (time in rollouts / the time the workers ran) and, from the
+// 1-thread run's recorded rollout times, the speed-up on 2, 4, 8 and 16 cores predicted by
+// the schedule simulation (optimise/schedule.h) for the queue order as run, candidate order,
+// longest first by the recorded times, and without the generation barrier. `print` gets
+// each line as its run ends.
 void RunBenchOptimise(const std::string& file, int evaluations, const std::string& out,
                       const std::string& only, const std::string& climbsim_exe,
                       const std::function<void(const std::string&)>& print);
 
 // `bench robustness`: BenchRobustness written to the run folder `out` (an earlier bench
-// robustness folder there is replaced); returns the table and the outputs line.
+// robustness folder there is replaced); returns the table, the outputs line, each worker
+// thread's busy share and the speed-up on 2 to 16 cores predicted from this run's recorded
+// case times (the table and robustness.csv do not depend on the thread count; these lines do).
 std::string RunBenchRobustness(const std::string& file, const RobustnessOptions& options,
                                const std::string& out,
                                const std::function<void(double)>& progress = {});

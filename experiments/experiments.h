@@ -241,6 +241,12 @@ RobustnessPlan PlanRobustness(const sim::Scenario& scenario, const RobustnessOpt
 // The plan as the verb prints it before the runs: push times, families left out, the warning.
 std::string RobustnessPlanText(const RobustnessPlan& plan);
 
+// One bisection step's cases (or the undisturbed runs) as they ran, for bench robustness's
+// schedule simulation: per case, whether it ran here, its wall time, whether it failed.
+struct RobustnessStepRecord {
+  std::vector<double> wall_s;
+  std::vector<char> ran, failed;
+};
 struct RobustnessReport {
   std::string scenario_file;
   RobustnessOptions options;
@@ -248,6 +254,13 @@ struct RobustnessReport {
   double robot_mass_kg = 0.0;
   std::vector<std::vector<double>> baseline_m;  // [mode][seed] undisturbed distance
   std::vector<RobustnessRow> rows;              // per family: reflexes, then spindle_gto_off
+  // How the runs went (not part of the table, which no thread count changes): the
+  // undisturbed runs, each search's steps (family by family, mode by mode), each worker's
+  // time inside runs and the wall time of all the runs.
+  RobustnessStepRecord baselines;
+  std::vector<std::vector<RobustnessStepRecord>> searches;
+  std::vector<double> worker_busy_s;
+  double wall_s = 0.0;
 };
 // progress(fraction) is called from worker threads under a lock.
 RobustnessReport BenchRobustness(const std::string& scenario_file, const RobustnessOptions& options,

@@ -1,6 +1,7 @@
 // climbsim bench robustness (optimise/optimise.h states what is searched and how).
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -9,6 +10,7 @@
 #include <mutex>
 #include <thread>
 
+#include "experiments/case_pool.h"
 #include "experiments/experiments.h"
 #include "common/common.h"
 
@@ -46,15 +48,6 @@ bool Survives(const sim::Scenario& s, double baseline_m, ModelCache* cache, std:
 }
 
 std::string Num(double v) { return sim::ExactNumber(v); }
-
-// Runs `work(i, cache)` for i in [0, n) on the rollout pool (ParallelRollouts; `threads` 0:
-// one per core). An exception (bad input met only when a case is built) reaches the caller:
-// the one of the lowest i, whatever the threads.
-template <class F>
-void ForEachCase(int n, int threads, F work) {
-  ParallelRollouts(n, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()),
-                   [&](int t, ModelCache& cache) { work(t, &cache); });
-}
 
 }  // namespace
 
@@ -184,12 +177,13 @@ class Progress {
 };
 
 // One family's search in one mode: the largest magnitude every case (seed, push phase)
-// survives, bisected geometrically between the family's lo and hi to the tolerance.
+// survives, bisected geometrically between the family's lo and hi to the tolerance. Each
+// magnitude's cases run side by side on the pool (experiments/case_pool.h).
 class Search {
  public:
   Search(const Setup& u, const RobustnessFamily& f, int mode,
-         const std::vector<double>& baseline_m, ModelCache* cache, Progress* progress)
-      : u_(u), f_(f), mode_(mode), baseline_m_(baseline_m), cache_(cache), progress_(progress),
+         const std::vector<double>& baseline_m, internal::CasePool* pool, Progress* progress)
+      : u_(u), f_(f), mode_(mode), baseline_m_(baseline_m), pool_(pool), progress_(progress),
         push_(f.name.rfind("push_", 0) == 0), phases_(push_ ? u.options.phases : 1) {
     row_.family = f.name;
     row_.unit = f.unit;
@@ -219,6 +213,9 @@ class Search {
     return row_;
   }
 
+  // The pool's numbers of this search's steps, in order.
+  const std::vector<int>& steps() const { return steps_; }
+
  private:
   // lo survives, hi fails (with hi_case, hi_how): narrows [a, b] at the geometric mean.
   void Bisect(const std::string& hi_case, const std::string& hi_how) {
@@ -240,37 +237,44 @@ class Search {
     row_.failing_how = b_how;
   }
 
-  // Whether every case survives magnitude m; the first that does not is kept in fail_*_.
+  // Whether every case (seed by seed, phase by phase) survives magnitude m; the first that
+  // does not is kept in fail_*_.
   bool Evaluate(double m) {
     ++row_.evaluations;
-    bool ok = true;
-    for (int seed = 0; seed < u_.options.seeds && ok; ++seed) {
-      for (int phase = 0; phase < phases_ && ok; ++phase) {
-        ++row_.runs;
-        std::string how;
-        if (!Survives(MakeCase(u_, f_.name, m, mode_, seed, phase), baseline_m_[seed], cache_,
-                      &how)) {
-          ok = false;
-          fail_case_ =
-              "seed " + std::to_string(seed) + (push_ ? " phase " + std::to_string(phase) : "");
-          fail_how_ = how;
-        }
-      }
-    }
-    progress_->Advance(u_.options.seeds * phases_);
-    return ok;
+    const int n = u_.options.seeds * phases_;
+    // Copies, not references to this search: a failed step's unheeded cases run on after
+    // RunStep returns (the Setup outlives the pool).
+    const Setup* u = &u_;
+    internal::CaseFn run = [u, family = f_.name, m, mode = mode_, baseline = baseline_m_,
+                            phases = phases_](int i, ModelCache* cache, std::string* how) {
+      return Survives(MakeCase(*u, family, m, mode, i / phases, i % phases), baseline[i / phases],
+                      cache, how);
+    };
+    std::string how;
+    int id = 0;
+    const int first = pool_->RunStep(n, std::move(run), &how, &id);
+    steps_.push_back(id);
+    // The runs the verdict needs: the cases up to the first failure, as one core runs them.
+    row_.runs += first < n ? first + 1 : n;
+    progress_->Advance(n);
+    if (first == n) return true;
+    fail_case_ = "seed " + std::to_string(first / phases_) +
+                 (push_ ? " phase " + std::to_string(first % phases_) : "");
+    fail_how_ = how;
+    return false;
   }
 
   const Setup& u_;
   const RobustnessFamily& f_;
   const int mode_;
   const std::vector<double>& baseline_m_;
-  ModelCache* cache_;
+  internal::CasePool* pool_;
   Progress* progress_;
   const bool push_;
   const int phases_;
   RobustnessRow row_;
   std::string fail_case_, fail_how_;
+  std::vector<int> steps_;
 };
 
 // The report's rows: per family, the reflexes' row then the spindle + GTO off one (a copy
@@ -365,6 +369,69 @@ std::string RobustnessPlanText(const RobustnessPlan& plan) {
   return out;
 }
 
+namespace {
+
+// The undisturbed runs, then every family's search in every mode, one driver thread each,
+// their cases side by side on the pool's workers (`threads`, 0: one per core). Fills the
+// report's baselines, rows and records. An exception (bad input met only when a case is
+// built) reaches the caller: the baselines', else the first search's in table order.
+void RunAll(const Setup& u, const std::vector<RobustnessFamily>& families, int modes,
+            Progress* bar, RobustnessReport* report) {
+  const RobustnessOptions& options = u.options;
+  const int workers = std::max(1, options.threads > 0
+                                      ? options.threads
+                                      : static_cast<int>(std::thread::hardware_concurrency()));
+  const int searches = static_cast<int>(families.size()) * modes;
+  internal::CasePool pool(workers);
+  report->baseline_m.assign(2, std::vector<double>(options.seeds, 0.0));
+  std::vector<RobustnessRow> rows(families.size() * 2);
+  std::vector<std::vector<int>> steps(searches);
+  std::vector<std::exception_ptr> errors(searches + 1);
+  int baseline_step = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  common::ParallelFor(workers + 1, workers + 1, [&](int task) {
+    if (task > 0) return pool.Work(task - 1);
+    try {
+      std::string how;
+      pool.RunStep(modes * options.seeds, [&](int t, ModelCache* cache, std::string*) {
+        const sim::Scenario s = MakeCase(u, "", 0, t / options.seeds, t % options.seeds, 0);
+        sim::Simulation run(s, cache->For(s));
+        report->baseline_m[t / options.seeds][t % options.seeds] = run.Run().distance_m;
+        bar->Advance(1);
+        return true;
+      }, &how, &baseline_step);
+    } catch (...) {
+      errors[0] = std::current_exception();
+    }
+    if (!errors[0]) {
+      common::ParallelFor(searches, searches, [&](int t) {
+        const int mode = t % modes;
+        try {
+          Search search(u, families[t / modes], mode, report->baseline_m[mode], &pool, bar);
+          rows[2 * (t / modes) + mode] = search.Run();
+          steps[t] = search.steps();
+        } catch (...) {
+          errors[t + 1] = std::current_exception();
+        }
+      });
+    }
+    pool.Close();
+  });
+  report->wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+  report->rows = PairedRows(std::move(rows), families.size(), modes == 1);
+  report->baselines = pool.Record(baseline_step);
+  for (const auto& ids : steps) {
+    report->searches.emplace_back();
+    for (int id : ids) report->searches.back().push_back(pool.Record(id));
+  }
+  report->worker_busy_s = pool.busy_s();
+}
+
+}  // namespace
+
 RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
                                  const std::function<void(double)>& progress) {
   const sim::Scenario base = sim::LoadScenario(file);
@@ -384,27 +451,8 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
   report.plan = plan;
   Progress bar(options, families, modes, progress);
 
-  // Undisturbed distances.
-  report.baseline_m.assign(2, std::vector<double>(options.seeds, 0.0));
-  ForEachCase(modes * options.seeds, options.threads, [&](int t, ModelCache* cache) {
-    const int mode = t / options.seeds, seed = t % options.seeds;
-    const sim::Scenario s = MakeCase(u, "", 0, mode, seed, 0);
-    sim::Simulation run(s, cache->For(s));
-    report.baseline_m[mode][seed] = run.Run().distance_m;
-    bar.Advance(1);
-  });
+  RunAll(u, families, modes, &bar, &report);
   if (same) report.baseline_m[1] = report.baseline_m[0];
-
-  // The searches, one task per family and mode.
-  std::vector<RobustnessRow> rows(families.size() * 2);
-  ForEachCase(static_cast<int>(families.size()) * modes, options.threads,
-              [&](int t, ModelCache* cache) {
-                const int mode = t % modes;
-                rows[2 * (t / modes) + mode] =
-                    Search(u, families[t / modes], mode, report.baseline_m[mode], cache, &bar)
-                        .Run();
-              });
-  report.rows = PairedRows(std::move(rows), families.size(), same);
   if (progress) progress(1.0);
   return report;
 }

@@ -81,18 +81,22 @@ class StallRule {
 // The bound rule at simulated time t, distance d: even at max_speed_mps from now on, with
 // no penalty added, J stays above bound_j. Then *stop is the rollout's cost, that lower
 // bound (wall time not set).
+// The cost the bound rule stops a rollout with at time t; its total is the lower bound on J.
+Cost BoundStop(const sim::Simulation& sim, double d, double t, const sim::ObjectiveParams& o) {
+  const double T = sim.scenario().duration_s;
+  Cost stop = CostOf(sim, d, o);
+  stop.total = -(d + o.max_speed_mps * (T - t)) / T + stop.fall_penalty + stop.overload_penalty;
+  stop.energy_penalty = 0.0;
+  stop.early_stop = "bound";
+  stop.stop_time_s = t;
+  return stop;
+}
+
 bool BoundReached(const sim::Simulation& sim, double d, double t, const sim::ObjectiveParams& o,
                   double bound_j, Cost* stop) {
-  const double T = sim.scenario().duration_s;
-  const Cost now = CostOf(sim, d, o);
-  const double lower =
-      -(d + o.max_speed_mps * (T - t)) / T + now.fall_penalty + now.overload_penalty;
-  if (!(lower > bound_j)) return false;
+  const Cost now = BoundStop(sim, d, t, o);
+  if (!(now.total > bound_j)) return false;
   *stop = now;
-  stop->energy_penalty = 0.0;
-  stop->total = lower;
-  stop->early_stop = "bound";
-  stop->stop_time_s = t;
   return true;
 }
 
@@ -107,7 +111,18 @@ Cost NominalCost(const sim::Simulation& sim) {
                                                   : sim::ObjectiveParams{});
 }
 
-Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& o, double bound_j) {
+Cost BoundedCost(const Cost& traced, const BoundTrace& trace, double bound_j) {
+  for (size_t k = 0; k < trace.lower_j.size(); ++k) {
+    if (!(trace.lower_j[k] > bound_j)) continue;
+    Cost stop = trace.stop[k];
+    stop.wall_time_s = traced.wall_time_s;
+    return stop;
+  }
+  return traced;
+}
+
+Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& o, double bound_j,
+                BoundTrace* trace) {
   const auto t0 = std::chrono::steady_clock::now();
   const double dt = sim.world().model()->opt.timestep;
   const long total = sim.steps_total();
@@ -140,6 +155,10 @@ Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& o, double boun
     if (bound_on && BoundReached(sim, d, step * dt, o, bound_j, &stop)) {
       stop.wall_time_s = wall_s();
       return stop;
+    }
+    if (trace && o.max_speed_mps > 0) {
+      trace->stop.push_back(BoundStop(sim, d, step * dt, o));
+      trace->lower_j.push_back(trace->stop.back().total);
     }
   }
   if (rule.empty()) d = distance();

@@ -36,17 +36,25 @@ void WriteCheckpoint(Shared& s) {
   common::WriteFileAtomic(s.checkpoint_path, j.dump() + "\n");
 }
 
+// A cost that is not finite is a failed rollout's.
+void RefuseNonFinite(Cost* c) {
+  if (std::isfinite(c->total)) return;
+  c->failed = true;
+  c->failure = "the cost is not finite";
+  c->total = kFailedCost;
+}
+
 }  // namespace
 
 Cost Rollout(const Problem& problem, const std::vector<double>& x, int run, double bound,
-             ModelCache& cache) {
+             ModelCache& cache, BoundTrace* trace) {
   const auto t0 = Clock::now();
   Cost c;
   try {
     const sim::Scenario s = problem.ScenarioFor(x, run);
     sim::Simulation rollout(s, cache.For(s));
     if (run < problem.params().objective.runs) {
-      c = RunRollout(rollout, problem.params().objective, bound);
+      c = RunRollout(rollout, problem.params().objective, bound, trace);
     } else {
       // A robustness run: to its end or its fall, as the bench runs it; no J of its own.
       const sim::RunResult r = rollout.Run();
@@ -63,11 +71,7 @@ Cost Rollout(const Problem& problem, const std::vector<double>& x, int run, doub
     c.failure = ex.what();
     c.total = kFailedCost;
   }
-  if (!std::isfinite(c.total)) {
-    c.failed = true;
-    c.failure = "the cost is not finite";
-    c.total = kFailedCost;
-  }
+  RefuseNonFinite(&c);
   c.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return c;
 }
@@ -119,8 +123,8 @@ std::vector<Evaluation> Evaluator::Submit(int start, std::vector<std::vector<dou
   std::unique_lock<std::mutex> lock(mutex_);
   if (stop_) throw Stopped();
   b.number = batches_[start]++;
-  if (b.number > 0) changed_.wait(lock, [&] { return bound_known_; });
-  Enqueue(b, b.number > 0 ? bound_ : std::numeric_limits<double>::infinity());
+  if (!trace_ && b.number > 0) changed_.wait(lock, [&] { return bound_known_; });
+  Enqueue(b);
   if (b.pending == 0) Complete(b);
   changed_.notify_all();
   changed_.wait(lock, [&] { return b.done || abandoned_; });
@@ -128,13 +132,16 @@ std::vector<Evaluation> Evaluator::Submit(int start, std::vector<std::vector<dou
   return std::move(b.out);
 }
 
-void Evaluator::Enqueue(Batch& b, double bound) {
+void Evaluator::Enqueue(Batch& b) {
   const int runs = problem_.rollouts();
   const size_t n = b.xs.size();
   b.out.resize(n);
   b.index.resize(n);
   b.replayed.assign(n, 0);
+  b.traced.assign(n, 0);
   b.costs.resize(n * runs);
+  b.traces.resize(n * runs);
+  std::vector<int> slots;  // the rollouts to compute, k * runs + run
   for (size_t k = 0; k < n; ++k) {
     b.index[k] = next_index_[b.start]++;
     const auto& rec = shared_.recorded[b.start];
@@ -150,24 +157,70 @@ void Evaluator::Enqueue(Batch& b, double bound) {
                         ": evaluations from here are computed anew";
       }
     }
-    for (int run = 0; run < runs; ++run) {
-      queue_.push_back({&b, k, run, bound});
-      ++b.pending;
-    }
+    for (int run = 0; run < runs; ++run) slots.push_back(static_cast<int>(k) * runs + run);
+    // A start's first evaluation runs unbounded, every other one with the bound, or traced
+    // until the bound is known.
+    b.traced[k] = b.index[k] > 0 && !bound_known_;
   }
+  b.order = QueueOrder(b, slots);
+  const double none = std::numeric_limits<double>::infinity();
+  for (int slot : b.order) {
+    const size_t k = static_cast<size_t>(slot / runs);
+    const double bound = b.index[k] > 0 && bound_known_ ? bound_ : none;
+    queue_.push_back({&b, k, slot % runs, bound, b.traced[k] != 0});
+    ++b.pending;
+  }
+}
+
+std::vector<int> Evaluator::QueueOrder(const Batch& b, std::vector<int> slots) const {
+  // A rollout's wall time is predicted from the start's previous batch: the mean over its
+  // candidates of the same run (the same start jitter and seed, or the same robustness
+  // case). Longest first, so that the batch's last rollouts to start are short ones and no
+  // core idles long before the batch is decided. Ties keep candidate order. The order
+  // changes no result: costs are kept per slot and aggregated in candidate order.
+  const int runs = problem_.rollouts();
+  const BatchRecord* previous = nullptr;
+  for (auto it = shared_.batches.rbegin(); it != shared_.batches.rend() && !previous; ++it) {
+    if (it->start == b.start && !it->order.empty()) previous = &*it;
+  }
+  if (!previous) return slots;
+  std::vector<double> sum_s(runs, 0.0);
+  std::vector<int> count(runs, 0);
+  for (int slot : previous->order) {
+    sum_s[slot % runs] += previous->wall_s[slot];
+    ++count[slot % runs];
+  }
+  const auto predicted_s = [&](int slot) {
+    const int run = slot % runs;
+    return count[run] ? sum_s[run] / count[run] : 0.0;
+  };
+  std::stable_sort(slots.begin(), slots.end(),
+                   [&](int a, int c) { return predicted_s(a) > predicted_s(c); });
+  return slots;
 }
 
 void Evaluator::Finish(int start) {
   std::lock_guard<std::mutex> lock(mutex_);
   --active_;
-  if (start == 0) bound_known_ = true;
+  if (start == 0) {
+    bound_known_ = true;
+    CompleteDeferred();
+  }
   changed_.notify_all();
+}
+
+void Evaluator::CompleteDeferred() {
+  std::vector<Batch*> waiting;
+  waiting.swap(deferred_);
+  for (Batch* b : waiting) Complete(*b);
 }
 
 void Evaluator::Serve() {
   bool failed = false;
+  shared_.worker_busy_s.assign(threads_, 0.0);
+  const auto t0 = Clock::now();
   common::ParallelFor(threads_ + 1, threads_ + 1, [&](int task) {
-    if (task > 0) return Worker();
+    if (task > 0) return Worker(task - 1);
     std::exception_ptr error;
     try {
       if (comm_.size() == 1) {
@@ -185,6 +238,7 @@ void Evaluator::Serve() {
     closing_ = true;
     changed_.notify_all();
   });
+  shared_.serve_wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   if (!failed) return;
   std::lock_guard<std::mutex> lock(mutex_);
   abandoned_ = true;
@@ -196,7 +250,7 @@ void Evaluator::Stop(std::exception_ptr error) {
   if (!stop_error_) stop_error_ = error;
 }
 
-void Evaluator::Worker() {
+void Evaluator::Worker(int w) {
   ModelCache cache;  // compiled models kept across this worker's rollouts
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
@@ -212,8 +266,10 @@ void Evaluator::Worker() {
       continue;
     }
     lock.unlock();
-    const Cost c = Rollout(problem_, t.batch->xs[t.k], t.run, t.bound, cache);
+    BoundTrace* trace = t.traced ? &t.batch->traces[t.k * problem_.rollouts() + t.run] : nullptr;
+    const Cost c = Rollout(problem_, t.batch->xs[t.k], t.run, t.bound, cache, trace);
     lock.lock();
+    shared_.worker_busy_s[w] += c.wall_time_s;
     Deliver(t, c);
   }
 }
@@ -225,9 +281,23 @@ void Evaluator::Deliver(const Task& t, const Cost& c) {
 }
 
 void Evaluator::Complete(Batch& b) {
+  const bool sets_bound = b.start == 0 && b.number == 0;
+  if (!bound_known_ && !sets_bound &&
+      std::find(b.traced.begin(), b.traced.end(), 1) != b.traced.end()) {
+    deferred_.push_back(&b);
+    return;
+  }
   bool computed_any = false, failures = false;
+  const int runs = problem_.rollouts();
   for (size_t k = 0; k < b.xs.size(); ++k) {
     Evaluation& e = b.out[k];
+    if (b.traced[k]) {  // the rollouts as the bound would have stopped them
+      for (size_t slot = k * runs; slot < (k + 1) * runs; ++slot) {
+        b.costs[slot] = BoundedCost(b.costs[slot], b.traces[slot], bound_);
+        RefuseNonFinite(&b.costs[slot]);
+        b.traces[slot] = BoundTrace{};
+      }
+    }
     if (!b.replayed[k]) {
       computed_any = true;
       failures = RecordComputed(b, k) || failures;
@@ -239,8 +309,11 @@ void Evaluator::Complete(Batch& b) {
     shared_.done += 1;
     shared_.computed += !b.replayed[k];
     shared_.best = std::min(shared_.best, e.objective);
+    if (sets_bound && k == 0) SetBound();  // before the batch's traced candidates resolve
   }
-  if (b.start == 0 && b.number == 0) SetBound();
+  BatchRecord record{b.start, b.number, b.order, std::vector<double>(b.costs.size(), 0.0)};
+  for (int slot : b.order) record.wall_s[slot] = b.costs[slot].wall_time_s;
+  shared_.batches.push_back(std::move(record));
   if (comm_.root() && !stop_) WriteBatchFiles(failures, computed_any);
   if (shared_.progress && *shared_.progress && !stop_) {
     (*shared_.progress)(std::min(1.0, static_cast<double>(shared_.done) / shared_.total_budget),
@@ -248,6 +321,7 @@ void Evaluator::Complete(Batch& b) {
   }
   b.done = true;
   changed_.notify_all();
+  if (sets_bound) CompleteDeferred();
 }
 
 bool Evaluator::RecordComputed(Batch& b, size_t k) {

@@ -1,13 +1,18 @@
 // Inside `climbsim optimise` (not a public header): the queue that evaluates the starts'
 // candidates. Each start runs its algorithm on its own thread and hands its next evaluations
 // (one for NLopt, a generation for CMA-ES) to Evaluator::Submit, which blocks until they are
-// evaluated. Their rollouts (each candidate times `objective.runs`) go to one queue, served
-// first come first served to this process's worker threads and, under MPI, to the other
+// evaluated. Their rollouts (each candidate times `objective.runs`) go to one queue, a batch's
+// longest predicted first (QueueOrder), served first come first served to this process's
+// worker threads and, under MPI, to the other
 // ranks' workers as they ask for work (ranks.cc). No start waits for another's batch, so no
 // core idles while a batch's slowest rollout finishes. A start's evaluations depend only on
-// its own candidates and on the bound (start 0's first evaluation: batches after a start's
-// first wait until it is known, as they would in lockstep rounds), so the history and
-// best.yaml are the same bit for bit for any thread or process count.
+// its own candidates and on the bound (start 0's first evaluation; every evaluation but a
+// start's first is bounded by it), so the history and best.yaml are the same bit for bit for
+// any thread or process count. A rollout queued before the bound is known runs unbounded
+// with a BoundTrace and is cut to the bound exactly (BoundedCost) when its batch completes,
+// which waits for the bound: so CMA-ES's first generation runs beside the start point, and
+// no start waits for the bound. Under MPI, batches wait for the bound instead (traces do not
+// travel between ranks).
 #ifndef CLIMBSIM_OPTIMISE_EVALUATOR_H_
 #define CLIMBSIM_OPTIMISE_EVALUATOR_H_
 
@@ -51,6 +56,10 @@ struct Shared {
   // by start, evaluation and run, whatever order they finished in.
   std::string failures_path, failures_before;
   std::map<std::tuple<int, int, int>, std::string> failure_lines;
+  // The schedule as it ran: each worker's time in rollouts, how long they served, the batches.
+  std::vector<double> worker_busy_s;
+  double serve_wall_s = 0.0;
+  std::vector<BatchRecord> batches;
 };
 
 // One start's candidates handed to Submit, and their rollouts' costs as they come back.
@@ -62,6 +71,9 @@ struct Batch {
   std::vector<int> index;      // per candidate: its evaluation number in the start
   std::vector<char> replayed;  // per candidate: served from the checkpoint
   std::vector<Cost> costs;     // per candidate and run: [k * runs + run]
+  std::vector<char> traced;    // per candidate: its rollouts ran before the bound was known
+  std::vector<BoundTrace> traces;  // per candidate and run, where traced
+  std::vector<int> order;      // the queued slots k * runs + run, in queue order
   int pending = 0;             // rollouts not back yet
   bool done = false;
 };
@@ -72,14 +84,15 @@ struct Task {
   size_t k = 0;
   int run = 0;
   double bound = 0.0;
+  bool traced = false;  // the bound is not known yet: run unbounded with a BoundTrace
 };
 
 // Message tags between rank 0 and the other ranks.
 enum Tag : int { kAskTag = 1, kTasksTag = 2, kStopTag = 3, kCostsTag = 4 };
 
-// Never throws: a bad candidate costs kFailedCost and is logged.
+// Never throws: a bad candidate costs kFailedCost and is logged. `trace`: see RunRollout.
 Cost Rollout(const Problem& problem, const std::vector<double>& x, int run, double bound,
-             ModelCache& cache);
+             ModelCache& cache, BoundTrace* trace = nullptr);
 
 // An evaluation's J from its runs' costs (costs[0 .. runs - 1]): their mean or their worst.
 double Aggregate(const Cost* costs, const sim::ObjectiveParams& o);
@@ -94,12 +107,17 @@ class Evaluator {
  public:
   Evaluator(const Problem& problem, Shared& shared, int threads, Comm& comm)
       : problem_(problem), shared_(shared), threads_(threads), comm_(comm),
+        trace_(comm.size() == 1),
         active_(problem.params().starts), batches_(problem.params().starts, 0),
         next_index_(problem.params().starts, 0) {}
 
   // A start's driver thread: evaluates `xs` (in [min, max] coordinates) and returns their
   // evaluations in order.
   std::vector<Evaluation> Submit(int start, std::vector<std::vector<double>> xs);
+
+  // Whether a batch may hold evaluations that need the bound before it is known (they run
+  // traced): one process.
+  bool traces() const { return trace_; }
 
   // Thrown to a start's driver once the run stops (a checkpoint could not be written).
   struct Stopped : std::runtime_error {
@@ -122,10 +140,13 @@ class Evaluator {
 
  private:
   // Under mutex_: queues the rollouts of `b` that the checkpoint does not serve.
-  void Enqueue(Batch& b, double bound);
+  void Enqueue(Batch& b);
   // Under mutex_: the run stops (no more rollouts or writes); the first error is kept.
   void Stop(std::exception_ptr error);
-  void Worker();
+  // Worker w (0-based) of this process.
+  void Worker(int w);
+  // Under mutex_: the order in which `slots` (k * runs + run) of `b` are queued.
+  std::vector<int> QueueOrder(const Batch& b, std::vector<int> slots) const;
 
   // ranks.cc. Rank 0 with other ranks: a rank asks for up to n tasks when it has n idle
   // workers; it gets the queue's next tasks (or waits for some), sends their costs back, and
@@ -138,8 +159,12 @@ class Evaluator {
   // Under mutex_: a rollout's cost is back.
   void Deliver(const Task& t, const Cost& c);
   // Under mutex_: every rollout of `b` is back. Aggregates each candidate's runs in run
-  // order, records the evaluations, writes the checkpoint and wakes the start.
+  // order, records the evaluations, writes the checkpoint and wakes the start. A batch with
+  // traced rollouts waits (in deferred_) until the bound is known, unless it holds start
+  // 0's first evaluation, which sets the bound.
   void Complete(Batch& b);
+  // Under mutex_: the bound is known: completes the batches that waited for it.
+  void CompleteDeferred();
   // Under mutex_: candidate k of `b` gets its J and counts from its runs' costs. Returns
   // whether one of its runs failed.
   bool RecordComputed(Batch& b, size_t k);
@@ -152,6 +177,8 @@ class Evaluator {
   Shared& shared_;
   const int threads_;
   Comm& comm_;
+  const bool trace_;  // rollouts may run before the bound is known (one process)
+  std::vector<Batch*> deferred_;
   std::mutex mutex_;
   std::condition_variable changed_;  // queue, batches, bound, active starts
   std::deque<Task> queue_;

@@ -69,7 +69,22 @@ Cost RolloutCost(const sim::Simulation& sim, const sim::ObjectiveParams& objecti
 //    J would stay above `bound_j` (the cost a rollout must beat to matter); J is that lower
 //    bound, which is above bound_j (early_stop = "bound"). bound_j = +inf: rule off.
 // A rollout that reaches duration_s gets exactly RolloutCost's J.
-Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& objective, double bound_j);
+//
+// With `trace`, the run ignores bound_j (pass +inf) and records, at each point where the
+// bound rule would be checked, the lower bound it compares and the cost it would stop with:
+// BoundedCost then gives exactly what RunRollout with a bound gives, once the bound is known
+// (the optimiser's first generation runs beside the start point that sets the bound).
+struct BoundTrace {
+  std::vector<double> lower_j;
+  std::vector<Cost> stop;
+};
+Cost RunRollout(sim::Simulation& sim, const sim::ObjectiveParams& objective, double bound_j,
+                BoundTrace* trace = nullptr);
+
+// What RunRollout(.., bound_j) gives, from a traced run's cost: the first check point whose
+// lower bound is above bound_j stops it there, else the run's own cost. The wall time stays
+// the traced run's (the time it took).
+Cost BoundedCost(const Cost& traced, const BoundTrace& trace, double bound_j);
 
 // ---- The problem ------------------------------------------------------------------------
 // A scenario file with an optimise block. Parameter vectors are in the parameters' own units.
@@ -166,6 +181,15 @@ struct Options {
   bool quiet = false;
 };
 
+// One batch's computed rollouts as the queue served them, for the schedule simulation
+// (optimise/schedule.h) of `bench optimise`: slot k * rollouts + run of candidate k.
+struct BatchRecord {
+  int start = 0;
+  int number = 0;              // the start's batch count before it
+  std::vector<int> order;      // the slots in the order they were queued
+  std::vector<double> wall_s;  // per slot (0 for a candidate served from the checkpoint)
+};
+
 struct Result {
   Evaluation best;
   double start_objective = 0.0;   // start 0's first evaluation: the scenario as given
@@ -179,6 +203,10 @@ struct Result {
   int processes = 1;              // MPI ranks (1 without mpirun)
   std::string plot_warning;       // why convergence.png is missing (rank 0); "" when drawn
   std::vector<std::string> parameter_keys;  // optimise.parameters' keys, the order of x
+  // Rank 0's workers: each one's time inside rollouts, and the time they served the queue.
+  std::vector<double> worker_busy_s;
+  double serve_wall_s = 0.0;
+  std::vector<BatchRecord> batches;  // rank 0, in the order they were decided
 };
 
 // The MPI rank of this process and the number of ranks (0 and 1 without mpirun).

@@ -292,6 +292,9 @@ Result Collect(const Problem& problem, const Shared& shared, int threads, int pr
   result.rollouts_bounded = shared.bounded;
   result.simulated_s = shared.simulated_s;
   result.processes = processes;
+  result.worker_busy_s = shared.worker_busy_s;
+  result.serve_wall_s = shared.serve_wall_s;
+  result.batches = shared.batches;
   return result;
 }
 

@@ -162,38 +162,68 @@ class CmaesStart {
     const sim::OptimiseParams& p = problem_.params();
     const unsigned n = static_cast<unsigned>(lo_.size());
     const std::vector<double> u0 = StartPoint(problem_, start_);
-    const double f0 = rounds_.Submit(start_, {ToX(u0)}).front().objective;
-    int count = 1;
     const unsigned lambda =
         p.population > 0 ? static_cast<unsigned>(p.population)
                          : std::max(5u, 4u + static_cast<unsigned>(std::floor(3.0 * std::log(n))));
-    auto oracle = std::make_shared<Oracle>();
-    const unsigned seed = static_cast<unsigned>(p.seed) * 1000003u + static_cast<unsigned>(start_);
-    pagmo::population pop(pagmo::problem(CmaesProblem{oracle, n}), 0u, seed);
-    // The first mean is the population's best: λ copies of the start point, its cost known.
-    for (unsigned i = 0; i < lambda; ++i) pop.push_back(u0, {f0});
+    oracle_ = std::make_shared<Oracle>();
+    seed_ = static_cast<unsigned>(p.seed) * 1000003u + static_cast<unsigned>(start_);
     // One generation per evolve(), the state kept between calls (memory), candidates clipped
     // to the bounds; ftol is off (the copies of the start tie), xtol in shares of the range.
-    pagmo::cmaes cma(1u, -1, -1, -1, -1, p.sigma0, 0.0, p.xtol_rel, true, true, seed);
+    pagmo::cmaes cma(1u, -1, -1, -1, -1, p.sigma0, 0.0, p.xtol_rel, true, true, seed_);
+    // The first generation's points do not depend on the start's cost (the population is λ
+    // copies of the start, which tie): sampled with a stand-in cost, they are evaluated in
+    // one batch with the start point (traced until the bound is known: evaluator.h), and
+    // checked against the points sampled with the real cost below.
+    std::vector<std::vector<double>> first;
+    if (rounds_.traces() && 1 + static_cast<int>(lambda) <= budget_) {
+      first = Probe(cma, Population(u0, 0.0, lambda, n));
+    }
+    std::vector<std::vector<double>> xs = {ToX(u0)};
+    for (const auto& u : first) xs.push_back(ToX(u));
+    std::vector<Evaluation> evals = rounds_.Submit(start_, xs);
+    pagmo::population pop = Population(u0, evals.front().objective, lambda, n);
+    evals.erase(evals.begin());
+    int count = 1;
     while (count + static_cast<int>(lambda) <= budget_) {
-      oracle->recording = true;
-      oracle->asked.clear();
-      const pagmo::cmaes probe = cma;
-      probe.evolve(pop);
-      if (oracle->asked.empty()) break;  // the step fell under xtol
-      std::vector<std::vector<double>> xs;
-      for (const auto& u : oracle->asked) xs.push_back(ToX(u));
-      const std::vector<Evaluation> evals = rounds_.Submit(start_, xs);
-      oracle->answers.clear();
-      for (const Evaluation& e : evals) oracle->answers.push_back(e.objective);
-      oracle->recording = false;
-      oracle->next = 0;
+      const std::vector<std::vector<double>> asked = Probe(cma, pop);
+      if (asked.empty()) break;  // the step fell under xtol
+      if (count == 1 && !first.empty() && asked != first) {
+        throw std::logic_error("cmaes's first generation depends on the start point's cost");
+      }
+      if (count > 1 || first.empty()) {
+        xs.clear();
+        for (const auto& u : asked) xs.push_back(ToX(u));
+        evals = rounds_.Submit(start_, xs);
+      }
+      Oracle& o = *oracle_;
+      o.answers.clear();
+      for (const Evaluation& e : evals) o.answers.push_back(e.objective);
+      o.recording = false;
+      o.next = 0;
       pop = cma.evolve(pop);
       count += static_cast<int>(lambda);
     }
   }
 
  private:
+  // λ copies of the start point with cost f: the first mean is the population's best.
+  pagmo::population Population(const std::vector<double>& u0, double f, unsigned lambda,
+                               unsigned n) const {
+    pagmo::population pop(pagmo::problem(CmaesProblem{oracle_, n}), 0u, seed_);
+    for (unsigned i = 0; i < lambda; ++i) pop.push_back(u0, {f});
+    return pop;
+  }
+
+  // The points the next generation asks for: a copy of the algorithm evolves against the
+  // recording problem.
+  std::vector<std::vector<double>> Probe(const pagmo::cmaes& cma, pagmo::population pop) const {
+    oracle_->recording = true;
+    oracle_->asked.clear();
+    const pagmo::cmaes probe = cma;
+    probe.evolve(pop);
+    return oracle_->asked;
+  }
+
   std::vector<double> ToX(const std::vector<double>& u) const {
     std::vector<double> x(u.size());
     for (size_t i = 0; i < u.size(); ++i) {
@@ -207,6 +237,8 @@ class CmaesStart {
   const int budget_;
   Evaluator& rounds_;
   const std::vector<double> lo_, hi_;
+  std::shared_ptr<Oracle> oracle_;
+  unsigned seed_ = 0;
 };
 
 }  // namespace

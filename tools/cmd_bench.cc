@@ -129,7 +129,9 @@ void AddBenchCommand(CLI::App& app) {
   rob->add_option("--families", families,
                   "comma-separated: push_off, push_down, push_side, payload, pad_failure, "
                   "weak_patch, roughness (default: all the scenario can take)");
-  rob->add_option("--threads", robust.threads, "searches side by side (default: all cores)")
+  rob->add_option("--threads", robust.threads,
+                  "runs side by side: every search's current magnitude's seeds and phases "
+                  "(default: all cores)")
       ->check(CLI::Range(0, 1024));
   rob->footer(
       "Survived: no fall and at least half the undisturbed distance, in every seed (and push "

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "tests/common/test_util.h"
 
@@ -267,6 +269,37 @@ TEST(OptimiseEarlyStop, ABoundedRolloutScoresALowerBoundAboveTheBound) {
   EXPECT_LT(c.stop_time_s, s.duration_s);
 }
 
+// A rollout run before its bound is known records a BoundTrace; cut to a bound afterwards
+// (BoundedCost), it scores exactly what the bounded rollout scores, for bounds that stop it
+// early, late or not at all.
+TEST(OptimiseEarlyStop, ATracedRolloutCutToTheBoundScoresAsTheBoundedOne) {
+  const Problem p(
+      WriteFile("traced.yaml", kFloor + kBlock + "  objective: {max_speed_mps: 0.2}\n"));
+  const sim::Scenario s = p.ScenarioFor(p.start(), 0);
+  auto model = sim::CompileScenario(s);
+  sim::Simulation traced_run(s, *model);
+  BoundTrace trace;
+  const Cost traced = RunRollout(traced_run, p.params().objective,
+                                 std::numeric_limits<double>::infinity(), &trace);
+  ASSERT_GT(trace.lower_j.size(), 10u);  // a check every 50 ms of the 1 s run
+  EXPECT_EQ(traced.early_stop, "");
+  int stopped = 0;
+  for (double bound : {-0.19, -0.15, -0.1, traced.total - 1e-3, traced.total + 1.0,
+                       std::numeric_limits<double>::infinity()}) {
+    sim::Simulation bounded_run(s, *model);
+    const Cost bounded = RunRollout(bounded_run, p.params().objective, bound);
+    const Cost cut = BoundedCost(traced, trace, bound);
+    EXPECT_EQ(cut.total, bounded.total) << bound;  // bit for bit
+    EXPECT_EQ(cut.early_stop, bounded.early_stop) << bound;
+    EXPECT_EQ(cut.stop_time_s, bounded.stop_time_s) << bound;
+    EXPECT_EQ(cut.speed_mps, bounded.speed_mps) << bound;
+    EXPECT_EQ(cut.overload_penalty, bounded.overload_penalty) << bound;
+    EXPECT_EQ(cut.wall_time_s, traced.wall_time_s);  // the time the traced run took
+    stopped += bounded.early_stop == "bound";
+  }
+  EXPECT_GE(stopped, 2);  // the cases include early stops
+}
+
 // ---- CMA-ES ------------------------------------------------------------------------------
 
 TEST(OptimiseCmaes, GenerationsRunInParallelWithTheSameResultForAnyThreadCount) {
@@ -292,6 +325,73 @@ TEST(OptimiseCmaes, GenerationsRunInParallelWithTheSameResultForAnyThreadCount) 
   EXPECT_NE(r1.history[1].x, r1.history[2].x);
   EXPECT_EQ(ReadFile(one.out_dir + "/best.yaml"), ReadFile(two.out_dir + "/best.yaml"));
   EXPECT_LE(r1.best.objective, r1.start_objective);
+}
+
+// A batch's rollouts are queued longest predicted first (the mean wall time of the same run
+// in the start's previous batch); the order changes no result: the same history and
+// best.yaml for 1 and 2 threads. The records the schedule simulation reads add up.
+// (The first generation beside the start point changes nothing: a traced rollout cut to the
+// bound scores as the bounded one, and CmaesStart throws if the points sampled with the
+// start's real cost differ from those evaluated.)
+TEST(OptimiseCmaes, RolloutsQueueLongestPredictedFirstWithTheSameResult) {
+  const std::string path = WriteFile(
+      "lpt.yaml", kFloor + kBlock +
+                      "  algorithm: cmaes\n  population: 5\n  max_evaluations: 11\n  starts: 1\n"
+                      "  objective: {runs: 3}\n");
+  Options one, two;
+  one.out_dir = TempDir() + "/lpt1";
+  one.threads = 1;
+  two.out_dir = TempDir() + "/lpt2";
+  two.threads = 2;
+  const Result r1 = Optimise(path, one), r2 = Optimise(path, two);
+  ASSERT_EQ(r1.history.size(), 11u);  // the start, then two generations of 5
+  ASSERT_EQ(r2.history.size(), 11u);
+  for (size_t i = 0; i < r1.history.size(); ++i) {
+    EXPECT_EQ(r1.history[i].x, r2.history[i].x) << i;
+    EXPECT_EQ(r1.history[i].objective, r2.history[i].objective) << i;
+  }
+  EXPECT_EQ(ReadFile(one.out_dir + "/best.yaml"), ReadFile(two.out_dir + "/best.yaml"));
+
+  for (const Result* r : {&r1, &r2}) {
+    // The start point and the first generation in one batch (the first generation traced
+    // until the start point's cost sets the bound), then the second generation.
+    ASSERT_EQ(r->batches.size(), 2u);
+    ASSERT_EQ(r->batches[0].wall_s.size(), 18u);
+    std::vector<int> in_order(18);
+    std::iota(in_order.begin(), in_order.end(), 0);
+    EXPECT_EQ(r->batches[0].order, in_order);  // nothing to predict from
+    double recorded_s = 0.0;
+    for (size_t n = 0; n < r->batches.size(); ++n) {
+      const BatchRecord& b = r->batches[n];
+      EXPECT_EQ(b.number, static_cast<int>(n));
+      std::vector<int> sorted = b.order;
+      std::sort(sorted.begin(), sorted.end());
+      std::vector<int> all(b.wall_s.size());
+      std::iota(all.begin(), all.end(), 0);
+      EXPECT_EQ(sorted, all) << "every slot queued once";
+      for (double w : b.wall_s) {
+        EXPECT_GT(w, 0.0);
+        recorded_s += w;
+      }
+      if (n == 0) continue;
+      EXPECT_NE(b.order, all) << "queued by run, not candidate by candidate";
+      // The prediction: the previous batch's mean per run; queued in non-increasing order.
+      const BatchRecord& prev = r->batches[n - 1];
+      std::vector<double> mean_s(3, 0.0);
+      for (size_t slot = 0; slot < prev.wall_s.size(); ++slot) {
+        mean_s[slot % 3] += prev.wall_s[slot] / (prev.wall_s.size() / 3);
+      }
+      for (size_t i = 1; i < b.order.size(); ++i) {
+        EXPECT_GE(mean_s[b.order[i - 1] % 3], mean_s[b.order[i] % 3] * (1 - 1e-12)) << n << i;
+      }
+    }
+    double busy_s = 0.0;
+    for (double w : r->worker_busy_s) busy_s += w;
+    EXPECT_NEAR(busy_s, recorded_s, 1e-9 * recorded_s);
+    for (double w : r->worker_busy_s) EXPECT_LE(w, r->serve_wall_s);
+  }
+  EXPECT_EQ(r1.worker_busy_s.size(), 1u);
+  EXPECT_EQ(r2.worker_busy_s.size(), 2u);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // thread count; an --out that holds anything is refused before anything runs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -136,9 +137,12 @@ TEST(Robustness, PushesPointOffDownAndAcrossTheWall) {
   EXPECT_EQ(s1.seed, base.seed + 1);
 }
 
+// A step's cases run side by side (experiments/case_pool.h): the table, robustness.csv and
+// each row's runs are those of the cases run one by one, and the records that the schedule
+// simulation reads agree with the rows.
 TEST(Robustness, SameReportWhateverTheThreads) {
   RobustnessOptions o;
-  o.duration_s = 1.0;
+  o.duration_s = 2.0;
   o.seeds = 2;
   o.families = {"payload"};
   o.phases = 1;
@@ -153,8 +157,41 @@ TEST(Robustness, SameReportWhateverTheThreads) {
     EXPECT_EQ(one.rows[i].failed, two.rows[i].failed);
     EXPECT_EQ(one.rows[i].failing_how, two.rows[i].failing_how);
     EXPECT_EQ(one.rows[i].runs, two.rows[i].runs);
+    EXPECT_EQ(one.rows[i].evaluations, two.rows[i].evaluations);
+    EXPECT_EQ(one.rows[i].failing_case, two.rows[i].failing_case);
   }
   EXPECT_EQ(one.baseline_m, two.baseline_m);
+  EXPECT_EQ(RobustnessTable(one), RobustnessTable(two));
+  const std::string dir_one = TempDir() + "/robust_threads1";
+  const std::string dir_two = TempDir() + "/robust_threads2";
+  WriteRobustness(dir_one, one);
+  WriteRobustness(dir_two, two);
+  EXPECT_EQ(ReadFile(dir_one + "/robustness.csv"), ReadFile(dir_two + "/robustness.csv"));
+
+  for (const RobustnessReport* r : {&one, &two}) {
+    ASSERT_EQ(r->searches.size(), 2u);  // payload in two modes
+    EXPECT_EQ(r->baselines.wall_s.size(), 4u);  // two modes x two seeds
+    for (size_t s = 0; s < r->searches.size(); ++s) {
+      const RobustnessRow& row = r->rows[s];
+      ASSERT_EQ(static_cast<int>(r->searches[s].size()), row.evaluations);
+      int runs = 0;
+      for (const RobustnessStepRecord& step : r->searches[s]) {
+        ASSERT_EQ(step.wall_s.size(), 2u);  // two seeds, one phase
+        // The in-order verdict: the cases up to the first failure ran, and count as runs.
+        size_t first = 0;
+        while (first < step.failed.size() && !step.failed[first]) ++first;
+        for (size_t i = 0; i < std::min(first + 1, step.ran.size()); ++i) EXPECT_TRUE(step.ran[i]);
+        runs += static_cast<int>(std::min(first + 1, step.ran.size()));
+      }
+      EXPECT_EQ(runs, row.runs) << row.mode;
+    }
+    double busy_s = 0.0;
+    for (double b : r->worker_busy_s) busy_s += b;
+    EXPECT_GT(busy_s, 0.0);
+    EXPECT_LE(busy_s, r->wall_s * r->worker_busy_s.size());
+  }
+  EXPECT_EQ(one.worker_busy_s.size(), 1u);
+  EXPECT_EQ(two.worker_busy_s.size(), 2u);
 }
 
 TEST(Robustness, RefusesAnOutFolderThatHoldsSomething) {
