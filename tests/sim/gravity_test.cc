@@ -1,0 +1,99 @@
+// scene.gravity / scene.gravity_m_s2: another body's surface gravity, along the scene's own
+// direction. Earth's changes nothing; a magnitude is what the robot falls with.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/sim.h"
+#include "tests/common/scenario_error.h"
+#include "tests/common/test_util.h"
+
+namespace climbsim::sim {
+namespace {
+
+using climbsim::testing::ScenarioErrorOf;
+using climbsim::testing::WriteFile;
+
+Eigen::Vector3d GravityOf(const std::string& text) {
+  const Scenario s = LoadScenario(WriteFile("gravity.yaml", text));
+  const auto model = CompileScenario(s);
+  Simulation run(s, *model);
+  const mjModel* m = run.world().model();
+  const Eigen::Vector3d g(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
+  EXPECT_EQ(g, run.world().gravity());  // what steps is what the run reports
+  return g;
+}
+
+TEST(Gravity, BodiesScaleTheSceneGravityAlongItsDirection) {
+  const Eigen::Vector3d moon = GravityOf("robot: gecko\nscene: {name: floor, gravity: moon}\n"
+                                         "duration_s: 0.01\n");
+  EXPECT_NEAR(moon.z(), -1.62, 1e-12);
+  EXPECT_NEAR(moon.head<2>().norm(), 0.0, 1e-12);
+  // The incline keeps its tilt: 30 deg by default, downhill along -x.
+  const Eigen::Vector3d mars = GravityOf(
+      "robot: gecko\nscene: {name: incline, gravity: mars}\nduration_s: 0.01\n");
+  EXPECT_NEAR(mars.norm(), 3.72, 1e-12);
+  EXPECT_NEAR(mars.x(), -3.72 * std::sin(M_PI / 6), 1e-12);
+  EXPECT_NEAR(mars.z(), -3.72 * std::cos(M_PI / 6), 1e-12);
+  const Eigen::Vector3d given = GravityOf(
+      "robot: gecko\nscene: {name: wall, gravity_m_s2: 0.5}\nduration_s: 0.01\n");
+  const Eigen::Vector3d earth_wall =
+      GravityOf("robot: gecko\nscene: wall\nduration_s: 0.01\n");
+  EXPECT_NEAR((given - 0.5 * earth_wall.normalized()).norm(), 0.0, 1e-12);
+}
+
+TEST(Gravity, EarthIsTheScenesOwnBitForBit) {
+  const auto run = [](const std::string& scene) {
+    const std::string text = "robot: gecko\nscene: " + scene +
+                             "\nduration_s: 0.3\ncpg: {}\nadhesion: {}\n";
+    const Scenario s = LoadScenario(WriteFile("earth.yaml", text));
+    const auto model = CompileScenario(s);
+    Simulation sim(s, *model);
+    sim.Run();
+    const mjData* d = sim.world().data();
+    return std::vector<double>(d->qpos, d->qpos + sim.world().model()->nq);
+  };
+  EXPECT_EQ(run("wall"), run("{name: wall, gravity: earth}"));
+}
+
+// Before the feet touch, the robot's centre of mass falls with the key's gravity, whatever
+// its servos do (internal forces do not move the centre of mass).
+TEST(Gravity, TheCentreOfMassFallsWithTheGivenGravity) {
+  const Scenario s = LoadScenario(
+      WriteFile("drop.yaml", "robot: gecko\nscene: {name: floor, gravity: moon}\n"
+                             "duration_s: 0.05\ninitial: {offset_m: [0, 0, 0.05]}\n"));
+  const auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  const mjModel* m = sim.world().model();
+  const mjData* d = sim.world().data();
+  const int root = mj_name2id(m, mjOBJ_BODY, "base");
+  ASSERT_GE(root, 0);
+  sim.Step();
+  const double z0 = d->subtree_com[3 * root + 2];
+  const double t0 = d->time;
+  const int n = 20;
+  for (int i = 0; i < n; ++i) ASSERT_TRUE(sim.Step());
+  ASSERT_EQ(d->ncon, 0);  // still in the air
+  // From rest: after the first step the velocity is g*h; n more steps of semi-implicit Euler
+  // (Euler and implicit alike: gravity is constant) move it by g*h^2*((n+1)(n+2)/2 - 1).
+  const double h = m->opt.timestep;
+  ASSERT_NEAR(d->time - t0, n * h, 1e-12);
+  const double expected = 1.62 * h * h * ((n + 1) * (n + 2) / 2.0 - 1.0);
+  EXPECT_NEAR(z0 - d->subtree_com[3 * root + 2], expected, 0.02 * expected);
+}
+
+TEST(Gravity, RefusesBothKeysAndUnknownBodies) {
+  EXPECT_EQ(ScenarioErrorOf("both.yaml", "robot: gecko\nscene: {name: wall, gravity: moon, "
+                                         "gravity_m_s2: 1.0}\nduration_s: 1\n"),
+            "both.yaml: scene.gravity_m_s2: give gravity or gravity_m_s2, not both");
+  const std::string pluto = ScenarioErrorOf(
+      "pluto.yaml", "robot: gecko\nscene: {name: wall, gravity: pluto}\nduration_s: 1\n");
+  EXPECT_NE(pluto.find("scene.gravity"), std::string::npos) << pluto;
+  EXPECT_NE(pluto.find("earth, mars, moon, ceres, eros"), std::string::npos) << pluto;
+  const std::string zero = ScenarioErrorOf(
+      "zero.yaml", "robot: gecko\nscene: {name: wall, gravity_m_s2: 0}\nduration_s: 1\n");
+  EXPECT_NE(zero.find("scene.gravity_m_s2: must be in [0.0001, 20]"), std::string::npos) << zero;
+}
+
+}  // namespace
+}  // namespace climbsim::sim
