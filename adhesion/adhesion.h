@@ -3,6 +3,7 @@
 //   bond_grid.h        BondGrid, PadParams, PadLoad: stresses, rupture, the cascade (no MuJoCo)
 //   pulloff.h          PullOff, PulloffSweep: the figure-6 experiment as pure math
 //   frictional_law.h   the directional law (frictional adhesion) on the same grid (no MuJoCo)
+//   tabulated_law.h    the measured law: pull-off against angle, interpolated, per bond
 //   weld.h             weld switching and the weld's wrench (MuJoCo 2.2.2)
 //   pad_contact.h      pad geometry, face frame, contact sensing
 //   sticky_pad.h       one pad: attach conditions, weld, build-up, load → bonds → detach, events
@@ -23,6 +24,7 @@
 #include "adhesion/pulloff.h"
 #include "adhesion/pulloff_rig.h"
 #include "adhesion/sticky_pad.h"
+#include "adhesion/tabulated_law.h"
 #include "adhesion/weld.h"
 
 #endif  // CLIMBSIM_ADHESION_ADHESION_H_

@@ -61,7 +61,7 @@
 namespace climbsim::adhesion {
 
 // Which law decides when bonds break.
-enum class PadLaw { kVonMises, kFrictional };
+enum class PadLaw { kVonMises, kFrictional, kTabulated };  // kTabulated: tabulated_law.h
 
 // Utilisation reported for a bond (or pad) that cannot hold at all (pulled, no gripping
 // shear): far above 1, finite so that it plots and averages.

@@ -13,6 +13,7 @@
 #include "adhesion/bond_grid.h"
 #include "adhesion/frictional_law.h"
 #include "adhesion/sticky_pad.h"
+#include "adhesion/tabulated_law.h"
 #include "keys/keys.h"
 
 namespace climbsim::adhesion {
@@ -65,6 +66,7 @@ struct AdhesionKeys : PadParams, AttachParams {
   double pad_failure_window_s = 1.0;
   std::string law = "von_mises";
   FrictionalParams frictional;
+  TabulatedParams tabulated;
   double release_contact_delay_s = StickyPadParams{}.release_contact_delay_s;
 
   template <class A>
@@ -125,9 +127,14 @@ struct AdhesionKeys : PadParams, AttachParams {
     a->Choice({"law", "",
                "model bonds: when bonds break. von_mises: the seed's isotropic law (sigma_T, mu); "
                "frictional: directional dry adhesion, adhesion only under shear along the gripping "
-               "direction (adhesion.frictional)"},
-              &law, {"von_mises", "frictional"});
+               "direction (adhesion.frictional); tabulated: a lab's measured pull-off against angle "
+               "(adhesion.tabulated, written by climbsim fit-adhesion)"},
+              &law, {"von_mises", "frictional", "tabulated"});
     a->Visit({"frictional", "", "the frictional law's parameters (law: frictional)"}, &frictional);
+    a->Visit({"tabulated", "",
+              "the tabulated law's table (law: tabulated): measured pull-off against the angle "
+              "from the pad normal"},
+             &tabulated);
     a->Visit({"release_contact_delay_s", "s",
               "model bonds: a pad let go by its release (detach cause released) collides again "
               "only this much later, so that it is not pushed out of the depth its landing pressed "
@@ -136,7 +143,13 @@ struct AdhesionKeys : PadParams, AttachParams {
              &release_contact_delay_s);
   }
 
-  void Validate(const Checker& c) const { PadParams::Validate(c); }
+  void Validate(const Checker& c) const {
+    PadParams::Validate(c);
+    if (law == "tabulated" && tabulated.angle_from_normal_deg.empty()) {
+      c.Fail("tabulated", "law tabulated needs a table: adhesion.tabulated.angle_from_normal_deg "
+                          "and pulloff_n (climbsim fit-adhesion writes one)");
+    }
+  }
 };
 
 }  // namespace climbsim::adhesion

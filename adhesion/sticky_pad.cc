@@ -61,6 +61,7 @@ void ValidateStickyPadParams(const StickyPadParams& p) {
   Check(std::isfinite(p.release_contact_delay_s) && p.release_contact_delay_s >= 0,
         "release_contact_delay_s", ">= 0 and finite", p.release_contact_delay_s);
   if (p.law == PadLaw::kFrictional) ValidateFrictionalParams(p.frictional);
+  if (p.law == PadLaw::kTabulated) ValidateTabulatedParams(p.tabulated);
   if (p.model == AdhesionModel::kMujoco) {
     Check(std::isfinite(p.actuator_gain_n) && p.actuator_gain_n > 0, "gain_n", "> 0 and finite",
           p.actuator_gain_n);
@@ -128,6 +129,7 @@ StickyPad::StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
       grid_(GridParams(params, geometry)),
       frictional_law_(params.law == PadLaw::kFrictional ? params.frictional : FrictionalParams{}) {
   ValidateStickyPadParams(params_);
+  if (params_.law == PadLaw::kTabulated) tabulated_law_.emplace(params_.tabulated);
   params_.bonds = grid_.params();
   if (params_.model == AdhesionModel::kBonds && (weld_eq < 0 || weld_eq >= m->neq)) {
     throw std::invalid_argument("adhesion: pad has no weld equality");
@@ -301,10 +303,18 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
     const double k = 1.0 / strength_scale_;
     scaled = {load_.fn_n * k, load_.fx_n * k, load_.fy_n * k, load_.mx_nm * k, load_.my_nm * k};
   }
-  const BondGrid::UpdateResult r =
-      params_.law == PadLaw::kFrictional
-          ? FrictionalUpdate(&grid_, frictional_law_, scaled, &frictional_utilisation_)
-          : grid_.Update(scaled);
+  BondGrid::UpdateResult r;
+  switch (params_.law) {
+    case PadLaw::kFrictional:
+      r = FrictionalUpdate(&grid_, frictional_law_, scaled, &frictional_utilisation_);
+      break;
+    case PadLaw::kTabulated:
+      r = TabulatedUpdate(&grid_, *tabulated_law_, scaled, &frictional_utilisation_);
+      break;
+    case PadLaw::kVonMises:
+      r = grid_.Update(scaled);
+      break;
+  }
   if (r.broken > 0) {
     bonds_lost_ = true;
     ++counts_.bonds_lost;
@@ -319,7 +329,10 @@ void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* si
 }
 
 bool StickyPad::UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad, int peak_bond) const {
-  if (!attached_ || params_.model != AdhesionModel::kBonds || !load_known_) return false;
+  if (!attached_ || params_.model != AdhesionModel::kBonds || !load_known_ ||
+      params_.law == PadLaw::kTabulated) {
+    return false;
+  }
   const bool frictional = params_.law == PadLaw::kFrictional;
   // The load as the grid sees it (a weak patch scales it; the frictional law's moment share),
   // and the chain factors back to the pad's own load.

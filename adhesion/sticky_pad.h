@@ -72,10 +72,12 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "adhesion/bond_grid.h"
 #include "adhesion/frictional_law.h"
+#include "adhesion/tabulated_law.h"
 #include "adhesion/pad_contact.h"
 
 namespace climbsim::adhesion {
@@ -137,6 +139,7 @@ struct StickyPadParams {
   // it is the law.
   PadLaw law = PadLaw::kVonMises;
   FrictionalParams frictional;
+  TabulatedParams tabulated;  // law kTabulated: the measured table (tabulated_law.h)
   // kBonds: after a release (detach cause "released") the pad collides again only this much
   // later (s, ≥ 0; rounded to whole steps). The weld holds a pad at the depth its landing
   // pressed it into the surface's soft contact; given back its contact at once, the pad is
@@ -271,8 +274,9 @@ class StickyPad {
   double touchdown_time_s() const { return touchdown_time_s_; }
   double touchdown_speed_mps() const { return touchdown_speed_mps_; }
   double touchdown_angle_deg() const { return touchdown_angle_deg_; }
-  // law kFrictional: the largest bond utilisation left after the last AfterStep while
-  // attached (frictional_law.h); read it only while attached (0 after Reset).
+  // law kFrictional or kTabulated: the largest bond utilisation left after the last AfterStep
+  // while attached (frictional_law.h, tabulated_law.h); read it only while attached (0 after
+  // Reset).
   double frictional_utilisation() const { return frictional_utilisation_; }
   // The directional law as prepared (unit gripping direction, tan α*); the default law's
   // parameters unless params().law is kFrictional.
@@ -284,7 +288,8 @@ class StickyPad {
   // frictional law, with its moment share) and the law's derivative there. It is the
   // direction in which the rest of the robot should change the pad's load to relieve it:
   // the reflexes' load sharing (reflex.h, GTO share) moves the load along −∇U. False (grad
-  // unchanged) unless attached (kBonds) with a supported load. Never allocates.
+  // unchanged) unless attached (kBonds) with a supported load, and for the tabulated law
+  // (no gradient: its limit is interpolated). Never allocates.
   // `peak_bond`: the bond of the peak when already known (PadUtilisationGradient).
   bool UtilisationGradient(Eigen::Matrix<double, 5, 1>* grad, int peak_bond = -1) const;
 
@@ -328,6 +333,7 @@ class StickyPad {
   PadCounts counts_;
   FrictionalLaw frictional_law_;  // the default law unless params.law is kFrictional
   double frictional_utilisation_ = 0.0;
+  std::optional<TabulatedLaw> tabulated_law_;  // law kTabulated only
 };
 
 }  // namespace climbsim::adhesion

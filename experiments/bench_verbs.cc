@@ -11,6 +11,7 @@
 #include "common/common.h"
 #include "experiments/bench_speed.h"
 #include "optimise/text.h"
+#include "scenario/dotted_key.h"
 #include "sim/sim.h"
 
 namespace climbsim::optimise {
@@ -94,6 +95,10 @@ std::string MpiRun(const std::string& exe, const std::string& file, int evaluati
   argv.insert(argv.end(), {exe, "optimise", file, "--out", dir, "--max-evaluations",
                            std::to_string(evaluations), "--threads", "1", "--quiet"});
   if (BenchRunFolder(dir, file).force) argv.push_back("--force");  // an earlier bench's run
+  // The ranks read the file as this process did: with its --set.
+  for (const sim::KeyOverride& o : sim::CommandLineKeys()) {
+    argv.insert(argv.end(), {"--set", o.key + "=" + o.value});
+  }
   return common::RunProcess(argv, {.stdout_path = ""});
 }
 
@@ -257,6 +262,8 @@ std::string RunBenchRobustness(const std::string& file, const RobustnessOptions&
       out, {.made_by = "bench robustness",
             .force = sim::RunFolderMadeBy(out) == "bench robustness",
             .inputs = {file}});
+  // Push times, families left out, a too-short duration: said before the runs (or refused).
+  std::fputs(RobustnessPlanText(PlanRobustness(sim::LoadScenario(file), options)).c_str(), stderr);
   const RobustnessReport r = BenchRobustness(file, options, progress);
   const std::string warning = WriteRobustness(folder.path(), r);
   folder.Commit();

@@ -10,40 +10,126 @@
 #include <vector>
 
 #include "experiments/bench_speed.h"
+#include "optimise/disturbance.h"
 #include "optimise/optimise.h"
 
 namespace climbsim::optimise {
 
 // ---- Parameter sweeps ------------------------------------------------------------------
 // `climbsim sweep`: each scenario run with one numeric key set to each value of a range
-// (e.g. scene.incline_deg from 0 to 180 in steps of 15), runs side by side on threads.
+// (e.g. scene.incline_deg from 0 to 180 in steps of 15), runs side by side on threads and,
+// under mpirun, ranks. With seeds > 1 each point runs seed cases 0 .. seeds-1
+// (optimise::ApplyCaseSeed: the bench's seeds) and reports their worst and mean.
 struct SweepOptions {
   std::string key;
   double from = 0.0, to = 0.0, step = 1.0;
   int threads = 0;  // 0: all cores
+  int seeds = 1;
+  // Non-empty: every run's folder is written under it (`--keep-runs`: DIR/runs), as
+  // <file stem>/v<value index>_seed<k>; not under mpirun with more than one rank.
+  std::string runs_dir;
+};
+// One run of a sweep: its result and what its summary.json says of a stall (the gait held
+// to the end of the run: sim/cpg_effect.h).
+struct SweepRun {
+  sim::RunResult result;
+  bool stalled = false;
+  double stall_time_s = -1.0;
+  nlohmann::json summary;  // the run's summary.json (what a --find condition reads)
+};
+// One scenario at one value, over its seeds. A run that fell or stalled is never progress:
+// the worst speed is 0 when any seed fell or stalled.
+struct SweepPoint {
+  std::vector<SweepRun> seeds;
+  int fell() const;                 // seeds that fell
+  int stalled() const;              // seeds that stalled
+  double first_fall_s() const;      // earliest fall, -1 when none
+  double first_stall_s() const;     // earliest stall, -1 when none
+  double worst_speed_mps() const;
+  double mean_speed_mps() const;    // over every seed, fallen and stalled included
+  double worst_distance_m() const;
 };
 struct SweepRow {
   double value = 0.0;
-  std::vector<sim::RunResult> results;  // one per scenario, in the order given
+  std::vector<sim::RunResult> results;  // one per scenario, in the order given: seed 0's
+  std::vector<SweepPoint> points;       // one per scenario: every seed
 };
-// The most values a sweep may take.
+// The most values a sweep may take; the most seeds per point.
 inline constexpr int kMaxSweepValues = 10000;
-// Throws InputError ("climbsim sweep" at --from, --to or --step) for a range that is not
-// finite, runs backwards, or holds more than kMaxSweepValues values.
+inline constexpr int kMaxSweepSeeds = 100;
+// Throws InputError ("climbsim sweep" at --from, --to, --step or --seeds) for a range that
+// is not finite, runs backwards, or holds more than kMaxSweepValues values.
 void CheckSweepRange(const SweepOptions& options);
 // Throws InputError for a key the files cannot hold or a value that makes a scenario invalid
 // (checked for every value before anything runs).
 std::vector<SweepRow> Sweep(const std::vector<std::string>& scenario_files,
                             const SweepOptions& options);
-// sweep.csv (value, then distance, speed, fell and fall time per scenario) and sweep.png.
-// Returns the plot's warning ("" when drawn).
+// sweep.csv (value, then per scenario: worst distance, worst and mean speed, seeds fallen,
+// first fall, seeds stalled, first stall) and sweep.png. Returns the plot's warning ("" when
+// drawn).
 std::string WriteSweep(const std::string& dir, const std::vector<std::string>& scenario_files,
                        const SweepOptions& options, const std::vector<SweepRow>& rows);
 
-// The terminal table (per value, each file's speed or fall time) and the outputs line.
+// The terminal table (per value, each file's speed, fall and stall times) and the outputs line.
 std::string SweepTable(const std::vector<std::string>& scenario_files, const SweepOptions& options,
                        const std::vector<SweepRow>& rows, const std::string& out_dir,
                        const std::string& plot_warning);
+
+// ---- Thresholds (`climbsim sweep --find`, threshold.cc) -------------------------------------
+// A condition on a run's summary.json: FIELD OP NUMBER, e.g. "distance_m>=0.1", or several
+// joined by " and "; OP is one of < <= > >= == !=; a true/false field reads as 1/0. Parsed by
+// this fixed grammar, never evaluated as code.
+struct Condition {
+  struct Term {
+    std::string field, op;
+    double value = 0.0;
+  };
+  std::vector<Term> terms;
+  std::string text;
+};
+// Throws InputError ("climbsim sweep" at --condition) for text outside the grammar.
+Condition ParseCondition(const std::string& text);
+// Whether `summary` meets the condition; `why` (may be null) gets the first term that fails
+// ("distance_m = 0.0712").
+bool Meets(const Condition& condition, const nlohmann::json& summary, std::string* why);
+
+struct FindOptions {
+  std::string key;
+  double low = 0.0, high = 0.0;
+  Condition condition;
+  double tolerance = 0.01;  // relative: stop when high - low <= tolerance * |edge|
+  int seeds = 1;
+  int threads = 0;
+  std::string runs_dir;     // non-empty: each probe's runs under it (probe<i>_seed<k>)
+};
+struct FindProbe {
+  double value = 0.0;
+  bool holds = false;         // on every seed
+  std::string failing;        // "seed 1: distance_m = 0.0712" when it does not
+  SweepPoint point;
+};
+struct FindResult {
+  std::vector<FindProbe> probes;  // in the order run: low, high, then the bisection
+  double holds_at = 0.0, fails_at = 0.0;  // the last pair either side of the edge
+  // Probes sorted by value whose outcome differs from their neighbour's: more than 1 means
+  // the edge is not monotone in the key (the bisection found one flip of several).
+  int flips = 0;
+  double wall_s = 0.0;
+};
+// Bisects `key` in [low, high] for where the condition stops (or starts) holding on every
+// seed. Throws InputError (exit 2) for bad options, and after the first two probes when the
+// condition holds at both ends or at neither.
+FindResult FindThreshold(const std::string& scenario_file, const FindOptions& options);
+// find.csv (every probe: value, holds, worst distance, seeds fallen and stalled).
+void WriteFind(const std::string& dir, const FindOptions& options, const FindResult& result);
+// The probes and the result as printed.
+std::string FindText(const FindOptions& options, const FindResult& result);
+
+// Internal to sweep.cc and threshold.cc: every scenario of `scenarios` run in order on the
+// rollout pool and, under mpirun, spread over the ranks (every rank gets every run back);
+// with run_dirs (one per scenario, or empty), each run's folder is written there.
+std::vector<SweepRun> RunSweepPoints(const std::vector<sim::Scenario>& scenarios,
+                                     const std::vector<std::string>& run_dirs, int threads);
 
 // ---- What accuracy costs in time -------------------------------------------------------
 // `climbsim bench accuracy`: one knob at a time (time step; MuJoCo integrator; solver
@@ -104,24 +190,13 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 //                                                                      -     0.02 .. 0.99
 //   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
 // Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
-// roughness off the plane scenes, pushes without cpg) are left out; named in `families`, one
-// is refused (InputError saying why), before any run.
-struct RobustnessOptions {
-  double duration_s = 10.0;   // 0: the scenario's
-  int seeds = 3;
-  int phases = 4;
-  // First push, at most a third of the duration (else InputError); default: 4 s, or a
-  // third of the duration when that is earlier.
-  std::optional<double> push_time_s;
-  double tolerance = 0.1;
-  int threads = 0;            // 0: all cores
-  std::vector<std::string> families;  // empty: all
-};
+// roughness off the plane scenes, pushes without cpg, and a family whose key the scenario sets
+// itself: scene.roughness, scene.weak_patches, adhesion.pad_failure_probability > 0, which the
+// search would replace) are left out; named in `families`, one is refused (InputError saying
+// why), before any run. So are pushes whose last phase would end after the run (--phases).
+// RobustnessOptions and RobustnessFamily: optimise/disturbance.h (the objective's robustness
+// term builds the same cases).
 
-struct RobustnessFamily {
-  std::string name, unit, what;
-  double lo = 0.0, hi = 0.0;
-};
 // The families a scenario can take (ranges resolved: payload from the robot's mass).
 std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario);
 // The names of every family, in order.
@@ -144,9 +219,32 @@ struct RobustnessRow {
   int evaluations = 0, runs = 0;
   bool same_as_reflexes = false;  // spindle and GTO were already off: the rows are one search
 };
+// What a bench will do, known before any run: each push's time (one per phase; empty without
+// push families) and a warning when the runs are too short to show a fall. A case survives
+// only what its run lasts: a disturbance needs at least kRobustnessMinCycles gait cycles of
+// run after the last push (push families) or in the whole run (the others, present from the
+// start) before a survival means anything; otherwise `warning` says how many there are and
+// which --duration would give them. Throws InputError (exit 2), like BenchRobustness, for what
+// it refuses: an unknown family, one the scenario cannot take, a push outside the run.
+inline constexpr double kRobustnessMinCycles = 3.0;
+struct RobustnessPlan {
+  double duration_s = 0.0;
+  double frequency_hz = 0.0;            // 0: no cpg
+  std::vector<std::string> families;    // those that will be searched, in table order
+  std::vector<std::string> skipped;     // "family: why", families left out (none named)
+  std::vector<double> push_times_s;     // phase j's push, s
+  double cycles_left = 0.0;             // after the last push (or in the run), gait cycles
+  double suggested_duration_s = 0.0;    // the shortest --duration with kRobustnessMinCycles
+  std::string warning;                  // "" when the runs are long enough
+};
+RobustnessPlan PlanRobustness(const sim::Scenario& scenario, const RobustnessOptions& options);
+// The plan as the verb prints it before the runs: push times, families left out, the warning.
+std::string RobustnessPlanText(const RobustnessPlan& plan);
+
 struct RobustnessReport {
   std::string scenario_file;
   RobustnessOptions options;
+  RobustnessPlan plan;
   double robot_mass_kg = 0.0;
   std::vector<std::vector<double>> baseline_m;  // [mode][seed] undisturbed distance
   std::vector<RobustnessRow> rows;              // per family: reflexes, then spindle_gto_off

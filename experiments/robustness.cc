@@ -1,5 +1,4 @@
 // climbsim bench robustness (optimise/optimise.h states what is searched and how).
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -12,157 +11,38 @@
 
 #include "experiments/experiments.h"
 #include "common/common.h"
-#include "sim/surface.h"
 
 namespace climbsim::optimise {
 namespace {
 
-constexpr double kPushDuration = 0.01;
-constexpr double kDefaultPushTimeS = 4.0;  // or a third of the duration when that is earlier
-constexpr double kJitterOffsetM = 0.005;
-constexpr double kJitterYawDeg = 5.0;
-constexpr uint64_t kStreamJitter = 101;
-
-// What every case of a scenario shares: the push directions and times.
-struct Setup {
-  sim::Scenario base;
-  RobustnessOptions options;
-  double duration_s = 0.0;
-  double frequency_hz = 0.0;  // 0: no cpg, no push families
-  double push_time_s = 0.0;
-  Eigen::Vector3d off{0, 0, 1}, down{-1, 0, 0}, side{0, 1, 0};
-  double robot_mass_kg = 0.0;
-};
-
-bool PlaneScene(const sim::Scenario& s) {
-  const std::string& n = s.scene.name;
-  return n == "floor" || n == "wall" || n == "ceiling" || n == "incline";
-}
+// The cases and the "survived" rule are the objective's robustness term's too
+// (optimise/disturbance.h); these names keep the bench's own.
+using Setup = DisturbanceSetup;
 
 Setup MakeSetup(const sim::Scenario& base, const RobustnessOptions& options) {
-  Setup u;
-  u.base = base;
-  u.options = options;
-  u.duration_s = options.duration_s > 0 ? options.duration_s : base.duration_s;
-  u.frequency_hz = base.cpg ? base.cpg->frequency_hz : 0.0;
-  u.push_time_s = options.push_time_s.value_or(std::min(kDefaultPushTimeS, u.duration_s / 3.0));
-  // Directions on the contract's surface, the plane z = 0 with normal +z: off it; down the
-  // slope (gravity along the surface; on a level surface, against the travel); across.
-  const std::unique_ptr<sim::CompiledModel> model =
-      sim::CompiledModel::Build(base, sim::MjcfAdditions{});
-  sim::World world(*model, base);
-  u.robot_mass_kg = model->robot().mass_kg;
-  const Eigen::Vector3d z(0, 0, 1);
-  Eigen::Vector3d g = world.gravity();
-  Eigen::Vector3d along = g - g.dot(z) * z;
-  if (along.norm() < 1e-6 * std::max(1.0, g.norm())) {
-    along = -(model->scene().travel - model->scene().travel.dot(z) * z);
-  }
-  if (along.norm() > 0) u.down = along.normalized();
-  u.side = z.cross(u.down).normalized();
-  return u;
+  return MakeDisturbanceSetup(base, options);
 }
 
-std::vector<RobustnessFamily> AllFamilies(double mass_kg) {
-  return {
-      {"push_off", "N s", "10 ms push off the surface", 0.005, 1.0},
-      {"push_down", "N s", "10 ms push down the slope", 0.005, 1.0},
-      {"push_side", "N s", "10 ms push across the slope", 0.005, 1.0},
-      {"payload", "kg", "payload on the base", 0.02 * mass_kg, 4.0 * mass_kg},
-      {"pad_failure", "", "probability that an attachment fails", 0.01, 1.0},
-      {"weak_patch", "", "sigma_T lost on weak patches (1 - fraction)", 0.02, 0.99},
-      {"roughness", "m", "bump height", 0.0005, 0.03},
-  };
-}
+std::vector<RobustnessFamily> AllFamilies(double mass_kg) { return AllRobustnessFamilies(mass_kg); }
 
-// Why the scenario cannot take a family, "" when it can.
 std::string CannotTake(const Setup& u, const std::string& family) {
-  if (family.rfind("push_", 0) == 0 && u.frequency_hz <= 0) {
-    return "it has no cpg (the pushes are timed by its gait)";
-  }
-  const bool adhesion_family = family == "pad_failure" || family == "weak_patch";
-  if (adhesion_family && !u.base.adhesion) return "it has no adhesion";
-  if (family == "weak_patch" && u.base.adhesion->model != "bonds") {
-    return "its adhesion.model is '" + u.base.adhesion->model + "', not bonds";
-  }
-  if ((family == "weak_patch" || family == "roughness") && !PlaneScene(u.base)) {
-    return "its scene '" + u.base.scene.name + "' is not a plane (floor, wall, ceiling, incline)";
-  }
-  return "";
+  return CannotTakeFamily(u, family);
 }
+
+bool PushFamily(const std::string& family) { return family.rfind("push_", 0) == 0; }
+
+double PushTime(const Setup& u, int phase) { return DisturbancePushTime(u, phase); }
 
 bool Applicable(const Setup& u, const std::string& family) { return CannotTake(u, family).empty(); }
 
 sim::Scenario MakeCase(const Setup& u, const std::string& family, double magnitude, int mode,
                        int seed, int phase) {
-  sim::Scenario s = u.base;
-  s.duration_s = u.duration_s;
-  s.fall.stop = true;
-  s.outputs.trajectory_rate_hz = 0.0;
-  s.seed = u.base.seed + seed;
-  if (seed > 0) {
-    const auto sd = static_cast<uint64_t>(s.seed);
-    s.initial.offset_m[0] += kJitterOffsetM * (2 * sim::UnitDraw(sd, kStreamJitter, 0, 0) - 1);
-    s.initial.offset_m[1] += kJitterOffsetM * (2 * sim::UnitDraw(sd, kStreamJitter, 1, 0) - 1);
-    s.initial.yaw_deg = std::clamp(
-        s.initial.yaw_deg + kJitterYawDeg * (2 * sim::UnitDraw(sd, kStreamJitter, 2, 0) - 1),
-        -180.0, 180.0);
-  }
-  if (mode == 1 && s.reflex) {
-    s.reflex->spindle.enabled = false;
-    s.reflex->gto.enabled = false;
-  }
-  if (family.empty() || magnitude <= 0) return s;
-  if (family.rfind("push_", 0) == 0) {
-    const Eigen::Vector3d dir = family == "push_off"    ? u.off
-                                : family == "push_down" ? u.down
-                                                        : u.side;
-    sim::PushParams p;
-    p.time_s = u.push_time_s + phase / (u.options.phases * u.frequency_hz);
-    p.body = "base";
-    p.impulse_ns = {magnitude * dir.x(), magnitude * dir.y(), magnitude * dir.z()};
-    p.duration_s = kPushDuration;
-    s.perturbations.push_back(p);
-  } else if (family == "payload") {
-    s.payload_kg += magnitude;
-  } else if (family == "pad_failure") {
-    s.adhesion->pad_failure_probability = std::min(1.0, magnitude);
-  } else if (family == "weak_patch") {
-    sim::WeakPatchParams w;
-    w.fraction = std::max(1e-6, 1.0 - magnitude);
-    w.size_m = 0.05;
-    w.coverage = 0.3;
-    s.scene.weak_patches = w;
-  } else if (family == "roughness") {
-    sim::RoughnessParams r;
-    r.height_m = magnitude;
-    s.scene.roughness = r;
-  } else {
-    throw InputError("climbsim bench robustness", 0, 0, "--families",
-                     "unknown family '" + family + "'");
-  }
-  return s;
+  return DisturbanceCase(u, family, magnitude, mode, seed, phase);
 }
 
 bool Survives(const sim::Scenario& s, double baseline_m, ModelCache* cache, std::string* how) {
   sim::Simulation run(s, cache->For(s));
-  const sim::RunResult r = run.Run();
-  char buf[160];
-  if (!r.stable) {
-    if (how) *how = "unstable: " + r.failure;
-    return false;
-  }
-  if (r.fell) {
-    std::snprintf(buf, sizeof(buf), "fell at %.2f s", r.fall_time_s);
-    if (how) *how = buf;
-    return false;
-  }
-  if (baseline_m > 0 && r.distance_m < 0.5 * baseline_m) {
-    std::snprintf(buf, sizeof(buf), "climbed %.3f m of %.3f m", r.distance_m, baseline_m);
-    if (how) *how = buf;
-    return false;
-  }
-  return true;
+  return SurvivedRun(run.Run(), baseline_m, how);
 }
 
 std::string Num(double v) { return sim::ExactNumber(v); }
@@ -231,6 +111,17 @@ void CheckOptions(const Setup& u, const RobustnessOptions& options) {
     std::snprintf(buf, sizeof(buf), "must be in [0, %g] s (a third of the %g s run), got %g",
                   latest_s, u.duration_s, *options.push_time_s);
     throw InputError("climbsim bench robustness", 0, 0, "--push-time", buf);
+  }
+  // Every phase's push inside the run (a push after its end would "survive" anything).
+  const bool pushes = std::any_of(options.families.begin(), options.families.end(), PushFamily) ||
+                      (options.families.empty() && u.frequency_hz > 0);
+  if (pushes && PushTime(u, u.options.phases - 1) + kPushDuration > u.duration_s) {
+    char buf[200];
+    std::snprintf(buf, sizeof(buf),
+                  "the last of %d push phases, at %.3f s, ends after the %g s run: give a longer "
+                  "--duration or fewer --phases",
+                  u.options.phases, PushTime(u, u.options.phases - 1), u.duration_s);
+    throw InputError("climbsim bench robustness", 0, 0, "--phases", buf);
   }
 }
 
@@ -399,13 +290,86 @@ std::vector<RobustnessRow> PairedRows(std::vector<RobustnessRow> rows, size_t fa
   return out;
 }
 
+// The shortest duration that leaves kRobustnessMinCycles after the last push (pushes) or in
+// the run: the default first push moves with the duration (a third of it, at most 4 s).
+double SuggestedDuration(const Setup& u, bool pushes) {
+  const double need_s = kRobustnessMinCycles / u.frequency_hz;
+  if (!pushes) return need_s;
+  const double after_first_s = PushTime(u, u.options.phases - 1) - u.push_time_s + need_s;
+  if (u.options.push_time_s) {
+    return std::max(*u.options.push_time_s + after_first_s, 3.0 * *u.options.push_time_s);
+  }
+  return after_first_s * 1.5 <= 3.0 * kDefaultPushTimeS ? after_first_s * 1.5
+                                                        : kDefaultPushTimeS + after_first_s;
+}
+
+RobustnessPlan MakePlan(const Setup& u, const RobustnessOptions& options) {
+  CheckOptions(u, options);
+  RobustnessPlan plan;
+  plan.duration_s = u.duration_s;
+  plan.frequency_hz = u.frequency_hz;
+  bool pushes = false;
+  for (const auto& f : AllFamilies(u.robot_mass_kg)) {
+    const bool named = std::find(options.families.begin(), options.families.end(), f.name) !=
+                       options.families.end();
+    if (!options.families.empty() && !named) continue;
+    const std::string why = CannotTake(u, f.name);
+    if (!why.empty()) {
+      plan.skipped.push_back(f.name + ": " + why);
+      continue;
+    }
+    plan.families.push_back(f.name);
+    pushes = pushes || PushFamily(f.name);
+  }
+  if (pushes) {
+    for (int j = 0; j < options.phases; ++j) plan.push_times_s.push_back(PushTime(u, j));
+  }
+  if (u.frequency_hz <= 0 || plan.families.empty()) return plan;
+  const double left_s = u.duration_s - (pushes ? plan.push_times_s.back() : 0.0);
+  plan.cycles_left = left_s * u.frequency_hz;
+  plan.suggested_duration_s = SuggestedDuration(u, pushes);
+  if (plan.cycles_left < kRobustnessMinCycles) {
+    char buf[400];
+    std::snprintf(buf, sizeof(buf),
+                  "warning: the %g s runs leave %.2f gait cycles (%.2f s at %g Hz) %s, fewer "
+                  "than %g: a robot that falls later counts as surviving; --duration %.3g "
+                  "would leave %g",
+                  u.duration_s, plan.cycles_left, left_s, u.frequency_hz,
+                  pushes ? "after the last push" : "in the whole run", kRobustnessMinCycles,
+                  std::ceil(plan.suggested_duration_s * 100.0) / 100.0, kRobustnessMinCycles);
+    plan.warning = buf;
+  }
+  return plan;
+}
+
 }  // namespace
+
+RobustnessPlan PlanRobustness(const sim::Scenario& scenario, const RobustnessOptions& options) {
+  return MakePlan(MakeSetup(scenario, options), options);
+}
+
+std::string RobustnessPlanText(const RobustnessPlan& plan) {
+  std::string out;
+  if (!plan.push_times_s.empty()) {
+    out += "  pushes at";
+    char buf[64];
+    for (double t : plan.push_times_s) {
+      std::snprintf(buf, sizeof(buf), " %.3f", t);
+      out += buf;
+    }
+    std::snprintf(buf, sizeof(buf), " s (one per phase of the %g Hz gait)\n", plan.frequency_hz);
+    out += buf;
+  }
+  for (const std::string& s : plan.skipped) out += "  left out: " + s + "\n";
+  if (!plan.warning.empty()) out += "  " + plan.warning + "\n";
+  return out;
+}
 
 RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
                                  const std::function<void(double)>& progress) {
   const sim::Scenario base = sim::LoadScenario(file);
   const Setup u = MakeSetup(base, options);
-  CheckOptions(u, options);
+  const RobustnessPlan plan = MakePlan(u, options);
   const std::vector<RobustnessFamily> families = WantedFamilies(u, options);
   CheckLargestCases(u, families);
   // Spindle and GTO already off (or no reflexes): mode 1 is mode 0, searched once.
@@ -417,6 +381,7 @@ RobustnessReport BenchRobustness(const std::string& file, const RobustnessOption
   report.scenario_file = file;
   report.options = options;
   report.robot_mass_kg = u.robot_mass_kg;
+  report.plan = plan;
   Progress bar(options, families, modes, progress);
 
   // Undisturbed distances.
@@ -458,6 +423,7 @@ std::string RobustnessTable(const RobustnessReport& r) {
     base1 += (base1.empty() ? "" : " ") + Num(std::round(d * 1e4) / 1e4);
   out += "  undisturbed distance [m] per seed: reflexes " + base0 + "; spindle+GTO off " + base1 +
          "\n";
+  out += RobustnessPlanText(r.plan);
   out +=
       "  survived = largest magnitude every case survives (no fall, >= half the undisturbed "
       "distance); fails = the next one tried\n";

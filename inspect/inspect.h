@@ -164,7 +164,13 @@ struct Stance {
 //   hold what was left after the pad failed). Only rows inside the window count.
 // * peak_utilisation = max of trajectory.csv's `<pad>_utilisation` (the pad's peak bond
 //   demand over threshold, 1 breaks a bond) over the rows inside the window; absent when the
-//   run has no such column (runs from before it existed).
+//   run has no such column (runs from before it existed). It includes the peel, which takes
+//   every pad to 1 on purpose, so it says nothing of the margin; the split does:
+//   utilisation_stance_peak and utilisation_stance_p99 (nearest rank) over the rows inside a
+//   stance and outside a peel, utilisation_peel_peak over the rows inside both. A peel runs
+//   from the pad's `peel` event to its next `peel_end` or `detach`; an interval [start, end)
+//   holds a row at time t when start ≤ t < end. Rows every 1/trajectory_rate_hz: summary.json's
+//   fields of the same names are over every step (sim/adhesion_effect.h).
 struct LegReport {
   std::string leg;
   std::string pad;
@@ -190,6 +196,9 @@ struct LegReport {
   std::optional<double> peak_shear_n;            // N
   std::optional<double> lowest_bonded_fraction;  // the safety margin while attached
   std::optional<double> peak_utilisation;        // bond demand / threshold, 1 breaks
+  std::optional<double> utilisation_stance_peak;  // attached, not peeling: the margin
+  std::optional<double> utilisation_stance_p99;
+  std::optional<double> utilisation_peel_peak;    // attached, peeling: ~1 on purpose
   std::map<std::string, int> reflexes;           // event name → count
 };
 
@@ -210,7 +219,7 @@ Report Analyse(const Run& run, const Window& window);
 //  "detached_by":{},"bonds_lost_steps","stances":[{"start_s","end_s","open_start","open_end",
 //  "end_cause"}],"complete_stances","mean_stance_s","shortest_stance_s","attached_s",
 //  "duty_factor","peak_normal_n","peak_shear_n","lowest_bonded_fraction","peak_utilisation",
-//  "reflexes":{}}]}
+//  "utilisation_stance_peak","utilisation_stance_p99","utilisation_peel_peak","reflexes":{}}]}
 // Absent values (no complete stance, never attached) are null.
 nlohmann::json ReportJson(const Run& run, const Report& report);
 // The table for a terminal: one column per leg, one row per figure.
@@ -255,6 +264,16 @@ std::vector<std::string> WritePlots(const Run& run, const Report& report,
 // from red at a trace of bonds to green at full); the camera looks at the base's position
 // averaged over ±0.25 s, from behind, beside and off the surface, with the image's up along
 // −gravity of the run (so a wall climb goes up the screen); the time is printed top left.
+//
+// Cameras (RenderOptions::camera):
+//   follow  the view above, moving with the base: the robot stays in the middle of the image
+//   fixed   a world-fixed view from the same direction that frames the whole climb: it looks
+//           at the centre of the box the base's recorded positions span over the rendered
+//           time (from .. to, clipped to the recording), from far enough that a sphere around
+//           that box, grown by the robot's radius, fits in the image (MuJoCo's fovy, and the
+//           horizontal angle the width gives); --distance-m overrides the distance
+//   NAME    a <camera> of the model (model.xml), as the model places it (its own up)
+//   ""      fixed for a video or frame folder (a video shows the climb), follow for a still
 
 enum class Quality {
   kDefault,  // the model's settings: multisampling, shadows, reflections
@@ -268,11 +287,23 @@ struct RenderOptions {
   Quality quality = Quality::kDefault;
   double from_s = 0.0;  // video and frames: the time span, clipped to the run
   double to_s = std::numeric_limits<double>::infinity();
-  double distance_m = 0.0;  // camera distance; 0: 3.5 times the robot's radius
+  double distance_m = 0.0;  // camera distance; 0: 3.5 times the robot's radius (fixed: framed)
+  std::string camera;       // follow, fixed, a camera of the model; "": see above
+};
+
+// Where the camera was for a frame (MuJoCo's OpenGL camera, world frame, the two eyes
+// averaged), for tests and for users who place their own overlays.
+struct CameraPose {
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero();
+  Eigen::Vector3d forward = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  double fovy_deg = 45.0;  // vertical field of view
 };
 
 struct RenderStats {
   int frames = 0;
+  std::vector<CameraPose> cameras;  // one per frame
+  std::string camera;               // the camera used: follow, fixed or the model's NAME
   double render_s = 0.0;           // wall time in MuJoCo's renderer and reading pixels
   double total_s = 0.0;            // wall time including encoding
   std::vector<std::string> notes;  // e.g. joints the trajectory does not hold

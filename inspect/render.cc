@@ -145,12 +145,16 @@ class Renderer {
     mj_kinematics(model_, data_);
     mj_comPos(model_, data_);
     mj_camlight(model_, data_);
-    const Eigen::Vector3d look = LookAt(t);
-    for (int i = 0; i < 3; ++i) camera_.lookat[i] = look[i];
+    if (camera_.type == mjCAMERA_FREE) {
+      const Eigen::Vector3d look = fixed_ ? fixed_look_ : LookAt(t);
+      for (int i = 0; i < 3; ++i) camera_.lookat[i] = look[i];
+    }
     mjv_updateScene(model_, data_, &option_, nullptr, &camera_, mjCAT_ALL, &scene_);
     // MuJoCo's free camera keeps world +z up; turn the image so that −gravity is up.
-    for (mjvGLCamera& c : scene_.camera) {
-      for (int i = 0; i < 3; ++i) c.up[i] = static_cast<float>(up_[i]);
+    if (camera_.type == mjCAMERA_FREE) {
+      for (mjvGLCamera& c : scene_.camera) {
+        for (int i = 0; i < 3; ++i) c.up[i] = static_cast<float>(up_[i]);
+      }
     }
     const mjrRect viewport = {0, 0, o_.width, o_.height};
     mjr_render(viewport, &scene_, &context_);
@@ -160,6 +164,15 @@ class Renderer {
     mjr_readPixels(rgb_.data(), nullptr, viewport, &context_);
   }
   const std::vector<unsigned char>& rgb() const { return rgb_; }
+  // The last frame's camera (the two eyes averaged).
+  CameraPose pose() const {
+    CameraPose p;
+    const mjvGLCamera c = mjv_averageCamera(&scene_.camera[0], &scene_.camera[1]);
+    for (int i = 0; i < 3; ++i) p.pos[i] = c.pos[i], p.forward[i] = c.forward[i], p.up[i] = c.up[i];
+    p.fovy_deg = model_->vis.global.fovy;
+    return p;
+  }
+  const std::string& camera_name() const { return o_.camera; }
   double first_time() const { return traj_.at(0, 0); }
   double last_time() const { return traj_.at(traj_.rows() - 1, 0); }
 
@@ -223,17 +236,65 @@ class Renderer {
     up_.normalize();
 
     mjv_defaultCamera(&camera_);
+    if (o_.camera != "follow" && o_.camera != "fixed") {
+      UseModelCamera();
+      return;
+    }
     camera_.type = mjCAMERA_FREE;
     camera_.azimuth = std::atan2(forward.y(), forward.x()) * 180.0 / M_PI;
     camera_.elevation = std::asin(std::clamp(forward.z(), -1.0, 1.0)) * 180.0 / M_PI;
     camera_.distance = o_.distance_m > 0 ? o_.distance_m : 3.5 * RobotRadius();
-
+    if (o_.camera == "fixed") {
+      FrameTheClimb();
+      return;
+    }
     // Prefix sums of the base position for the ±0.25 s average the camera looks at.
     base_sum_.assign(traj_.rows() + 1, Eigen::Vector3d::Zero());
     for (size_t r = 0; r < traj_.rows(); ++r) {
       base_sum_[r + 1] =
           base_sum_[r] + Eigen::Vector3d(traj_.at(r, 1), traj_.at(r, 2), traj_.at(r, 3));
     }
+  }
+
+  // The model's camera o_.camera, or InputError at --camera naming the cameras there are.
+  void UseModelCamera() {
+    const int id = mj_name2id(model_, mjOBJ_CAMERA, o_.camera.c_str());
+    if (id < 0) {
+      std::string names;
+      for (int c = 0; c < model_->ncam; ++c) {
+        const char* n = mj_id2name(model_, mjOBJ_CAMERA, c);
+        if (n != nullptr) names += std::string(names.empty() ? "" : ", ") + n;
+      }
+      throw InputError(kCli, 0, 0, "--camera",
+                       "'" + o_.camera + "' is not follow, fixed or a camera of the model (" +
+                           (names.empty() ? std::string("it has no named camera") : names) + ")");
+    }
+    camera_.type = mjCAMERA_FIXED;
+    camera_.fixedcamid = id;
+  }
+
+  // The fixed view: the centre of the box the base spans over the rendered time, from a
+  // distance at which that box's sphere, grown by the robot's radius, fills the narrower
+  // field of view.
+  void FrameTheClimb() {
+    fixed_ = true;
+    const double a = std::max(o_.from_s, first_time()), b = std::min(o_.to_s, last_time());
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = -lo;
+    for (size_t r = 0; r < traj_.rows(); ++r) {
+      const double t = traj_.at(r, 0);
+      // Rows inside the span; a span between two rows takes the row at its start.
+      if ((t < a || t > b) && !(r == Bracket(a).first && lo.x() > hi.x())) continue;
+      const Eigen::Vector3d p(traj_.at(r, 1), traj_.at(r, 2), traj_.at(r, 3));
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    fixed_look_ = 0.5 * (lo + hi);
+    if (o_.distance_m > 0) return;
+    const double radius = 0.5 * (hi - lo).norm() + RobotRadius();
+    const double half_fovy = 0.5 * model_->vis.global.fovy * M_PI / 180.0;
+    const double half_fovx = std::atan(std::tan(half_fovy) * o_.width / o_.height);
+    camera_.distance = 1.05 * radius / std::sin(std::min(half_fovy, half_fovx));
   }
 
   // Largest distance of a robot geom's bounding sphere from the base, at the first row.
@@ -356,6 +417,8 @@ class Renderer {
   mjvScene& scene_ = gl_.scene;
   mjvOption option_{};
   mjvCamera camera_{};
+  bool fixed_ = false;
+  Eigen::Vector3d fixed_look_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d up_;
   std::vector<int> qpos_of_column_;
   std::vector<int> pad_geom_, pad_column_;
@@ -443,6 +506,12 @@ void CheckOptions(const Run& run, const RenderOptions& o, bool video) {
   if (!(o.distance_m >= 0)) throw InputError(kCli, 0, 0, "--distance-m", "must be >= 0");
 }
 
+// The options with the default camera filled in (a still follows, a video frames the climb).
+RenderOptions WithCamera(RenderOptions o, const char* default_camera) {
+  if (o.camera.empty()) o.camera = default_camera;
+  return o;
+}
+
 void MakeParent(const fs::path& path) {
   if (!path.parent_path().empty()) fs::create_directories(path.parent_path());
 }
@@ -464,6 +533,8 @@ void RenderInto(Renderer& r, const std::vector<double>& times, Encoder& encoder,
     r.Frame(times[k]);
     stats->render_s += std::chrono::duration<double>(Clock::now() - start).count();
     encoder.Write(r.rgb());
+    stats->cameras.push_back(r.pose());
+    stats->camera = r.camera_name();
     ++stats->frames;
     if (progress) progress(static_cast<double>(k + 1) / times.size());
   }
@@ -524,7 +595,7 @@ RenderStats RenderStill(const Run& run, const RenderOptions& o, double t_s,
     throw InputError(kCli, 0, 0, "--at", buf);
   }
   return Timed([&](RenderStats* stats) {
-    Renderer r(run, o, &stats->notes);
+    Renderer r(run, WithCamera(o, "follow"), &stats->notes);
     MakeParent(png_path);
     const std::string tmp = common::TempSiblingPath(png_path);
     {
@@ -543,7 +614,7 @@ RenderStats RenderVideo(const Run& run, const RenderOptions& o, const std::strin
   CheckOptions(run, o, true);
   const std::vector<double> times = FrameTimes(run, o);
   return Timed([&](RenderStats* stats) {
-    Renderer r(run, o, &stats->notes);
+    Renderer r(run, WithCamera(o, "fixed"), &stats->notes);
     MakeParent(mp4_path);
     const std::string tmp = common::TempSiblingPath(mp4_path);
     try {
@@ -567,7 +638,7 @@ RenderStats RenderFrames(const Run& run, const RenderOptions& o, const std::stri
   CheckOptions(run, o, false);
   const std::vector<double> times = FrameTimes(run, o);
   return Timed([&](RenderStats* stats) {
-    Renderer r(run, o, &stats->notes);
+    Renderer r(run, WithCamera(o, "fixed"), &stats->notes);
     // ffmpeg writes into a private folder; each finished frame is then renamed into place.
     const fs::path tmp = fs::path(out_dir) / (".tmp." + std::to_string(::getpid()));
     fs::create_directories(tmp);

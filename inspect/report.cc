@@ -189,14 +189,59 @@ void ClipStances(const std::vector<RawStance>& raw, double a, double b, double o
   r->duty_factor = r->attached_s / observed_s;
 }
 
-// Peak utilisation from trajectory.csv, when the run has the column.
-void TakePeakUtilisation(const Run& run, double a, double b, LegReport* r) {
+// The pad's peels: from each `peel` event to its next `peel_end` or `detach`, over the run.
+std::vector<std::pair<double, double>> PeelIntervals(const Run& run, const std::string& pad,
+                                                     double end_s) {
+  std::vector<std::pair<double, double>> peels;
+  bool open = false;
+  for (const EventRow& e : run.events) {
+    if (e.pad != pad) continue;
+    if (e.event == "peel" && !open) {
+      peels.push_back({e.time_s, end_s});
+      open = true;
+    } else if (open && (e.event == "peel_end" || e.event == "detach")) {
+      peels.back().second = e.time_s;
+      open = false;
+    }
+  }
+  return peels;
+}
+
+bool Inside(const std::vector<std::pair<double, double>>& spans, double t) {
+  for (const auto& [start, end] : spans) {
+    if (t >= start && t < end) return true;
+  }
+  return false;
+}
+
+// Peak utilisation from trajectory.csv, when the run has the column, and its split into
+// stance rows (attached, not peeling) and peel rows (attached, peeling).
+void TakePeakUtilisation(const Run& run, const std::vector<RawStance>& raw, double a, double b,
+                         LegReport* r) {
   const int u = run.trajectory ? run.trajectory->Column(r->pad + "_utilisation") : -1;
   if (u < 0) return;
   const auto& t = *run.trajectory;
+  std::vector<std::pair<double, double>> stances;
+  for (const RawStance& s : raw) stances.push_back({s.start, s.end});
+  const auto peels = PeelIntervals(run, r->pad, run.duration_s);
+  std::vector<double> stance_values;
   for (size_t row = 0; row < t.rows(); ++row) {
-    if (t.at(row, 0) >= a && t.at(row, 0) <= b) Max(&r->peak_utilisation, t.at(row, u));
+    const double time = t.at(row, 0), value = t.at(row, u);
+    if (time < a || time > b) continue;
+    Max(&r->peak_utilisation, value);
+    if (!Inside(stances, time)) continue;
+    if (Inside(peels, time)) {
+      Max(&r->utilisation_peel_peak, value);
+    } else {
+      stance_values.push_back(value);
+    }
   }
+  if (stance_values.empty()) return;
+  std::sort(stance_values.begin(), stance_values.end());
+  r->utilisation_stance_peak = stance_values.back();
+  // Nearest rank: the ceil(0.99 n)-th smallest.
+  const size_t rank = (99 * stance_values.size() + 99) / 100;
+  r->utilisation_stance_p99 = stance_values[rank - 1];
 }
 
 // The text report's table: a label column, then one right-aligned column per leg.
@@ -279,8 +324,13 @@ void StanceAndLoadRows(LegTable* t) {
   t->Row("peak shear load (N)", [](const LegReport& r) { return OrDash(r.peak_shear_n, "%.3f"); });
   t->Row("lowest bonded fraction",
          [](const LegReport& r) { return OrDash(r.lowest_bonded_fraction, "%.3f"); });
-  t->Row("peak utilisation",
-         [](const LegReport& r) { return OrDash(r.peak_utilisation, "%.3f"); });
+  // The margin in stance apart from the peel, which takes every pad to 1 on purpose.
+  t->Row("utilisation stance peak",
+         [](const LegReport& r) { return OrDash(r.utilisation_stance_peak, "%.3f"); });
+  t->Row("utilisation stance p99",
+         [](const LegReport& r) { return OrDash(r.utilisation_stance_p99, "%.3f"); });
+  t->Row("utilisation peel peak",
+         [](const LegReport& r) { return OrDash(r.utilisation_peel_peak, "%.3f"); });
 }
 
 // The reflexes any leg fired, one row each; nothing when none fired.
@@ -314,7 +364,7 @@ Report Analyse(const Run& run, const Window& window) {
     r.pad = run.pads[leg];
     const std::vector<RawStance> raw = ScanLegEvents(run, a, b, &r);
     ClipStances(raw, a, b, report.observed_s, &r);
-    TakePeakUtilisation(run, a, b, &r);
+    TakePeakUtilisation(run, raw, a, b, &r);
     report.legs.push_back(std::move(r));
   }
   return report;
@@ -359,6 +409,9 @@ nlohmann::json ReportJson(const Run& run, const Report& report) {
                     {"peak_shear_n", Optional(r.peak_shear_n)},
                     {"lowest_bonded_fraction", Optional(r.lowest_bonded_fraction)},
                     {"peak_utilisation", Optional(r.peak_utilisation)},
+                    {"utilisation_stance_peak", Optional(r.utilisation_stance_peak)},
+                    {"utilisation_stance_p99", Optional(r.utilisation_stance_p99)},
+                    {"utilisation_peel_peak", Optional(r.utilisation_peel_peak)},
                     {"reflexes", r.reflexes}});
   }
   j["legs"] = legs;

@@ -53,7 +53,11 @@ nlohmann::json CostToJson(const Cost& c) {
           {"failure", c.failure},
           {"early_stop", c.early_stop},
           {"stop_time_s", c.stop_time_s},
-          {"wall_time_s", c.wall_time_s}};
+          {"wall_time_s", c.wall_time_s},
+          {"stable", c.stable},
+          {"fell", c.fell},
+          {"fall_time_s", c.fall_time_s},
+          {"distance_m", c.distance_m}};
 }
 
 Cost CostFromJson(const nlohmann::json& n) {
@@ -69,6 +73,11 @@ Cost CostFromJson(const nlohmann::json& n) {
   c.early_stop = n.value("early_stop", std::string());
   c.stop_time_s = n.value("stop_time_s", 0.0);
   c.wall_time_s = n.value("wall_time_s", 0.0);
+  // Absent from checkpoints written before the robustness term.
+  c.stable = n.value("stable", true);
+  c.fell = n.value("fell", false);
+  c.fall_time_s = n.value("fall_time_s", -1.0);
+  c.distance_m = n.value("distance_m", 0.0);
   return c;
 }
 
@@ -77,7 +86,9 @@ nlohmann::json ToJson(const Evaluation& e) {
           {"objective", e.objective},
           {"nominal", CostToJson(e.nominal)},
           {"failed_runs", e.failed_runs},
-          {"wall_time_s", e.wall_time_s}};
+          {"wall_time_s", e.wall_time_s},
+          {"cases_failed", e.cases_failed},
+          {"robustness_penalty", e.robustness_penalty}};
 }
 
 Evaluation FromJson(const nlohmann::json& j, int start, int index) {
@@ -89,6 +100,8 @@ Evaluation FromJson(const nlohmann::json& j, int start, int index) {
   e.nominal = CostFromJson(j.at("nominal"));
   e.failed_runs = CountFromJson(j.at("failed_runs"));
   e.wall_time_s = j.at("wall_time_s").get<double>();
+  e.cases_failed = j.contains("cases_failed") ? CountFromJson(j["cases_failed"]) : 0;
+  e.robustness_penalty = j.value("robustness_penalty", 0.0);
   return e;
 }
 

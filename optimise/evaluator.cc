@@ -6,6 +6,7 @@
 
 #include "common/common.h"
 #include "optimise/checkpoint.h"
+#include "optimise/disturbance.h"
 
 namespace climbsim::optimise::internal {
 namespace {
@@ -44,7 +45,18 @@ Cost Rollout(const Problem& problem, const std::vector<double>& x, int run, doub
   try {
     const sim::Scenario s = problem.ScenarioFor(x, run);
     sim::Simulation rollout(s, cache.For(s));
-    c = RunRollout(rollout, problem.params().objective, bound);
+    if (run < problem.params().objective.runs) {
+      c = RunRollout(rollout, problem.params().objective, bound);
+    } else {
+      // A robustness run: to its end or its fall, as the bench runs it; no J of its own.
+      const sim::RunResult r = rollout.Run();
+      c.stable = r.stable;
+      if (!r.stable) c.failure = r.failure;
+      c.fell = r.fell;
+      c.fall_time_s = r.fall_time_s;
+      c.distance_m = r.distance_m;
+      c.stop_time_s = r.sim_time_s;
+    }
   } catch (const std::exception& ex) {
     c = Cost{};
     c.failed = true;
@@ -69,6 +81,37 @@ double Aggregate(const Cost* costs, const sim::ObjectiveParams& o) {
   return o.aggregate == "worst" ? worst : sum / o.runs;
 }
 
+double EvaluationCost(const Problem& problem, const Cost* costs, Evaluation* e) {
+  const sim::ObjectiveParams& o = problem.params().objective;
+  const auto& rollouts = problem.robustness_rollouts();
+  std::vector<char> failed(o.robustness.size(), 0);
+  std::vector<double> baseline_m;  // of the current case, per seed
+  for (size_t i = 0; i < rollouts.size(); ++i) {
+    const Problem::RobustnessRollout& r = rollouts[i];
+    const Cost& c = costs[o.runs + i];
+    if (r.baseline) {
+      if (r.seed == 0) baseline_m.clear();
+      baseline_m.push_back(c.distance_m);
+      continue;
+    }
+    sim::RunResult run;
+    run.stable = c.stable;
+    run.failure = c.failure;
+    run.fell = c.fell;
+    run.fall_time_s = c.fall_time_s;
+    run.distance_m = c.distance_m;
+    if (c.failed || !SurvivedRun(run, baseline_m[r.seed], nullptr)) failed[r.case_index] = 1;
+  }
+  e->cases_failed = 0;
+  e->robustness_penalty = 0.0;
+  for (size_t k = 0; k < failed.size(); ++k) {
+    if (!failed[k]) continue;
+    ++e->cases_failed;
+    e->robustness_penalty += o.robustness[k].penalty_mps;
+  }
+  return Aggregate(costs, o) + e->robustness_penalty;
+}
+
 std::vector<Evaluation> Evaluator::Submit(int start, std::vector<std::vector<double>> xs) {
   Batch b;
   b.start = start;
@@ -86,7 +129,7 @@ std::vector<Evaluation> Evaluator::Submit(int start, std::vector<std::vector<dou
 }
 
 void Evaluator::Enqueue(Batch& b, double bound) {
-  const int runs = problem_.params().objective.runs;
+  const int runs = problem_.rollouts();
   const size_t n = b.xs.size();
   b.out.resize(n);
   b.index.resize(n);
@@ -177,7 +220,7 @@ void Evaluator::Worker() {
 
 void Evaluator::Deliver(const Task& t, const Cost& c) {
   Batch& b = *t.batch;
-  b.costs[t.k * problem_.params().objective.runs + t.run] = c;
+  b.costs[t.k * problem_.rollouts() + t.run] = c;
   if (--b.pending == 0) Complete(b);
 }
 
@@ -208,13 +251,13 @@ void Evaluator::Complete(Batch& b) {
 }
 
 bool Evaluator::RecordComputed(Batch& b, size_t k) {
-  const sim::ObjectiveParams& o = problem_.params().objective;
+  const int runs = problem_.rollouts();
   Evaluation& e = b.out[k];
   bool failures = false;
   e.x = b.xs[k];
-  e.nominal = b.costs[k * o.runs];
-  for (int run = 0; run < o.runs; ++run) {
-    const Cost& c = b.costs[k * o.runs + run];
+  e.nominal = b.costs[k * runs];
+  for (int run = 0; run < runs; ++run) {
+    const Cost& c = b.costs[k * runs + run];
     if (c.failed) {
       ++e.failed_runs;
       failures = true;
@@ -226,7 +269,7 @@ bool Evaluator::RecordComputed(Batch& b, size_t k) {
     shared_.bounded += c.early_stop == "bound";
     shared_.simulated_s += c.stop_time_s;
   }
-  e.objective = Aggregate(&b.costs[k * o.runs], o);
+  e.objective = EvaluationCost(problem_, &b.costs[k * runs], &e);
   return failures;
 }
 

@@ -84,6 +84,12 @@ Cost Rollout(const Problem& problem, const std::vector<double>& x, int run, doub
 // An evaluation's J from its runs' costs (costs[0 .. runs - 1]): their mean or their worst.
 double Aggregate(const Cost* costs, const sim::ObjectiveParams& o);
 
+// An evaluation's J from all its rollouts' costs (costs[0 .. problem.rollouts() − 1]):
+// Aggregate, plus each robustness case's penalty_mps when one of its disturbed runs does not
+// survive by the bench's rule against its seed's baseline (or failed). Sets the evaluation's
+// cases_failed and robustness_penalty.
+double EvaluationCost(const Problem& problem, const Cost* costs, Evaluation* evaluation);
+
 class Evaluator {
  public:
   Evaluator(const Problem& problem, Shared& shared, int threads, Comm& comm)

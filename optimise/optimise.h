@@ -50,6 +50,11 @@ struct Cost {
   std::string early_stop;         // "" ran to its end (or fell), "stalled", "bound"
   double stop_time_s = 0.0;       // simulated time at which the rollout ended
   double wall_time_s = 0.0;
+  // A robustness rollout's outcome, for the bench's survived rule (total stays 0).
+  bool stable = true;
+  bool fell = false;
+  double fall_time_s = -1.0;
+  double distance_m = 0.0;
 };
 
 // The cost of a finished run of `sim` (its scenario's duration_s is T).
@@ -85,15 +90,32 @@ class Problem {
   // The YAML tree with x written in (and the optimise block's starts moved to x, so that an
   // optimisation of best.yaml continues from there).
   YAML::Node TreeFor(std::span<const double> x) const;
-  // Rollout `run` of x: run 0 is the nominal scenario, runs ≥ 1 perturbed with seeds that
-  // depend only on the scenario's seed and the run (common random numbers across x).
+  // Rollout `run` of x: run 0 is the nominal scenario, runs 1 .. objective.runs − 1 perturbed
+  // with seeds that depend only on the scenario's seed and the run (common random numbers
+  // across x); runs from objective.runs on are the robustness term's (robustness_rollouts()).
   // fall.stop is set: a fall ends the rollout. Throws InputError if x makes it invalid.
   sim::Scenario ScenarioFor(std::span<const double> x, int run) const;
 
+  // Rollouts per evaluation: objective.runs, then the robustness term's.
+  int rollouts() const { return params().objective.runs + static_cast<int>(robust_.size()); }
+  // Rollout objective.runs + i: case `case_index` of objective.robustness, its seed (0-based
+  // within the case) undisturbed (baseline) or disturbed at push phase `phase`. Per case:
+  // each seed's baseline, then each seed's phases.
+  struct RobustnessRollout {
+    int case_index = 0, seed = 0, phase = 0;
+    bool baseline = false;
+  };
+  const std::vector<RobustnessRollout>& robustness_rollouts() const { return robust_; }
+
  private:
+  // The robustness term's cases: each family known and one the scenario can take (InputError
+  // at optimise.objective.robustness[i]); fills robust_.
+  void CheckRobustnessCases();
+
   YAML::Node root_;  // as read, with its places; every tree for an x is a clone of it
   std::string file_;
   sim::Scenario scenario_;
+  std::vector<RobustnessRollout> robust_;
 };
 
 // ---- Compiled models -------------------------------------------------------------------
@@ -130,6 +152,8 @@ struct Evaluation {
   Cost nominal;                   // run 0 (what best.yaml replays)
   int failed_runs = 0;
   double wall_time_s = 0.0;
+  int cases_failed = 0;             // robustness cases not survived
+  double robustness_penalty = 0.0;  // their penalties, in objective
 };
 
 struct Options {
@@ -154,6 +178,7 @@ struct Result {
   double simulated_s = 0.0;       // simulated time of the computed rollouts
   int processes = 1;              // MPI ranks (1 without mpirun)
   std::string plot_warning;       // why convergence.png is missing (rank 0); "" when drawn
+  std::vector<std::string> parameter_keys;  // optimise.parameters' keys, the order of x
 };
 
 // The MPI rank of this process and the number of ranks (0 and 1 without mpirun).

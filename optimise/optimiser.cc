@@ -43,14 +43,14 @@ double CpuSeconds() {
 void RecheckReplayedBest(const Problem& problem, const Shared& shared, const Evaluation& best,
                          int threads) {
   if (shared.replayed.count({best.start, best.index}) == 0) return;
-  const sim::ObjectiveParams& o = problem.params().objective;
   // A start's first batch (its evaluation 0) ran without the bound, later ones with it (Submit).
   const double bound = best.index == 0 ? std::numeric_limits<double>::infinity() : shared.bound;
-  std::vector<Cost> costs(o.runs);
-  ParallelRollouts(o.runs, threads, [&](int run, ModelCache& cache) {
+  std::vector<Cost> costs(problem.rollouts());
+  ParallelRollouts(problem.rollouts(), threads, [&](int run, ModelCache& cache) {
     costs[run] = internal::Rollout(problem, best.x, run, bound, cache);
   });
-  const double j = internal::Aggregate(costs.data(), o);
+  Evaluation again;
+  const double j = internal::EvaluationCost(problem, costs.data(), &again);
   if (j == best.objective) return;
   throw InputError(
       shared.checkpoint_path, 0, 0,
@@ -65,8 +65,13 @@ void RecheckReplayedBest(const Problem& problem, const Shared& shared, const Eva
 std::string HistoryCsv(const Problem& problem, const std::vector<Evaluation>& history) {
   std::string out = "evaluation,start";
   for (const auto& p : problem.params().parameters) out += "," + p.key;
+  // The robustness term's columns only where it is on (other runs' history keeps its form),
+  // before wall_time_s, which stays last.
+  const bool robust = !problem.params().objective.robustness.empty();
   out += ",objective,speed_mps,fall_penalty_mps,overload_penalty_mps,energy_penalty_mps,"
-         "failed_runs,early_stop,wall_time_s\n";
+         "failed_runs,early_stop,";
+  out += robust ? "robustness_cases_failed,robustness_penalty_mps,wall_time_s\n"
+                : "wall_time_s\n";
   for (const Evaluation& e : history) {
     out += std::to_string(e.index) + "," + std::to_string(e.start);
     for (double v : e.x) out += "," + sim::ExactNumber(v);
@@ -74,7 +79,11 @@ std::string HistoryCsv(const Problem& problem, const std::vector<Evaluation>& hi
            "," + sim::ExactNumber(e.nominal.fall_penalty) + "," +
            sim::ExactNumber(e.nominal.overload_penalty) + "," +
            sim::ExactNumber(e.nominal.energy_penalty) + "," + std::to_string(e.failed_runs) +
-           "," + e.nominal.early_stop + "," + sim::ExactNumber(e.wall_time_s) + "\n";
+           "," + e.nominal.early_stop + ",";
+    if (robust) {
+      out += std::to_string(e.cases_failed) + "," + sim::ExactNumber(e.robustness_penalty) + ",";
+    }
+    out += sim::ExactNumber(e.wall_time_s) + "\n";
   }
   return out;
 }
@@ -262,6 +271,7 @@ void ThrowIfFailed(const StartsOutcome& outcome) {
 // The result every rank returns, less its wall time and plot warning.
 Result Collect(const Problem& problem, const Shared& shared, int threads, int processes) {
   Result result;
+  for (const auto& p : problem.params().parameters) result.parameter_keys.push_back(p.key);
   for (auto& evals : shared.by_start) {
     result.history.insert(result.history.end(), evals.begin(), evals.end());
   }
@@ -377,10 +387,19 @@ std::string ResultText(const Result& r, const std::string& out_dir) {
           r.processes == 1 ? "" : "es");
   Appendf(&out, "  rollouts %d computed, stopped early: %d stalled, %d bound (%.0f s simulated)\n",
           r.rollouts_computed, r.rollouts_stalled, r.rollouts_bounded, r.simulated_s);
+  out +=
+      "    stalled: climbed less than optimise.objective.stall_distance_m in stall_window_s\n"
+      "    bound: could no longer beat the best J even at optimise.objective.max_speed_mps\n";
   Appendf(&out, "  start  J %.6f m/s, speed %.4f m/s\n", r.start_objective,
           r.history.front().nominal.speed_mps);
   Appendf(&out, "  best   J %.6f m/s, speed %.4f m/s (start %d, evaluation %d)\n",
           r.best.objective, r.best.nominal.speed_mps, r.best.start, r.best.index);
+  // The parameters themselves, as given (start 0's first evaluation) and at the best.
+  if (!r.parameter_keys.empty()) out += "  parameters (as given -> best):\n";
+  for (size_t i = 0; i < r.parameter_keys.size() && i < r.best.x.size(); ++i) {
+    Appendf(&out, "    %-36s %12.6g -> %.6g\n", r.parameter_keys[i].c_str(), r.history.front().x[i],
+            r.best.x[i]);
+  }
   Appendf(&out, "  outputs %s/{best.yaml,history.csv,convergence.png,summary.json}\n",
           out_dir.c_str());
   return out;

@@ -1,6 +1,8 @@
+#include <algorithm>
 #include <cmath>
 #include <random>
 
+#include "optimise/disturbance.h"
 #include "optimise/optimise.h"
 
 namespace climbsim::optimise {
@@ -15,7 +17,54 @@ uint64_t RunSeed(int scenario_seed, int run) {
   return z ^ (z >> 31);
 }
 
+// A robustness case's run length, phases and push time as the bench's options.
+RobustnessOptions CaseOptions(const sim::RobustnessCaseParams& c) {
+  RobustnessOptions o;
+  o.duration_s = c.duration_s;
+  o.seeds = c.seeds;
+  o.phases = c.phases;
+  o.push_time_s = c.push_time_s;
+  return o;
+}
+
+bool PushFamily(const std::string& family) { return family.rfind("push_", 0) == 0; }
+
 }  // namespace
+
+void Problem::CheckRobustnessCases() {
+  const auto& cases = params().objective.robustness;
+  if (cases.empty()) return;
+  std::vector<std::string> known;
+  std::string names;
+  for (const auto& f : AllRobustnessFamilies(1.0)) {
+    known.push_back(f.name);
+    names += (names.empty() ? "" : ", ") + f.name;
+  }
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const sim::RobustnessCaseParams& c = cases[i];
+    const std::string at = "optimise.objective.robustness[" + std::to_string(i) + "]";
+    if (std::find(known.begin(), known.end(), c.family) == known.end()) {
+      throw sim::ScenarioError(scenario_, at + ".family",
+                               "unknown family '" + c.family + "' (" + names + ")");
+    }
+    const DisturbanceSetup u = MakeDisturbanceSetup(scenario_, CaseOptions(c));
+    const std::string why = CannotTakeFamily(u, c.family);
+    if (!why.empty()) {
+      throw sim::ScenarioError(scenario_, at + ".family",
+                               "the scenario cannot take family '" + c.family + "': " + why);
+    }
+    if (PushFamily(c.family) && c.push_time_s && *c.push_time_s > u.duration_s / 3.0) {
+      throw sim::ScenarioError(scenario_, at + ".push_time_s",
+                               "must be at most a third of the " +
+                                   sim::ExactNumber(u.duration_s) + " s run");
+    }
+    const int phases = PushFamily(c.family) ? c.phases : 1;
+    for (int k = 0; k < c.seeds; ++k) robust_.push_back({static_cast<int>(i), k, 0, true});
+    for (int k = 0; k < c.seeds; ++k) {
+      for (int j = 0; j < phases; ++j) robust_.push_back({static_cast<int>(i), k, j, false});
+    }
+  }
+}
 
 Problem::Problem(const std::string& scenario_file)
     : Problem(sim::LoadYamlFile(scenario_file), scenario_file) {}
@@ -62,6 +111,7 @@ Problem::Problem(const YAML::Node& root, const std::string& file)
                                    " " + e.message() + " (is every key a number?)");
     }
   }
+  CheckRobustnessCases();
 }
 
 std::vector<double> Problem::start() const {
@@ -97,6 +147,14 @@ sim::Scenario Problem::ScenarioFor(std::span<const double> x, int run) const {
   sim::Scenario s = sim::ParseScenario(tree, file_);
   if (run == 0) return s;
   const sim::ObjectiveParams& o = params().objective;
+  if (run >= o.runs) {
+    // The bench's case, built from this x's scenario (its gait times the pushes).
+    const RobustnessRollout& r = robust_.at(run - o.runs);
+    const sim::RobustnessCaseParams& c = o.robustness[r.case_index];
+    const DisturbanceSetup u = MakeDisturbanceSetup(s, CaseOptions(c));
+    return DisturbanceCase(u, r.baseline ? "" : c.family, r.baseline ? 0.0 : c.magnitude, 0,
+                           c.first_seed + r.seed, r.phase);
+  }
   std::mt19937_64 rng(RunSeed(s.seed, run));
   std::normal_distribution<double> normal(0.0, 1.0);
   s.initial.offset_m[0] += o.pose_noise_m * normal(rng);

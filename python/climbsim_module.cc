@@ -22,6 +22,8 @@
 #include "adhesion/adhesion.h"
 #include "experiments/experiments.h"
 #include "experiments/option_ranges.h"
+#include "python/adhesion_bindings.h"
+#include "python/scenario_keys.h"
 #include "python/tick_objects.h"
 #include "sim/sim.h"
 #include "sim/trajectory.h"
@@ -275,12 +277,17 @@ py::dict CommandDict(const Command& c) {
   d["target_rad"] = py::array_t<double>(c.target_rad.size(), c.target_rad.data());
   d["offset_rad"] = py::array_t<double>(c.offset_rad.size(), c.offset_rad.data());
   d["release"] = py::array_t<uint8_t>(c.release.size(), c.release.data());
+  d["kp_scale"] = py::array_t<double>(c.kp_scale.size(), c.kp_scale.data());
   return d;
 }
 
 void BindScenario(py::module_& m) {
-  py::class_<sim::Scenario>(m, "Scenario")
-      .def_property(
+  py::class_<sim::Scenario> cls(m, "Scenario", R"doc(
+A scenario: s["cpg.frequency_hz"] reads and s["cpg.frequency_hz"] = 0.8 writes any key of the
+file, dotted as optimise parameters and --set are (cpg.stride_rad[0]); a write is checked as
+the file's and raises climbsim.InputError with its text. get, keys, `in`, del, to_dict.)doc");
+  BindScenarioKeys(cls);
+  cls.def_property(
           "duration_s", [](const sim::Scenario& s) { return s.duration_s; },
           [](sim::Scenario& s, double v) { SetScenarioKey(&s, "duration_s", YamlNumber(v)); },
           "Simulated time (s), checked like the file's key.")
@@ -357,7 +364,11 @@ void BindTickObjects(py::module_& m) {
   py::class_<TickCommand>(m, "Command", "What update() writes, for its call only.")
       .def_property_readonly("target_rad", &TickCommand::target)
       .def_property_readonly("offset_rad", &TickCommand::offset)
-      .def_property_readonly("release", &TickCommand::release);
+      .def_property_readonly("release", &TickCommand::release)
+      .def_property_readonly("kp_scale", &TickCommand::kp_scale,
+                             "Servo stiffness over its own kp, legs x 3, clamped to [0, 1]; "
+                             "held from tick to tick (the reflexes' compliance and GTO write "
+                             "it when the scenario has them).");
 
   py::class_<TickPose>(m, "StartPose", "What initial_pose() writes, for its call only.")
       .def_property_readonly("joint_angle_rad", &TickPose::joints)
@@ -441,7 +452,7 @@ void BindSimulation(py::module_& m) {
             if (c == nullptr) return py::none();
             return CommandDict(c->command());
           },
-          "The last command applied (copies): target_rad, offset_rad, release.");
+          "The last command applied (copies): target_rad, offset_rad, release, kp_scale.");
 }
 
 py::dict Optimise(const std::string& scenario_file, const std::string& out_dir, long long threads,
@@ -474,64 +485,11 @@ py::dict Optimise(const std::string& scenario_file, const std::string& out_dir, 
   return d;
 }
 
-// The rig of one pull, each argument in the range of its `climbsim pulloff` option; the rig
-// then checks the rest (adhesion::ValidatePulloffRigParams).
-adhesion::PulloffRigParams PulloffParams(double width_m, std::optional<double> length_m,
-                                         long long grid, double sigma_t_pa, double mu, double arm_m,
-                                         double ramp_time_s) {
-  const char* where = "climbsim.pulloff";
-  using optimise::CheckInRange;
-  CheckInRange(where, "width_m", width_m, optimise::kPadWidthRangeM);
-  if (length_m) CheckInRange(where, "length_m", *length_m, optimise::kPadWidthRangeM);
-  CheckInRange(where, "grid", grid, optimise::kGridRange);
-  CheckInRange(where, "sigma_t_pa", sigma_t_pa, optimise::kSigmaTRangePa);
-  CheckInRange(where, "mu", mu, optimise::kMuRange);
-  CheckInRange(where, "arm_m", arm_m, optimise::kArmRangeM);
-  CheckInRange(where, "ramp_time_s", ramp_time_s, optimise::kRampTimeRangeS);
-  adhesion::PulloffRigParams p;
-  p.pad.width_m = width_m;
-  p.pad.length_m = length_m.value_or(width_m);
-  p.pad.grid_x = p.pad.grid_y = static_cast<int>(grid);
-  p.pad.sigma_t_pa = sigma_t_pa;
-  p.pad.mu = mu;
-  p.arm_m = arm_m;
-  p.ramp_time_s = ramp_time_s;
-  return p;
-}
-
-py::dict Pulloff(double angle_deg, const std::string& model, double width_m,
-                 std::optional<double> length_m, long long grid, double sigma_t_pa, double mu,
-                 double arm_m, double ramp_time_s) {
-  optimise::CheckInRange("climbsim.pulloff", "angle_deg", angle_deg,
-                         optimise::kPullAngleRangeDeg);  // --from-deg, --to-deg
-  if (model != "bonds" && model != "mujoco") {
-    throw InputError("climbsim.pulloff", 0, 0, "model", "must be bonds or mujoco, got " + model);
-  }
-  const adhesion::PulloffRigParams p =
-      PulloffParams(width_m, length_m, grid, sigma_t_pa, mu, arm_m, ramp_time_s);
-  adhesion::PulloffRig rig(
-      model == "bonds" ? adhesion::AdhesionModel::kBonds : adhesion::AdhesionModel::kMujoco, p);
-  const adhesion::PulloffRun r = rig.Run(angle_deg * M_PI / 180.0);
-  py::dict d;
-  d["detached"] = r.detached;
-  d["force_n"] = r.force_n;
-  d["time_s"] = r.time_s;
-  d["cause"] = std::string(r.cause);
-  d["capacity_n"] = rig.capacity_n();
-  return d;
-}
-
 void BindTools(py::module_& m) {
   m.def("optimise", &Optimise, py::arg("scenario_file"), py::arg("out_dir"), py::arg("threads") = 0,
         py::arg("max_evaluations") = py::none(),
         "`climbsim optimise`: writes out_dir like the command does and returns the best. "
         "threads 0: the cores; max_evaluations None: the file's optimise.max_evaluations.");
-  m.def("pulloff", &Pulloff, py::arg("angle_deg"), py::arg("model") = "bonds",
-        py::arg("width_m") = 0.025, py::arg("length_m") = py::none(), py::arg("grid") = 16,
-        py::arg("sigma_t_pa") = 10e3, py::arg("mu") = 0.0, py::arg("arm_m") = 0.0,
-        py::arg("ramp_time_s") = 2.0,
-        "One pull of `climbsim pulloff`'s rig at angle_deg from the surface normal (0..180): "
-        "the pull-off force, the cause and σ_T·A. length_m None: the width.");
 }
 
 }  // namespace
@@ -546,4 +504,5 @@ PYBIND11_MODULE(_core, m) {
   BindController(m);
   BindSimulation(m);
   BindTools(m);
+  BindAdhesion(m);  // python/adhesion_bindings.h: pulloff (any law), fit_adhesion
 }

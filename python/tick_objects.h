@@ -106,7 +106,8 @@ class TickCommand {
       : cmd_(cmd),
         target_(cmd->target_rad, "cmd.target_rad"),
         offset_(cmd->offset_rad, "cmd.offset_rad"),
-        release_(cmd->release, "cmd.release") {}
+        release_(cmd->release, "cmd.release"),
+        kp_scale_(cmd->kp_scale, "cmd.kp_scale") {}
   py::object target() {
     Live();
     return target_.Get();
@@ -119,6 +120,10 @@ class TickCommand {
     Live();
     return release_.Get();
   }
+  py::object kp_scale() {
+    Live();
+    return kp_scale_.Get();
+  }
   // The command with the arrays written back: for a C++ controller's update called from
   // Python, whose writes the next array access then copies.
   sim::Command& Flushed() {
@@ -130,12 +135,14 @@ class TickCommand {
     target_.Flush();
     offset_.Flush();
     release_.Flush();
+    kp_scale_.Flush();
   }
   void Expire() {
     cmd_ = nullptr;
     target_.Drop();
     offset_.Drop();
     release_.Drop();
+    kp_scale_.Drop();
   }
 
  private:
@@ -145,6 +152,7 @@ class TickCommand {
   sim::Command* cmd_;
   Slot<double> target_, offset_;
   Slot<uint8_t> release_;
+  Slot<double> kp_scale_;
 };
 
 // `pose` of initial_pose(pose).

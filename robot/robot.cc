@@ -63,6 +63,7 @@ TailInfo ReadTail(const mjModel* m) {
   t.pitch_actuator = Need(m, mjOBJ_ACTUATOR, "tail_pitch");
   t.tip_geom = Need(m, mjOBJ_GEOM, "tail_tip");
   t.tip_site = Need(m, mjOBJ_SITE, "tail_tip");
+  t.pad_body = Id(m, mjOBJ_BODY, "tail_pad");
   t.yaw_joint = Id(m, mjOBJ_JOINT, "tail_yaw");
   if (t.yaw_joint >= 0) t.yaw_actuator = Need(m, mjOBJ_ACTUATOR, "tail_yaw");
   return t;

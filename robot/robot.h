@@ -42,6 +42,7 @@ struct TailInfo {
   int yaw_actuator = -1;
   int tip_geom = -1;                   // "tail_tip"
   int tip_site = -1;
+  int pad_body = -1;                   // "tail_pad": an adhesive tip (a sticky pad), optional
   bool present() const { return pitch_joint >= 0; }
 };
 

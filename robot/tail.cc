@@ -67,6 +67,51 @@ void AddServo(const std::string& prefix, const std::string& name, double lo, dou
               {"ctrlrange", MjcfNumbers({lo, hi})}});
 }
 
+// An adhesive tip: the body tail_pad at the rod's end (x, z), on a sleeve that slides along
+// x (tail_slide, TailDesign::slide_stiffness_n_per_m) and pitch and roll hinges with
+// the feet's ankle springs (so its face lies flat on the surface whatever the rod's angle),
+// its face tip_radius_m below the ankle (where a ball tip's lowest point would be, so the
+// droop and rest_gap_m keep their meaning) and parallel to the base's xy plane in qpos0. Its
+// one box is the geom tail_tip: the adhesion model's pad (sim/adhesion_effect.h). Friction
+// 1.0 as the feet's pads.
+void AddAdhesiveTip(const TailDesign& tail, const std::string& prefix, double x_m, double z_m,
+                    tinyxml2::XMLElement* body) {
+  constexpr double kThickness_m = 0.002;
+  tinyxml2::XMLElement* pad =
+      AddElement(body, "body", {{"name", "tail_pad"}, {"pos", MjcfNumbers({x_m, 0, z_m})}});
+  // The sleeve: a slide along the body's axis (x) with its spring and a light damper.
+  AddElement(pad, "joint",
+             {{"name", "tail_slide"},
+              {"type", "slide"},
+              {"axis", "1 0 0"},
+              {"stiffness", MjcfNumber(tail.slide_stiffness_n_per_m)},
+              {"damping", MjcfNumber(tail.slide_stiffness_n_per_m * 0.01)},
+              {"springref", "0"},
+              {"range", MjcfNumbers({-tail.slide_travel_m, tail.slide_travel_m})}});
+  for (const char* axis : {"pitch", "roll"}) {
+    AddElement(pad, "joint",
+               {{"name", std::string("tail_ankle_") + axis},
+                {"axis", std::strcmp(axis, "pitch") == 0 ? "0 1 0" : "1 0 0"},
+                {"stiffness", "0.02"},
+                {"damping", "0.0002"},
+                {"springref", "0"},
+                {"range", "-0.5 0.5"}});
+  }
+  AddElement(pad, "site", {{"name", "tail_tip"}, {"pos", "0 0 0"}});
+  const double half = tail.pad_size_m / 2;
+  AddElement(pad, "geom",
+             {{"name", "tail_tip"},
+              {"class", prefix + "_tail"},
+              {"type", "box"},
+              {"pos", MjcfNumbers({0, 0, -tail.tip_radius_m + kThickness_m / 2})},
+              {"size", MjcfNumbers({half, half, kThickness_m / 2})},
+              {"mass", MjcfNumber(tail.tip_mass_kg)},
+              {"priority", "1"},
+              {"friction", "1 0.005 0.0001"},
+              {"solref", "0.015 1"},
+              {"solimp", "0.9 0.95 0.001"}});
+}
+
 // The rod's segments from the pitch body outwards (each a body with a spring hinge after the
 // first), then the tip's ball and site at the last segment's end.
 void AddRod(const TailDesign& tail, const std::string& prefix, double droop_rad,
@@ -93,6 +138,10 @@ void AddRod(const TailDesign& tail, const std::string& prefix, double droop_rad,
                 {"fromto", MjcfNumbers({0, 0, 0, dx, 0, dz})},
                 {"size", MjcfNumber(tail.rod_radius_m)},
                 {"mass", MjcfNumber(tail.mass_kg / tail.segments)}});
+  }
+  if (tail.tip == "adhesive") {
+    AddAdhesiveTip(tail, prefix, dx, dz, body);
+    return;
   }
   AddElement(body, "geom",
              {{"name", "tail_tip"},

@@ -30,6 +30,9 @@ struct TailDesign {
   double tip_radius_m = 0.003;
   double tip_mass_kg = 0.0003;
   double rest_gap_m = 0.0;
+  double pad_size_m = 0.02;
+  double slide_stiffness_n_per_m = 20.0;
+  double slide_travel_m = 0.015;
   double range_up_rad = 0.6;
   double range_down_rad = 0.6;
 
@@ -62,12 +65,34 @@ struct TailDesign {
     a->Visit({"yaw", "", "a second servo (the same model) turns the tail sideways"}, &yaw);
     a->Choice({"tip", "",
                "skid: a PTFE ball (friction 0.1) that slides up the wall behind the robot; pad: "
-               "an elastomer foot (friction 1.0, not adhesive) that holds where it presses"},
-              &tip, {"skid", "pad"});
-    a->Visit({"tip_radius_m", "m", "the tip's ball radius (a 3 to 16 mm PTFE bead)",
+               "an elastomer foot (friction 1.0, not adhesive) that holds where it presses; "
+               "adhesive: a square dry-adhesive pad on a two-hinge ankle (body tail_pad), "
+               "bonded by the adhesion model as the feet are and engaged only while the tail "
+               "reflex presses (a gecko's tail pad, Stickybot's and RiSE's tails)"},
+              &tip, {"skid", "pad", "adhesive"});
+    a->Visit({"tip_radius_m", "m",
+              "the tip's ball radius (a 3 to 16 mm PTFE bead); adhesive: the ankle's centre "
+              "to the pad's face",
               Range::Closed(0.0015, 0.008)},
              &tip_radius_m);
-    a->Visit({"tip_mass_kg", "kg", "the tip's mass", Range::Closed(0.0, 0.01)}, &tip_mass_kg);
+    a->Visit({"tip_mass_kg", "kg", "the tip's mass (adhesive: the pad with its backing)",
+              Range::Closed(0.0, 0.01)},
+             &tip_mass_kg);
+    a->Visit({"pad_size_m", "m",
+              "adhesive: the square pad's side (cast polymer pads are 10 to 60 mm; the feet's "
+              "is 25 mm); a wider pad holds more twist, a heavier tail swings further",
+              Range::Closed(0.01, 0.04)},
+             &pad_size_m);
+    a->Visit({"slide_stiffness_n_per_m", "N/m",
+              "adhesive: the pad rides on a sleeve that slides along the body's axis on a soft "
+              "spring (a linear guide): the pad holds the tail sideways and into the surface, "
+              "while the climb it interrupts (the stance legs still stroke) pulls the sleeve, "
+              "not the bond; a rigid tip fought the hind pads along the wall and tore with them",
+              Range::Closed(1.0, 1000.0)},
+             &slide_stiffness_n_per_m);
+    a->Visit({"slide_travel_m", "m", "adhesive: the sleeve's travel each way (a 10-40 mm guide)",
+              Range::Closed(0.002, 0.04)},
+             &slide_travel_m);
     a->Visit({"rest_gap_m", "m",
               "the tip's lowest point above the surface in qpos0 (0: touching): a gap drags "
               "nothing, a tail on the surface catches a pitch at once",
@@ -105,7 +130,8 @@ double TailMassKg(const TailDesign& tail);
 // Adds the tail's bodies, joints and geoms under `base` (the base body element), its default
 // classes under `defaults` (the robot's top default class) and its servos under `actuator`.
 // Names: tail_pitch (joint and servo), tail_yaw when yaw, tail_tip (geom and site),
-// tail_seg<k> (joints between segments). Throws std::invalid_argument (robot.tail.<key>).
+// tail_seg<k> (joints between segments); an adhesive tip is the body tail_pad (ankle hinges
+// tail_ankle_pitch, tail_ankle_roll) whose one box is the geom tail_tip. Throws std::invalid_argument (robot.tail.<key>).
 void AddTail(const TailDesign& tail, const TailMount& mount, tinyxml2::XMLElement* defaults,
              tinyxml2::XMLElement* base, tinyxml2::XMLElement* actuator);
 

@@ -4,6 +4,7 @@
 #ifndef CLIMBSIM_SCENARIO_OPTIMISE_PARAMS_H_
 #define CLIMBSIM_SCENARIO_OPTIMISE_PARAMS_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,56 @@ struct OptimisedParameter {
   }
 };
 
+// One case of the objective's robustness term: a `bench robustness` family at one magnitude,
+// on seed cases first_seed .. first_seed + seeds - 1 and, for the push families, `phases`
+// push phases (optimise/disturbance.h builds them as the bench does). The case SURVIVES when
+// every one of its runs survives by the bench's rule (stable, no fall, at least half of what
+// the same seed climbs undisturbed); J adds penalty_mps for each case that does not.
+struct RobustnessCaseParams {
+  std::string family;
+  double magnitude = 0.0;
+  int seeds = 3;
+  int first_seed = 0;
+  int phases = 4;
+  std::optional<double> push_time_s;
+  double duration_s = 0.0;
+  double penalty_mps = 0.1;
+
+  template <class A>
+  void Serialize(A* a) {
+    a->Visit({"family", "",
+              "a bench robustness family: push_off, push_down, push_side, payload, pad_failure, "
+              "weak_patch, roughness",
+              {},
+              true},
+             &family);
+    a->Visit({"magnitude", "", "the disturbance, in the family's unit (N s, kg, -, m)",
+              Range::Positive(), true},
+             &magnitude);
+    a->Visit({"seeds", "", "seed cases per case (the bench's: seed + k, start moved for k >= 1)",
+              Range::Closed(1, 100)},
+             &seeds);
+    a->Visit({"first_seed", "",
+              "the first seed case k (another range than the bench's 0.. tests what was not tuned "
+              "on)",
+              Range::Closed(0, 100000)},
+             &first_seed);
+    a->Visit({"phases", "", "push families: pushes per seed, spread over one gait cycle",
+              Range::Closed(1, 100)},
+             &phases);
+    a->Visit({"push_time_s", "s",
+              "first push, at most a third of the run; default 4 s or a third of the run",
+              Range::NonNegative()},
+             &push_time_s);
+    a->Visit({"duration_s", "s", "each run's length, 0 = the scenario's duration_s",
+              Range::NonNegative()},
+             &duration_s);
+    a->Visit({"penalty_mps", "m/s", "added to J when the case is not survived",
+              Range::NonNegative()},
+             &penalty_mps);
+  }
+};
+
 // The cost J (m/s, minimised) of one rollout:
 //   J = −v + fall_penalty_mps·[fell] + overload_penalty_mps·n_overload + energy_weight_mps·CoT
 // v = distance along the travel direction / duration_s (a fall ends the run early, so the
@@ -63,6 +114,7 @@ struct ObjectiveParams {
   double stall_window_s = 4.0;
   double stall_distance_m = 0.005;
   double max_speed_mps = 0.5;
+  std::vector<RobustnessCaseParams> robustness;
 
   template <class A>
   void Serialize(A* a) {
@@ -103,6 +155,10 @@ struct ObjectiveParams {
               "speed for the rest of the run stops, 0 = off",
               Range::NonNegative()},
              &max_speed_mps);
+    a->Visit({"robustness", "",
+              "disturbance cases (family, magnitude, seeds, phases); J adds each one's "
+              "penalty_mps when it is not survived. Empty: off"},
+             &robustness);
   }
 };
 

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "scenario/dotted_key.h"
+
 namespace climbsim::sim {
 namespace {
 
@@ -213,8 +215,9 @@ std::string ScenarioToYamlText(const Scenario& scenario) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << ScenarioToYaml(scenario);
-  return std::string("# Resolved scenario: every key, defaults filled in.\n") + out.c_str() +
-         "\n";
+  std::string head = "# Resolved scenario: every key, defaults filled in.\n";
+  for (const KeyOverride& o : CommandLineKeys()) head += "# with " + o.Flag() + "\n";
+  return head + out.c_str() + "\n";
 }
 
 std::vector<DocArchive::Row> ScenarioKeys() { return DocArchive::List<Scenario>(); }

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "scenario/dotted_key.h"
+
 namespace climbsim::sim {
 namespace {
 
@@ -96,7 +98,10 @@ YAML::Node LoadYamlFile(const std::string& path) {
     in.read(buf, sizeof(buf));
     text.append(buf, static_cast<size_t>(in.gcount()));
   }
-  return LoadYamlText(text, path);
+  YAML::Node root = LoadYamlText(text, path);
+  // Every scenario file a verb reads takes the command line's --set (none elsewhere).
+  ApplyKeyOverrides(root, CommandLineKeys(), path);
+  return root;
 }
 
 YAML::Node LoadYamlText(const std::string& text, const std::string& path) {

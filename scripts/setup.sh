@@ -48,4 +48,15 @@ if [ -f "$build_dir/python/climbsim/__init__.py" ]; then
     mkdir -p "$site" && echo "$python_dir" >"$site/climbsim.pth"
   fi
   echo "setup: $python -c 'import climbsim' finds $python_dir (through $site/climbsim.pth)"
+  # The python3 first on PATH (pyenv, conda) too, when it is the same CPython 3.X the module
+  # was built for (its ABI); any Python: build/climbsim-python, or cmake --install (docs/python.md).
+  first=$(command -v python3 || true)
+  if [ -n "$first" ] && [ "$first" != "$python" ] &&
+     [ "$("$first" -c 'import sys; print(sys.version_info[:2])' 2>/dev/null)" = \
+       "$($python -c 'import sys; print(sys.version_info[:2])')" ]; then
+    site=$("$first" -c 'import site; print(site.getsitepackages()[0])')
+    if mkdir -p "$site" 2>/dev/null && echo "$python_dir" >"$site/climbsim.pth" 2>/dev/null; then
+      echo "setup: $first -c 'import climbsim' finds $python_dir (through $site/climbsim.pth)"
+    fi
+  fi
 fi

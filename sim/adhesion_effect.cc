@@ -16,8 +16,11 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   s.bonds = p;  // the pad's width and length are read from its geom
   s.attach = p;
   s.actuator_ctrl = p.ctrl;
-  s.law = p.law == "frictional" ? adhesion::PadLaw::kFrictional : adhesion::PadLaw::kVonMises;
+  s.law = p.law == "frictional"  ? adhesion::PadLaw::kFrictional
+          : p.law == "tabulated" ? adhesion::PadLaw::kTabulated
+                                 : adhesion::PadLaw::kVonMises;
   s.frictional = p.frictional;
+  s.tabulated = p.tabulated;
   s.release_contact_delay_s = p.release_contact_delay_s;
   return s;
 }
@@ -50,6 +53,8 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
   std::vector<std::string> names = params.pads;
   if (names.empty()) {
     for (const LegInfo& leg : robot.legs) names.push_back(mj_id2name(m, mjOBJ_BODY, leg.pad_body));
+    // An adhesive tail tip (robot/tail.h) is a sticky pad too, after the legs'.
+    if (robot.tail.pad_body >= 0) names.push_back(mj_id2name(m, mjOBJ_BODY, robot.tail.pad_body));
     if (names.empty()) {
       throw ScenarioError(scenario, "adhesion.pads",
                           "the robot declares no legs (custom text climbsim_legs): name the pads");
@@ -140,6 +145,10 @@ AdhesionEffect::AdhesionEffect(const Scenario& scenario, const AdhesionParams& p
   utilisation_.assign(system_->size(), 0.0);
   peak_bond_.assign(system_->size(), -1);
   peak_utilisation_.assign(system_->size(), 0.0);
+  peeling_.assign(system_->size(), 0);
+  stance_peak_.assign(system_->size(), 0.0);
+  peel_peak_.assign(system_->size(), 0.0);
+  stance_histogram_.assign(static_cast<size_t>(system_->size()) * (kStanceBins + 1), 0);
 }
 
 void AdhesionEffect::Reset(World& world, RunContext& ctx) {
@@ -149,6 +158,10 @@ void AdhesionEffect::Reset(World& world, RunContext& ctx) {
   std::fill(attach_count_.begin(), attach_count_.end(), 0);
   system_->Reset(world.model(), world.data(), this);
   std::fill(peak_utilisation_.begin(), peak_utilisation_.end(), 0.0);
+  std::fill(peeling_.begin(), peeling_.end(), 0);
+  std::fill(stance_peak_.begin(), stance_peak_.end(), 0.0);
+  std::fill(peel_peak_.begin(), peel_peak_.end(), 0.0);
+  std::fill(stance_histogram_.begin(), stance_histogram_.end(), 0);
   UpdateUtilisation();
   FillSignals();
 }
@@ -188,14 +201,16 @@ void AdhesionEffect::DrawDisturbances(int pad, double time_s) {
 }
 
 // Each attached pad's peak utilisation (BondGrid::PeakUtilisation), once per step after the bonds
-// have seen the step's load; a pad that let go reads 0.
+// have seen the step's load; a pad that let go reads 0. An attached pad's step also counts as
+// stance or peel (the split of summary.json).
 void AdhesionEffect::UpdateUtilisation() {
   for (int i = 0; i < system_->size(); ++i) {
     const adhesion::StickyPad& p = system_->pad(i);
     double u = 0.0;
     peak_bond_[i] = -1;
-    if (p.attached() && p.params().model == adhesion::AdhesionModel::kBonds) {
-      u = std::min(p.params().law == adhesion::PadLaw::kFrictional
+    const bool bonds = p.attached() && p.params().model == adhesion::AdhesionModel::kBonds;
+    if (bonds) {
+      u = std::min(p.params().law != adhesion::PadLaw::kVonMises
                        ? p.frictional_utilisation()
                        : p.grid().PeakUtilisation(&peak_bond_[i]),
                    kUtilisationCap);
@@ -203,7 +218,33 @@ void AdhesionEffect::UpdateUtilisation() {
     }
     utilisation_[i] = u;
     peak_utilisation_[i] = std::max(peak_utilisation_[i], u);
+    if (!bonds) continue;
+    if (peeling_[i]) {
+      peel_peak_[i] = std::max(peel_peak_[i], u);
+    } else {
+      stance_peak_[i] = std::max(stance_peak_[i], u);
+      const int bin = std::min(static_cast<int>(u * kStanceBins), kStanceBins);
+      ++stance_histogram_[static_cast<size_t>(i) * (kStanceBins + 1) + bin];
+    }
   }
+}
+
+double AdhesionEffect::stance_p99_utilisation(int pad) const {
+  const long* h = stance_histogram_.data() + static_cast<size_t>(pad) * (kStanceBins + 1);
+  long total = 0;
+  for (int b = 0; b <= kStanceBins; ++b) total += h[b];
+  if (total == 0) return 0.0;
+  // Nearest rank: the smallest bin holding the ceil(0.99 n)-th smallest sample.
+  const long rank = (99 * total + 99) / 100;
+  long seen = 0;
+  int b = 0;
+  for (; b < kStanceBins; ++b) {
+    seen += h[b];
+    if (seen >= rank) break;
+  }
+  // The bin's upper edge; the last bin (≥ 1) ends at the peak.
+  if (b == kStanceBins) return stance_peak_[pad];
+  return std::min(static_cast<double>(b + 1) / kStanceBins, stance_peak_[pad]);
 }
 
 bool AdhesionEffect::RequestRelease(int pad) {
@@ -307,6 +348,9 @@ void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {
     j["attached_at_end"] = p.attached();
     j["bonded_fraction_at_end"] = p.bonded_fraction();
     j["peak_utilisation"] = peak_utilisation_[i];
+    j["utilisation_stance_peak"] = stance_peak_[i];
+    j["utilisation_stance_p99"] = stance_p99_utilisation(i);
+    j["utilisation_peel_peak"] = peel_peak_[i];
     pads[system_->pad_name(i)] = j;
   }
   (*summary)["adhesion"] = {{"model", params_.model}, {"pads", pads}};

@@ -1,5 +1,10 @@
 #include "sim/controller.h"
 
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
 #include "sim/adhesion_effect.h"
 #include "sim/cpg_effect.h"
 #include "sim/reflex_effect.h"
@@ -64,6 +69,15 @@ void CpgReflexController::Update(const Observation&, Command* cmd) {
   for (size_t i = 0; i < r.legs.size(); ++i) {
     for (int k = 0; k < 3; ++k) cmd->target_rad[3 * i + k] = ctrl[r.legs[i].actuator[k]];
   }
+  // The reflexes' stiffness (stance compliance, GTO unloading) goes out through the command,
+  // as a user's would; during a manoeuvre the transition sets the servos itself, and the
+  // scale is held at what the suspended reflexes left (1).
+  if (reflex_ && !(transition_ && transition_->active())) {
+    const std::vector<LegSignals>& legs = *ctx_.legs;
+    for (size_t i = 0; i < legs.size(); ++i) {
+      for (int k = 0; k < 3; ++k) cmd->kp_scale[3 * i + k] = legs[i].kp_fraction[k];
+    }
+  }
 }
 
 void CpgReflexController::Summarise(nlohmann::json* summary) const {
@@ -92,6 +106,18 @@ ControllerEffect::ControllerEffect(const World& world,
   target_.assign(3 * n, 0.0);
   offset_.assign(3 * n, 0.0);
   release_.assign(n, 0);
+  kp_scale_.assign(3 * n, 1.0);
+  kp_applied_.assign(3 * n, 1.0);
+  const mjModel* m = world.model();
+  for (const LegInfo& leg : world.robot().legs) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = leg.actuator[k];
+      actuator_.push_back(a);
+      kp_own_.push_back(ServoKp(m, a));
+      scalable_.push_back(m->actuator_biastype[a] == mjBIAS_AFFINE &&
+                          m->actuator_biasprm[a * mjNBIAS + 1] == -ServoKp(m, a));
+    }
+  }
   pads_.assign(n, PadSense{});
   if (has_cpg_) {
     phase_.assign(n, 0.0);
@@ -106,6 +132,7 @@ ControllerEffect::ControllerEffect(const World& world,
   command_.target_rad = target_;
   command_.offset_rad = offset_;
   command_.release = release_;
+  command_.kp_scale = kp_scale_;
 }
 
 void ControllerEffect::InitialPose(World& world, RunContext&) {
@@ -130,6 +157,7 @@ void ControllerEffect::InitialPose(World& world, RunContext&) {
 
 void ControllerEffect::Reset(World& world, RunContext& ctx) {
   ticks_ = 0;
+  RestoreStiffness(world);
   for (const auto& c : chain_) c->Reset();
   // Until the first tick the servos hold what the controllers left in ctrl (the CPG's
   // starting targets; zero otherwise).
@@ -202,7 +230,38 @@ void ControllerEffect::BeforeStep(World& world, RunContext& ctx) {
     }
     if (release_[i] != 0 && adhesion_ != nullptr) adhesion_->RequestReleaseLeg(static_cast<int>(i));
   }
+  ApplyStiffness(world);
   ++ticks_;
+}
+
+// A servo's kp changes only when its scale does: a manoeuvre (sim/transition_effect.h) sets
+// the servos it drives itself while the scale holds.
+void ControllerEffect::ApplyStiffness(World& world) {
+  for (size_t j = 0; j < kp_scale_.size(); ++j) {
+    const double s = kp_scale_[j];
+    if (s == kp_applied_[j]) continue;
+    if (std::isnan(s)) {
+      throw std::invalid_argument("controller command: kp_scale[" + std::to_string(j) +
+                                  "] is NaN");
+    }
+    const double f = std::clamp(s, 0.0, 1.0);
+    if (!scalable_[j] && f != 1.0) {
+      throw std::invalid_argument(
+          std::string("controller command: kp_scale: actuator '") +
+          mj_id2name(world.model(), mjOBJ_ACTUATOR, actuator_[j]) +
+          "' is not a position servo (gain kp, bias -kp q): its stiffness cannot be scaled");
+    }
+    SetServoKp(world.model(), actuator_[j], kp_own_[j] * f);
+    kp_applied_[j] = s;
+  }
+}
+
+// Back to the servos' own kp at a run's start (a later run reuses the model copy).
+void ControllerEffect::RestoreStiffness(World& world) {
+  for (size_t j = 0; j < kp_scale_.size(); ++j) {
+    if (kp_applied_[j] != 1.0) SetServoKp(world.model(), actuator_[j], kp_own_[j]);
+    kp_scale_[j] = kp_applied_[j] = 1.0;
+  }
 }
 
 void ControllerEffect::Summarise(const World&, nlohmann::json* summary) const {

@@ -8,9 +8,19 @@
 // Timing: at every control tick (step k with k mod period_steps = 0, before that step's
 // mj_step) the pipeline fills an Observation, calls Update, and applies the Command:
 //   ctrl[leg i, joint j] = target_rad[3i + j] + offset_rad[3i + j]    (rad, position servos)
+//   kp[leg i, joint j]   = kp_scale[3i + j] · the servo's own kp        (N·m/rad)
 //   release[i] != 0  →  the pad of leg i lets go now (detach event, cause "released")
-// The command is held (sample and hold) until the next tick. The period is the CPG's when a
-// CPG runs, else the user controller's control_period_s() (0: every physics step).
+// The command is held (sample and hold) until the next tick. The period is the CPG's
+// (cpg.control_period_s, whose default 0 is every physics step) when a CPG runs, else the
+// user controller's control_period_s() (0: every physics step).
+//
+// Stiffness: kp_scale is the servo's stiffness as a fraction of its own kp (the MJCF
+// <position kp>, mjcf/README.md), clamped to [0, 1]: a smart servo lowers its P gain at run
+// time (compliance, yielding), but a gain above the one modelled would be a stiffer servo
+// than the robot has (its torque limit, damping and the time step are sized for that kp).
+// 0 leaves the joint to its damping alone (torque off). The built-in reflexes' stance
+// compliance and GTO unloading write it (reflex.compliance, reflex.gto); a later controller
+// of the chain sees their values and may change them. NaN is an error.
 //
 // Units and frames (SI): joint angles in rad, joint velocities in rad/s, in the robot's leg
 // order (custom text climbsim_legs) and joint order hip_yaw, hip_pitch, knee (mjcf/README.md).
@@ -73,6 +83,7 @@ struct Command {
   std::span<double> target_rad;  // legs × 3, absolute servo targets
   std::span<double> offset_rad;  // legs × 3, added to the targets
   std::span<uint8_t> release;    // one per leg: non-zero lets that leg's pad go now
+  std::span<double> kp_scale;    // legs × 3, servo stiffness over its own kp, [0, 1]; held
 };
 
 // The starting pose, which a controller may set before the first step (the CPG puts the
@@ -168,6 +179,13 @@ class ControllerEffect final : public Effect {
   bool observe_ = false;  // some controller of the chain reads the Observation
   long ticks_ = 0;
   std::vector<double> q_, qd_, phase_, target_, offset_;
+  // Stiffness: the command's scale, the scale last written into the model, the servos' own
+  // kp, and whether each is a position servo (gain kp, bias −kp·q) whose kp can be scaled.
+  std::vector<double> kp_scale_, kp_applied_, kp_own_;
+  std::vector<int> actuator_;
+  std::vector<uint8_t> scalable_;
+  void ApplyStiffness(World& world);
+  void RestoreStiffness(World& world);
   std::vector<uint8_t> stance_, release_;
   std::vector<PadSense> pads_;
   Observation obs_;

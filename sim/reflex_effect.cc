@@ -51,7 +51,7 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
     landing_.assign(legs_.size(), LandingState{});
     jacp_.assign(3 * world.model()->nv, 0.0);
   }
-  if (params.tail) tail_.emplace(*params.tail, world, dt, event_pad_.back());
+  if (params.tail) tail_.emplace(*params.tail, world, dt, event_pad_.back(), adhesion);
 }
 
 bool ReflexEffect::SharingOn() const {
@@ -439,13 +439,14 @@ reflex::LegSensing ReflexEffect::SenseLeg(const World& world, std::vector<LegSig
   return in;
 }
 
-// Leg i's answer into its signals, its servos' stiffness and its pad's release and peel state.
-void ReflexEffect::ApplyLeg(World& world, LegSignals& s, size_t i,
-                            const reflex::LegReflexOutput& out) {
+// Leg i's answer into its signals (its servos' stiffness among them) and its pad's release and
+// peel state.
+void ReflexEffect::ApplyLeg(LegSignals& s, size_t i, const reflex::LegReflexOutput& out) {
   for (int k = 0; k < 3; ++k) {
     s.offset_rad[k] = out.target_offset_rad[k];
+    // The stiffness goes out through the controller's command (Command::kp_scale), which
+    // the pipeline applies to the servo (sim/controller.h).
     s.kp_fraction[k] = out.kp_fraction[k];
-    SetServoKp(world.model(), actuator_[i][k], kp_[i][k] * out.kp_fraction[k]);
   }
   s.hold_stance = out.hold_stance;
   s.hold_phase = out.hold_phase;
@@ -511,7 +512,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
   bool hold_all = false;
   for (size_t i = 0; i < legs_.size(); ++i) {
     const reflex::LegReflexOutput out = legs_[i].Update(SenseLeg(world, signals, i));
-    ApplyLeg(world, signals[i], i, out);
+    ApplyLeg(signals[i], i, out);
     hold_all |= out.hold_others;
     LogEvents(ctx, signals[i], i, out);
   }

@@ -8,10 +8,11 @@
 //   RunContext::hold_all_stance  a re-grip asks every leg to stay in stance,
 // and one events.csv row per reflex event, on the leg's pad. With release_failed_peel, a
 // peel that runs out of time lets the pad go through the adhesion effect (cause released).
-// Stance compliance and GTO unloading set each leg servo's stiffness on the run's own model
-// copy: a position servo's force is kp·(ctrl − q), so kp' = f·kp is gainprm[0] = f·kp and
-// biasprm[1] = −f·kp (f = LegReflexOutput::kp_fraction); the servo's forcerange, its damping
-// and its target are unchanged. Reset restores every kp.
+// Stance compliance and GTO unloading ask for each leg servo's stiffness as a fraction f of
+// its kp (LegSignals::kp_fraction = LegReflexOutput::kp_fraction), which the built-in
+// controller hands on as its Command::kp_scale, the channel a user's controller has too; the
+// pipeline sets kp' = f·kp on the run's own model copy (sim/controller.h). Reset and Suspend
+// restore every kp at once.
 #ifndef CLIMBSIM_SIM_REFLEX_EFFECT_H_
 #define CLIMBSIM_SIM_REFLEX_EFFECT_H_
 
@@ -119,7 +120,7 @@ class ReflexEffect final : public Effect {
   // One control tick, in BeforeStep's order (nothing allocates).
   reflex::LegSensing SenseLeg(const World& world, std::vector<LegSignals>& signals,
                               size_t i) const;
-  void ApplyLeg(World& world, LegSignals& s, size_t i, const reflex::LegReflexOutput& out);
+  void ApplyLeg(LegSignals& s, size_t i, const reflex::LegReflexOutput& out);
   void LogEvents(RunContext& ctx, const LegSignals& s, size_t i,
                  const reflex::LegReflexOutput& out);
   void RobotChannels(World& world, RunContext& ctx);

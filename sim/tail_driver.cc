@@ -38,11 +38,15 @@ Eigen::Matrix3d BaseRotation(const World& world) {
 }  // namespace
 
 TailDriver::TailDriver(const reflex::TailReflexParams& params, const World& world, double dt_s,
-                       int event_pad)
+                       int event_pad, AdhesionEffect* adhesion)
     : reflex_(params, dt_s),
       actuator_(world.robot().tail.pitch_actuator),
       yaw_actuator_(world.robot().tail.yaw_actuator),
       event_pad_(event_pad),
+      adhesion_(adhesion),
+      tail_pad_(adhesion != nullptr && world.robot().tail.pad_body >= 0
+                    ? adhesion->system().FindPad(world.robot().tail.pad_body)
+                    : -1),
       front_(FrontLegs(world.model(), world.robot())),
       front_side_(Sides(world.model(), world.robot(), front_)),
       was_attached_(front_.size(), false) {}
@@ -55,6 +59,13 @@ void TailDriver::Reset(World& world) {
   if (yaw_actuator_ >= 0) world.data()->ctrl[yaw_actuator_] = 0.0;
   presses_ = 0;
   max_pitch_rad_ = 0.0;
+  DriveTailPad(false);  // a tip that started attached lets go at once
+}
+
+void TailDriver::DriveTailPad(bool pressing) {
+  if (tail_pad_ < 0) return;
+  if (!pressing && adhesion_->pad(tail_pad_).attached()) adhesion_->RequestRelease(tail_pad_);
+  adhesion_->SetDisengaged(tail_pad_, !pressing);
 }
 
 // The nose's turn away from the surface: the base's x axis along the starting normal.
@@ -78,6 +89,7 @@ void TailDriver::Update(World& world, RunContext& ctx, const std::vector<reflex:
   in.pitch_rad = PitchRad(world);
   max_pitch_rad_ = std::max(max_pitch_rad_, in.pitch_rad);
   const reflex::TailOutput out = reflex_.Update(in);
+  DriveTailPad(reflex_.pressing());
   world.data()->ctrl[actuator_] = out.command_rad;
   // tail_yaw turns about the base's z: + swings the tip (behind the body) towards −y.
   if (yaw_actuator_ >= 0) world.data()->ctrl[yaw_actuator_] = -out.yaw_command_rad;

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   climbsim::tools::AddSweepCommand(app);
   climbsim::tools::AddBenchCommand(app);
   climbsim::tools::AddPulloffCommand(app);
+  climbsim::tools::AddFitAdhesionCommand(app);
   climbsim::tools::AddInspectCommand(app);
   climbsim::tools::AddRenderCommand(app);
   climbsim::tools::AddModelCommand(app);

@@ -43,6 +43,7 @@ void AddBenchCommand(CLI::App& app) {
 
   auto* speed = cmd->add_subcommand("speed", "steps per second: bare mj_step against each effect");
   speed->add_option("scenario", file, "scenario file")->required();
+  AddSetOption(speed);
   speed->add_option("--duration", duration_s, "simulated seconds per run")
       ->check(CLI::PositiveNumber);
   speed->add_option("--repetitions", repetitions, "runs per variant, interleaved")
@@ -69,6 +70,7 @@ void AddBenchCommand(CLI::App& app) {
   auto* accuracy =
       cmd->add_subcommand("accuracy", "error of the observables against wall time, per knob");
   accuracy->add_option("scenario", file, "scenario file")->required();
+  AddSetOption(accuracy);
   accuracy->add_option("--duration", duration_s, "simulated seconds per run")
       ->check(CLI::PositiveNumber);
   accuracy->add_option("--threads", threads, "runs side by side (default: all cores)")
@@ -82,6 +84,7 @@ void AddBenchCommand(CLI::App& app) {
   auto* opt = cmd->add_subcommand(
       "optimise", "evaluations per second with 1 and 2 threads (and 1 and 2 MPI ranks)");
   opt->add_option("scenario", file, "scenario file with an optimise block")->required();
+  AddSetOption(opt);
   opt->add_option("--evaluations", evaluations, "evaluations per run")
       ->check(CLI::Range(2, 100000));
   opt->add_option("--out", out_dir, "folder for the two optimisation runs");
@@ -103,6 +106,7 @@ void AddBenchCommand(CLI::App& app) {
       "robustness",
       "largest disturbance of each family survived, reflexes on and spindle + GTO off");
   rob->add_option("scenario", file, "scenario file")->required();
+  AddSetOption(rob);
   rob->add_option("--out", robust_out,
                   "folder for robustness.csv and robustness.png: new, empty, or an earlier "
                   "bench folder (docs/run-folders.md)")

@@ -133,6 +133,7 @@ void AddModelCommand(CLI::App& app) {
   static std::string scenario_path, out;
   static bool scene = false;
   cmd->add_option("scenario", scenario_path, "scenario file (YAML; the robot key)")->required();
+  AddSetOption(cmd);
   cmd->add_option("--out", out,
                   "the MJCF file to write: new, or an unedited one climbsim model wrote")
       ->required();

@@ -15,6 +15,7 @@ void AddOptimiseCommand(CLI::App& app) {
   static int threads = 0, max_evaluations = 0;
   static bool resume = false, quiet = false, force = false, keep = false;
   cmd->add_option("scenario", scenario_path, "scenario file with an optimise: block")->required();
+  AddSetOption(cmd);
   cmd->add_option("--out", out_dir,
                   "results folder: new, empty, or (with --force) an earlier climbsim folder "
                   "(docs/run-folders.md)")

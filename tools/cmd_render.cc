@@ -35,10 +35,15 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_option("--to", o.to_s, "end of the video (s)");
   cmd->add_option("--distance-m", o.distance_m,
                   "camera distance (m); default 3.5 times the robot's radius");
+  cmd->add_option("--camera", o.camera,
+                  "follow (moves with the robot), fixed (a world-fixed view that frames the "
+                  "whole climb) or the name of a camera in the model; default: fixed for a "
+                  "video or frames, follow for a still");
   cmd->add_flag("--quiet", quiet, "no progress and no summary");
   cmd->footer(
       "Example:\n  climbsim render runs/gecko_wall --at 10 --out runs/gecko_wall/still.png\n"
-      "  climbsim render runs/gecko_wall --out runs/gecko_wall/video.mp4 --quality reduced");
+      "  climbsim render runs/gecko_wall --out runs/gecko_wall/video.mp4 --quality reduced\n"
+      "  climbsim render runs/gecko_wall --out runs/gecko_wall/close.mp4 --camera follow");
   auto* at_option = cmd->get_option("--at");
   cmd->callback([at_option] {
     o.quality = quality == "reduced" ? inspect::Quality::kReduced : inspect::Quality::kDefault;
@@ -55,10 +60,10 @@ void AddRenderCommand(CLI::App& app) {
     if (quiet) return;
     for (const auto& n : r.stats.notes) std::printf("note: %s\n", n.c_str());
     std::printf(
-        "climbsim render: %d frame%s %dx%d (%s quality) in %.2f s; renderer %.2f s = %.1f "
-        "frames/s\n  wrote %s\n",
+        "climbsim render: %d frame%s %dx%d (%s quality, %s camera) in %.2f s; renderer %.2f "
+        "s = %.1f frames/s\n  wrote %s\n",
         r.stats.frames, r.stats.frames == 1 ? "" : "s", o.width, o.height, quality.c_str(),
-        r.stats.total_s, r.stats.render_s,
+        r.stats.camera.c_str(), r.stats.total_s, r.stats.render_s,
         r.stats.render_s > 0 ? r.stats.frames / r.stats.render_s : 0.0, r.written.c_str());
   });
 }

@@ -92,6 +92,7 @@ void AddSimulateCommand(CLI::App& app) {
                 "with --force: carry files climbsim did not write (notes, added folders) into "
                 "the new run folder instead of refusing (docs/run-folders.md)");
   cmd->add_flag("--quiet", quiet, "no progress and no summary on the terminal");
+  AddSetOption(cmd);
   cmd->add_flag("--strict", strict,
                 "exit 2 before the run when a servo holds more than its rating (half its stall "
                 "torque) in a stance set of the gait (docs/climbing.md, \"Servo margins\")");

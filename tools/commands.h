@@ -19,12 +19,18 @@ CLI::Range InRange(const optimise::OptionRange<T>& range) {
 // Exit code the chosen verb asked for.
 int& ExitCode();
 
+// --set KEY=VALUE (repeatable) on a verb that reads scenario files (tools/scenario_flags.cc):
+// replaces a dotted key (cpg.frequency_hz, cpg.stride_rad[0]) in every scenario file the
+// verb reads, before anything runs; checked as the file's own, a refusal names the flag.
+void AddSetOption(CLI::App* cmd);
+
 void AddSimulateCommand(CLI::App& app);
 void AddKeysCommand(CLI::App& app);
 void AddOptimiseCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
 void AddBenchCommand(CLI::App& app);
 void AddPulloffCommand(CLI::App& app);
+void AddFitAdhesionCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
 void AddModelCommand(CLI::App& app);

@@ -1,4 +1,4 @@
-"""climbsim from Python: scenarios, runs, your own controller, optimise and pulloff.
+"""climbsim from Python: scenarios, runs, your own controller, optimise, pulloff, fit_adhesion.
 
     import climbsim
     s = climbsim.load_scenario("examples/gecko_wall.yaml")       # or scenario_from_dict({...})
@@ -22,6 +22,7 @@ from ._core import (  # noqa: F401
     Simulation,
     SineOffsetController,
     StartPose,
+    fit_adhesion,
     load_scenario,
     mjcf_dir,
     optimise,

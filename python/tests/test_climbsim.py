@@ -343,7 +343,8 @@ def test_optimise_refuses_what_the_cli_refuses(tmp_path):
 
 
 @pytest.mark.parametrize("args, kwargs, key", [
-    ((1e9,), {}, "angle_deg"), ((-1.0,), {}, "angle_deg"), ((float("nan"),), {}, "angle_deg"),
+    ((1e9,), {}, "angle_from_normal_deg"), ((-1.0,), {}, "angle_from_normal_deg"),
+    ((float("nan"),), {}, "angle_from_normal_deg"),
     ((0.0,), {"model": "glue"}, "model"), ((0.0,), {"width_m": float("nan")}, "width_m"),
     ((0.0,), {"width_m": 5.0}, "width_m"), ((0.0,), {"length_m": 0.0}, "length_m"),
     ((0.0,), {"grid": 0}, "grid"), ((0.0,), {"grid": 4096}, "grid"),
@@ -397,7 +398,7 @@ def climbsim_executable():
 # kept by CLI11 in tools/cmd_*.cc: a value just outside each bound is refused by both (exit
 # code 2 of the command line, InputError naming the argument in Python).
 CLI_RANGES = [
-    ("pulloff", "angle_deg", "--from-deg", 0.0, 180.0),
+    ("pulloff", "angle_from_normal_deg", "--from-deg", 0.0, 180.0),
     ("pulloff", "width_m", "--width-m", 1e-4, 1.0),
     ("pulloff", "length_m", "--length-m", 1e-4, 1.0),
     ("pulloff", "grid", "--grid", 1, 1024),
@@ -425,7 +426,7 @@ def test_optimise_and_pulloff_ranges_are_the_cli_ranges(verb, key, flag, lo, hi,
         if verb == "pulloff":
             args = [exe, "pulloff", "--out", out, "--model", "bonds", "--quiet",
                     flag, repr(value)]
-            call = lambda: climbsim.pulloff(**{"angle_deg": 0.0, key: value})  # noqa: E731
+            call = lambda: climbsim.pulloff(**{"angle_from_normal_deg": 0.0, key: value})  # noqa: E731
         else:
             args = [exe, "optimise", scenario, "--out", out, "--quiet", flag, repr(value)]
             call = lambda: climbsim.optimise(scenario, out, **{key: value})  # noqa: E731

@@ -3,6 +3,7 @@
 // frame count, PNG frames, clear errors, and a run directory left exactly as it was.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -185,6 +186,88 @@ TEST(Render, BadRequestsAreInputErrors) {
   EXPECT_EQ(
       r.err.rfind(no_traj + "/trajectory.csv: missing file: the run recorded no trajectory", 0), 0u)
       << r.err;
+}
+
+// Where the base is in a frame, in pixels from the top left, seen by `c` (a pinhole with the
+// vertical field of view fovy over `height` pixels, square pixels).
+Eigen::Vector2d ImageOf(const climbsim::inspect::CameraPose& c, const Eigen::Vector3d& p, int width,
+                        int height) {
+  const Eigen::Vector3d v = p - c.pos, right = c.forward.cross(c.up);
+  const double depth = v.dot(c.forward);
+  const double f_px = 0.5 * height / std::tan(0.5 * c.fovy_deg * M_PI / 180.0);
+  return {0.5 * width + f_px * v.dot(right) / depth, 0.5 * height - f_px * v.dot(c.up) / depth};
+}
+
+// The base's recorded position at the row nearest t.
+Eigen::Vector3d BaseAt(const climbsim::inspect::Run& run, double t) {
+  const auto& tr = *run.trajectory;
+  size_t best = 0;
+  for (size_t r = 0; r < tr.rows(); ++r) {
+    if (std::abs(tr.at(r, 0) - t) < std::abs(tr.at(best, 0) - t)) best = r;
+  }
+  return {tr.at(best, 1), tr.at(best, 2), tr.at(best, 3)};
+}
+
+// A video of a climb must show the climbing: the fixed camera (a video's default) stays where
+// it is while the body crosses the image, and frames the whole climb; the follow camera moves
+// and keeps the body in the middle; a camera of the model is taken by name.
+TEST(Render, FixedCameraStaysWhileTheBodyCrossesTheImage) {
+  namespace inspect = climbsim::inspect;
+  const inspect::Run run = inspect::LoadRun(GeckoWall());
+  inspect::RenderOptions o;
+  o.width = 160;
+  o.height = 120;
+  o.fps = 0.5;
+  o.quality = inspect::Quality::kReduced;
+  const std::vector<double> times = inspect::FrameTimes(run, o);  // 0, 2, ..., 20 s
+  const inspect::RenderStats fixed = inspect::RenderFrames(run, o, TempDir() + "/cam_fixed");
+  EXPECT_EQ(fixed.camera, "fixed");
+  ASSERT_EQ(fixed.cameras.size(), times.size());
+  double top = o.height, bottom = 0;
+  for (size_t k = 0; k < times.size(); ++k) {
+    EXPECT_EQ(fixed.cameras[k].pos, fixed.cameras[0].pos) << times[k];
+    EXPECT_EQ(fixed.cameras[k].forward, fixed.cameras[0].forward) << times[k];
+    EXPECT_EQ(fixed.cameras[k].up, fixed.cameras[0].up) << times[k];
+    const Eigen::Vector2d px = ImageOf(fixed.cameras[k], BaseAt(run, times[k]), o.width, o.height);
+    EXPECT_GT(px.x(), 0);
+    EXPECT_LT(px.x(), o.width);
+    top = std::min(top, px.y());
+    bottom = std::max(bottom, px.y());
+  }
+  EXPECT_GE(top, 0);
+  EXPECT_LE(bottom, o.height);
+  // The gecko climbs the wall: up the image by a good part of its height.
+  EXPECT_LT(ImageOf(fixed.cameras.back(), BaseAt(run, times.back()), o.width, o.height).y(),
+            ImageOf(fixed.cameras[0], BaseAt(run, times[0]), o.width, o.height).y());
+  EXPECT_GT(bottom - top, 0.2 * o.height);
+
+  o.camera = "follow";
+  const inspect::RenderStats follow = inspect::RenderFrames(run, o, TempDir() + "/cam_follow");
+  EXPECT_NE(follow.cameras.back().pos, follow.cameras.front().pos);
+  for (size_t k = 0; k < times.size(); ++k) {
+    const Eigen::Vector2d px = ImageOf(follow.cameras[k], BaseAt(run, times[k]), o.width, o.height);
+    EXPECT_NEAR(px.y(), 0.5 * o.height, 0.1 * o.height) << times[k];
+  }
+  // A still follows by default.
+  inspect::RenderOptions still;
+  still.width = 64;
+  still.height = 48;
+  still.quality = inspect::Quality::kReduced;
+  EXPECT_EQ(inspect::RenderStill(run, still, 5.0, TempDir() + "/cam_still.png").camera, "follow");
+}
+
+TEST(Render, CameraByNameFromTheModelOrAnErrorListingThem) {
+  const std::string run = GeckoWall();
+  auto r = RunClimbsim("render " + run + " --at 5 --out " + TempDir() +
+                       "/cam_named.png --width 64 --height 48 --quality reduced --camera "
+                       "scene_top");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("scene_top camera"), std::string::npos) << r.out;
+  r = RunClimbsim("render " + run + " --at 5 --out " + TempDir() + "/cam_bad.png --camera drone");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err,
+            "climbsim render: --camera: 'drone' is not follow, fixed or a camera of the model "
+            "(scene_overview, scene_top)\n");
 }
 
 // The camera's up is −gravity of the run: the scenario's, rotated for an incline exactly as

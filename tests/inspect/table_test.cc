@@ -14,6 +14,7 @@
 #include <sstream>
 #include <vector>
 
+#include "scenario/scenario.h"
 #include "tests/inspect/inspect_test_util.h"
 
 namespace {
@@ -187,6 +188,64 @@ json PeakUtilisation(const std::string& dir, const std::string& pad, double a, d
   return peak ? json(*peak) : json(nullptr);
 }
 
+// The utilisation split into stance (attached, not peeling) and peel rows of trajectory.csv
+// with a <= t <= b: spans [start, end) from attach to detach and from peel to peel_end or
+// detach; the stance's 99th percentile by nearest rank. Nulls without stance or peel rows.
+json UtilisationSplit(const std::string& dir, const std::vector<Ev>& events, const std::string& pad,
+                      double a, double b, double duration) {
+  using Spans = std::vector<std::pair<double, double>>;
+  Spans stances, peels;
+  bool attached = false, peeling = false;
+  for (const Ev& e : events) {
+    if (e.pad != pad) continue;
+    if (e.event == "attach" && !attached) stances.push_back({e.t, duration}), attached = true;
+    if (e.event == "peel" && !peeling) peels.push_back({e.t, duration}), peeling = true;
+    if (e.event == "detach" && attached) stances.back().second = e.t, attached = false;
+    if ((e.event == "detach" || e.event == "peel_end") && peeling) {
+      peels.back().second = e.t;
+      peeling = false;
+    }
+  }
+  auto inside = [](const Spans& spans, double t) {
+    return std::any_of(spans.begin(), spans.end(),
+                       [t](const auto& s) { return t >= s.first && t < s.second; });
+  };
+  std::istringstream in(ReadFile(dir + "/trajectory.csv"));
+  std::string line;
+  std::getline(in, line);
+  int column = -1;
+  {
+    std::istringstream h(line);
+    std::string name;
+    for (int c = 0; std::getline(h, name, ','); ++c) {
+      if (name == pad + "_utilisation") column = c;
+    }
+  }
+  std::vector<double> stance;
+  std::optional<double> peel;
+  while (column >= 0 && std::getline(in, line)) {
+    std::istringstream f(line);
+    std::string cell;
+    double t = 0, u = 0;
+    for (int c = 0; std::getline(f, cell, ','); ++c) {
+      if (c == 0) t = std::stod(cell);
+      if (c == column) u = std::stod(cell);
+    }
+    if (t < a || t > b || !inside(stances, t)) continue;
+    if (inside(peels, t)) {
+      peel = std::max(peel.value_or(-INFINITY), u);
+    } else {
+      stance.push_back(u);
+    }
+  }
+  std::sort(stance.begin(), stance.end());
+  const size_t n = stance.size();
+  return {{"utilisation_stance_peak", n ? json(stance.back()) : json(nullptr)},
+          {"utilisation_stance_p99",
+           n ? json(stance[static_cast<size_t>(std::ceil(0.99 * n)) - 1]) : json(nullptr)},
+          {"utilisation_peel_peak", peel ? json(*peel) : json(nullptr)}};
+}
+
 // Runs inspect --json on `dir` and compares every leg with the recomputed table.
 void ExpectTableMatches(const std::string& dir, const std::string& window_args, double from,
                         double to) {
@@ -204,6 +263,7 @@ void ExpectTableMatches(const std::string& dir, const std::string& window_args, 
   for (const json& leg : got["legs"]) {
     json want = Recompute(events, leg["pad"], a, b, duration);
     want["peak_utilisation"] = PeakUtilisation(dir, leg["pad"], a, b);
+    want.update(UtilisationSplit(dir, events, leg["pad"], a, b, duration));
     json have = leg;
     have.erase("leg");
     EXPECT_EQ(have, want) << "leg " << leg["leg"] << "\n got: " << have.dump()
@@ -251,6 +311,63 @@ TEST(InspectTable, CountsAgreeWithTheRunSummary) {
       const json& last = leg["stances"].back();
       EXPECT_EQ(last["open_end"], p["attached_at_end"]);
     }
+  }
+}
+
+// The margin a designer reads: the peel takes every pad to a bond breaking (utilisation 1) on
+// purpose; in stance the gecko keeps a margin. summary.json over every step, inspect over the
+// trajectory's rows, apart, each within [0, 1].
+TEST(InspectTable, StanceUtilisationIsApartFromThePeelsAndBelowIt) {
+  const std::string dir = GeckoWall();
+  const auto r = RunClimbsim("inspect " + dir + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json pads = json::parse(ReadFile(dir + "/summary.json"))["adhesion"]["pads"];
+  for (const json& leg : json::parse(r.out)["legs"]) {
+    SCOPED_TRACE(leg["pad"].get<std::string>());
+    const json& p = pads[leg["pad"].get<std::string>()];
+    const double stance = p["utilisation_stance_peak"], p99 = p["utilisation_stance_p99"];
+    const double peel = p["utilisation_peel_peak"];
+    EXPECT_GT(stance, 0.0);
+    EXPECT_LT(stance, peel);
+    EXPECT_LE(p99, stance);
+    EXPECT_LE(peel, 1.0 + 1e-9);
+    EXPECT_EQ(std::max(stance, peel), p["peak_utilisation"].get<double>());
+    // trajectory.csv's rows are some of the steps: never above the summary's peaks.
+    EXPECT_LE(leg["utilisation_stance_peak"].get<double>(), stance);
+    EXPECT_LE(leg["utilisation_peel_peak"].get<double>(), peel);
+    EXPECT_LT(leg["utilisation_stance_peak"].get<double>(),
+              leg["utilisation_peel_peak"].get<double>());
+  }
+  // The table says which is which.
+  const auto text = RunClimbsim("inspect " + dir);
+  EXPECT_NE(text.out.find("utilisation stance peak"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("utilisation peel peak"), std::string::npos) << text.out;
+}
+
+// The summary's 99th percentile comes from a histogram of 0.001 bins filled every step; with a
+// trajectory row every step (1 kHz, the scenes' 1 ms step), inspect's exact nearest rank over
+// the same steps must agree to a bin (the two tell stance from peel by different means, the
+// controller's flag against the peel events: a few steps at the boundaries may differ).
+TEST(InspectTable, SummaryPercentileAgreesWithAnExactOneOverEveryStep) {
+  climbsim::sim::Scenario s = climbsim::sim::LoadScenario(Source("examples/gecko_wall.yaml"));
+  s.duration_s = 6.0;
+  s.outputs.trajectory_rate_hz = 1000.0;
+  const std::string yaml = TempDir() + "/every_step.yaml";
+  WriteFile(yaml, climbsim::sim::ScenarioToYamlText(s));
+  const std::string dir = TempDir() + "/every_step_run";
+  ASSERT_EQ(RunClimbsim("simulate " + yaml + " --out " + dir + " --force --quiet").code, 0);
+  const auto r = RunClimbsim("inspect " + dir + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json pads = json::parse(ReadFile(dir + "/summary.json"))["adhesion"]["pads"];
+  for (const json& leg : json::parse(r.out)["legs"]) {
+    SCOPED_TRACE(leg["pad"].get<std::string>());
+    const json& p = pads[leg["pad"].get<std::string>()];
+    EXPECT_NEAR(leg["utilisation_stance_p99"].get<double>(),
+                p["utilisation_stance_p99"].get<double>(), 0.002);
+    EXPECT_NEAR(leg["utilisation_stance_peak"].get<double>(),
+                p["utilisation_stance_peak"].get<double>(), 0.01);
+    EXPECT_NEAR(leg["utilisation_peel_peak"].get<double>(),
+                p["utilisation_peel_peak"].get<double>(), 0.01);
   }
 }
 

@@ -219,6 +219,21 @@ TEST(OptimiseCli, CmaesKillAndResumeEndsLikeAnUninterruptedRun) {
   KillResumeAndCompare({}, WriteFile("resume_cmaes.yaml", kCmaes), "resume_cmaes", 16, 6);
 }
 
+// The objective's robustness term: a side push at two phases and a payload, each rollout
+// scheduled on the same queue as the nominal one.
+std::string WithRobustness(std::string text) {
+  text.replace(text.find("duration_s: 1"), 13, "duration_s: 0.6");
+  return text +
+         "  objective:\n    robustness:\n"
+         "      - {family: push_side, magnitude: 0.3, seeds: 1, phases: 2}\n"
+         "      - {family: payload, magnitude: 0.05, seeds: 1, first_seed: 3}\n";
+}
+
+TEST(OptimiseCli, RobustnessTermKillAndResumeEndsLikeAnUninterruptedRun) {
+  KillResumeAndCompare({}, WriteFile("resume_robust.yaml", WithRobustness(kCmaes)),
+                       "resume_robust", 16, 6);
+}
+
 #ifdef CLIMBSIM_TEST_MPIEXEC
 // mpirun as CI runs it: as root, two ranks on whatever cores there are.
 std::vector<std::string> Mpirun(int ranks) {
@@ -241,8 +256,8 @@ TEST(OptimiseMpi, TwoRanksWriteTheSameBestAsOneProcess) {
   std::string robust = kCmaes;
   robust.replace(robust.find("max_evaluations: 16"), 19, "max_evaluations: 11");
   robust += "  objective: {runs: 2, aggregate: worst}\n";
-  const std::vector<std::pair<std::string, std::string>> cases = {{"mpi_nlopt", kScenario},
-                                                                  {"mpi_cmaes", robust}};
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"mpi_nlopt", kScenario}, {"mpi_cmaes", robust}, {"mpi_robust", WithRobustness(kCmaes)}};
   for (const auto& [name, text] : cases) {
     const std::string scenario = WriteFile(name + ".yaml", text);
     const std::string one = TempDir() + "/" + name + "_1", two = TempDir() + "/" + name + "_2";

@@ -203,6 +203,88 @@ TEST(TailReflex, PressBoundsThePitchOfAClearTail) {
   EXPECT_GT(on.result.distance_m, off.result.distance_m + 0.02);
 }
 
+// An adhesive tip (robot.tail.tip: adhesive) is a sticky pad: the body tail_pad with one box
+// of pad_size_m square whose face lies on the surface in qpos0 (rest_gap_m 0), on a sleeve
+// (slide along x with the keys' spring and travel); ReadRobot finds it, a ball tip has none.
+TEST(Tail, AdhesiveTipIsAPadOnASleeve) {
+  TailDesign t;
+  t.tip = "adhesive";
+  t.pad_size_m = 0.03;
+  ModelPtr m = Compile(GeckoWithTail(t), "adhesive");
+  ASSERT_TRUE(m);
+  const RobotInfo r = ReadRobot(m.get());
+  ASSERT_GE(r.tail.pad_body, 0);
+  EXPECT_EQ(r.tail.pad_body, mj_name2id(m.get(), mjOBJ_BODY, "tail_pad"));
+  const int g = r.tail.tip_geom;
+  EXPECT_EQ(m->geom_type[g], mjGEOM_BOX);
+  EXPECT_EQ(m->geom_bodyid[g], r.tail.pad_body);
+  EXPECT_NEAR(2 * m->geom_size[3 * g], 0.03, 1e-12);
+  EXPECT_NEAR(2 * m->geom_size[3 * g + 1], 0.03, 1e-12);
+  mjData* d = mj_makeData(m.get());
+  mj_forward(m.get(), d);
+  const double face_z_m = d->geom_xpos[3 * g + 2] - m->geom_size[3 * g + 2];
+  EXPECT_NEAR(face_z_m, 0.0, 1e-6);
+  mj_deleteData(d);
+  const int slide = mj_name2id(m.get(), mjOBJ_JOINT, "tail_slide");
+  ASSERT_GE(slide, 0);
+  EXPECT_EQ(m->jnt_type[slide], mjJNT_SLIDE);
+  EXPECT_EQ(m->jnt_stiffness[slide], t.slide_stiffness_n_per_m);
+  EXPECT_EQ(m->jnt_range[2 * slide + 1], t.slide_travel_m);
+  ModelPtr ball = Compile(GeckoWithTail(TailDesign{}), "ball");
+  EXPECT_EQ(ReadRobot(ball.get()).tail.pad_body, -1);
+}
+
+// The adhesive tip grips only while the reflex presses: on the pad-failure case of
+// PadFailureCase (LF fails in stance at 1.56 s and 4.19 s) with the tip adhesive and the press
+// held 0.3 s, the tail pad attaches after each tail_press and is released (detach "released")
+// by the tail_release that ends it, and the gecko climbs on; with the press off it never bonds
+// after the start (where it lets go at once).
+TEST(TailReflex, AdhesiveTipBondsOnlyWhilePressed) {
+  for (bool press : {true, false}) {
+    Scenario s = LoadScenario(Source("examples/gecko_tail.yaml"));
+    s.robot_design->tail->tip = "adhesive";
+    s.duration_s = 5;
+    s.outputs.trajectory_rate_hz = 0;
+    s.adhesion->pad_failure_probability = 0.035;
+    s.reflex->tail->hold_s = 0.3;  // a shorter press (docs/climbing.md, "Tail")
+    if (!press) {
+      s.reflex->tail->on_front_pad_loss = false;
+      s.reflex->tail->pitch_threshold_rad = 1.0;
+    }
+    auto model = CompileScenario(s);
+    Simulation sim(s, *model);
+    const RunResult result = sim.Run();
+    if (press) {
+      EXPECT_FALSE(result.fell) << "fell at " << result.fall_time_s;
+    }
+    bool pressing = false, attached = false;
+    int bonds = 0, releases = 0;
+    for (const auto& e : climbsim::testing::ParseEvents(sim.EventsCsv())) {
+      if (e.pad == "tail") pressing = e.event == "tail_press";
+      if (e.pad != "tail_pad" || e.t == 0.0) continue;
+      if (e.event == "attach") {
+        EXPECT_TRUE(pressing) << "attached unpressed at " << e.t;
+        attached = true;
+        ++bonds;
+      }
+      if (e.event == "detach") {
+        attached = false;
+        releases += e.cause == "released";
+      }
+      // A release ends every bond that the press's end finds.
+      if (!pressing) {
+        EXPECT_FALSE(attached) << e.t;
+      }
+    }
+    if (press) {
+      EXPECT_EQ(bonds, 2);
+      EXPECT_EQ(releases, 2);
+    } else {
+      EXPECT_EQ(bonds, 0);
+    }
+  }
+}
+
 // examples/gecko_tail.yaml designs the robot these tests check: the gecko preset with the
 // default tail and nothing else changed.
 TEST(Tail, ExampleDesignsTheTestedRobot) {

@@ -52,6 +52,7 @@ const std::vector<VerbCase>& Verbs() {
       {"bench optimise", {{"--evaluations", "2"}, {"--out", kTempOut}}},
       {"bench robustness", {{"--duration", "0.2"}}},
       {"pulloff", {{"--step-deg", "45"}}},
+      {"fit-adhesion", {{"--grid", "4"}}},
       {"inspect", {{"--from", "0.1"}, {"--to", "0.3"}}},
       {"render", {{"--at", "0.2"}, {"--width", "64"}, {"--height", "48"}}},
       {"keys", {}},
@@ -135,7 +136,7 @@ std::string Shortened(const VerbCase& c, const std::string& example) {
 // The verbs `climbsim --help` (and `climbsim bench --help`) list.
 std::set<std::string> ListedVerbs() {
   std::set<std::string> verbs;
-  const std::regex row("\n  ([a-z]+) ");
+  const std::regex row("\n  ([a-z-]+) ");
   for (const std::string parent : {"", "bench "}) {
     const CliResult r = RunClimbsim(parent + "--help");
     EXPECT_EQ(r.code, 0) << parent;
@@ -221,7 +222,7 @@ TEST_P(HelpExample, RunsWithExitCodeZero) {
 
 INSTANTIATE_TEST_SUITE_P(EveryVerb, HelpExample, ::testing::ValuesIn(Verbs()),
                          [](const ::testing::TestParamInfo<VerbCase>& info) {
-                           return std::regex_replace(info.param.verb, std::regex(" "), "_");
+                           return std::regex_replace(info.param.verb, std::regex("[ -]"), "_");
                          });
 
 }  // namespace

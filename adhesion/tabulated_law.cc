@@ -1,0 +1,234 @@
+#include "adhesion/tabulated_law.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "adhesion/frictional_law.h"  // kFrictionalCap
+
+namespace climbsim::adhesion {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// As the frictional law: on the limit itself the bond and table evaluations differ by
+// rounding only, and the law says "holds while ≤".
+constexpr double kRoundoff = 1e-12;
+// Two azimuths closer than this (rad) are one curve.
+constexpr double kSameAzimuthRad = 1e-9;
+
+double WrapAzimuth(double azimuth_rad) {
+  double a = std::fmod(azimuth_rad, kTwoPi);
+  if (a < 0.0) a += kTwoPi;
+  return a >= kTwoPi ? 0.0 : a;
+}
+
+bool IsFinite(const PadLoad& l) {
+  return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
+         std::isfinite(l.mx_nm) && std::isfinite(l.my_nm);
+}
+
+}  // namespace
+
+void TabulatedParams::Validate(const Checker& c) const {
+  if (pulloff_n.size() != angle_from_normal_deg.size()) {
+    c.Fail("pulloff_n", "must hold one force per angle (" +
+                            std::to_string(angle_from_normal_deg.size()) + " angles), got " +
+                            std::to_string(pulloff_n.size()));
+  }
+  if (!azimuth_deg.empty() && azimuth_deg.size() != angle_from_normal_deg.size()) {
+    c.Fail("azimuth_deg", "must be empty or hold one azimuth per angle (" +
+                              std::to_string(angle_from_normal_deg.size()) + "), got " +
+                              std::to_string(azimuth_deg.size()));
+  }
+  for (size_t i = 0; i < angle_from_normal_deg.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      const bool same_azimuth =
+          azimuth_deg.empty() ||
+          std::abs(WrapAzimuth(azimuth_deg[i] * kDegToRad) -
+                   WrapAzimuth(azimuth_deg[j] * kDegToRad)) < kSameAzimuthRad;
+      if (same_azimuth && angle_from_normal_deg[i] == angle_from_normal_deg[j]) {
+        c.Fail("angle_from_normal_deg",
+               "rows " + std::to_string(j + 1) + " and " + std::to_string(i + 1) +
+                   " give the same angle (and azimuth) twice: average repeats first");
+      }
+    }
+  }
+}
+
+void ValidateTabulatedParams(const TabulatedParams& params) {
+  keys::Validate(params, "adhesion.tabulated");
+  if (params.angle_from_normal_deg.empty()) {
+    throw std::invalid_argument(
+        "adhesion.tabulated.angle_from_normal_deg: law tabulated needs at least one row");
+  }
+}
+
+TabulatedLaw::TabulatedLaw(const TabulatedParams& params) : params_(params) {
+  ValidateTabulatedParams(params_);
+  const double area = params_.width_m * params_.length_m;
+  for (size_t i = 0; i < params_.angle_from_normal_deg.size(); ++i) {
+    const double az =
+        params_.azimuth_deg.empty() ? 0.0 : WrapAzimuth(params_.azimuth_deg[i] * kDegToRad);
+    auto it = std::find_if(curves_.begin(), curves_.end(), [&](const Curve& c) {
+      return std::abs(c.azimuth_rad - az) < kSameAzimuthRad;
+    });
+    if (it == curves_.end()) {
+      curves_.push_back(Curve{.azimuth_rad = az, .angle_rad = {}, .traction_pa = {}});
+      it = curves_.end() - 1;
+    }
+    it->angle_rad.push_back(params_.angle_from_normal_deg[i] * kDegToRad);
+    it->traction_pa.push_back(params_.pulloff_n[i] / area);
+  }
+  for (Curve& c : curves_) {  // angles ascending, the tractions with them
+    std::vector<size_t> order(c.angle_rad.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return c.angle_rad[a] < c.angle_rad[b]; });
+    Curve sorted{.azimuth_rad = c.azimuth_rad, .angle_rad = {}, .traction_pa = {}};
+    for (size_t k : order) {
+      sorted.angle_rad.push_back(c.angle_rad[k]);
+      sorted.traction_pa.push_back(c.traction_pa[k]);
+    }
+    c = std::move(sorted);
+  }
+  std::sort(curves_.begin(), curves_.end(),
+            [](const Curve& a, const Curve& b) { return a.azimuth_rad < b.azimuth_rad; });
+  ShareStraightPull();
+}
+
+// A straight pull (θ = 0) has no azimuth: every curve starts at the mean of the rows given
+// there, so that the limit is continuous as θ → 0 from any azimuth.
+void TabulatedLaw::ShareStraightPull() {
+  double sum = 0.0;
+  int count = 0;
+  for (const Curve& c : curves_) {
+    if (c.angle_rad.front() == 0.0) {
+      sum += c.traction_pa.front();
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  for (Curve& c : curves_) {
+    if (c.angle_rad.front() == 0.0) {
+      c.traction_pa.front() = sum / count;
+    } else {
+      c.angle_rad.insert(c.angle_rad.begin(), 0.0);
+      c.traction_pa.insert(c.traction_pa.begin(), sum / count);
+    }
+  }
+}
+
+double TabulatedLaw::CurveAt(const Curve& c, double angle_rad) const {
+  const std::vector<double>& x = c.angle_rad;
+  if (angle_rad <= x.front()) return c.traction_pa.front();
+  if (angle_rad >= x.back()) return c.traction_pa.back();
+  const size_t k = std::upper_bound(x.begin(), x.end(), angle_rad) - x.begin();  // x[k-1] < θ
+  const double w = (angle_rad - x[k - 1]) / (x[k] - x[k - 1]);
+  return (1.0 - w) * c.traction_pa[k - 1] + w * c.traction_pa[k];
+}
+
+double TabulatedLaw::LimitTractionPa(double angle_rad, double azimuth_rad) const {
+  if (curves_.size() == 1) return CurveAt(curves_[0], angle_rad);
+  const double az = WrapAzimuth(azimuth_rad);
+  // The curves on either side of az, periodic: from the last one to the first + 2π.
+  size_t hi = 0;
+  while (hi < curves_.size() && curves_[hi].azimuth_rad <= az) ++hi;
+  const size_t lo = hi == 0 ? curves_.size() - 1 : hi - 1;
+  if (hi == curves_.size()) hi = 0;
+  double z_lo = curves_[lo].azimuth_rad, z_hi = curves_[hi].azimuth_rad;
+  double a = az;
+  if (z_hi <= z_lo) {  // wraps through 0
+    z_hi += kTwoPi;
+    if (a < z_lo) a += kTwoPi;
+  }
+  const double w = (a - z_lo) / (z_hi - z_lo);
+  return (1.0 - w) * CurveAt(curves_[lo], angle_rad) + w * CurveAt(curves_[hi], angle_rad);
+}
+
+double TabulatedLaw::PulloffCentral(double area_m2, double angle_rad, double azimuth_rad) const {
+  return LimitTractionPa(angle_rad, azimuth_rad) * area_m2;
+}
+
+double TabulatedLaw::Utilisation(double sigma_pa, double tau_x_pa, double tau_y_pa) const {
+  const double tau = std::hypot(tau_x_pa, tau_y_pa);
+  const double azimuth = std::atan2(tau_y_pa, tau_x_pa);
+  double demand = 0.0, limit = 0.0;
+  if (sigma_pa > 0.0) {
+    demand = std::hypot(tau, sigma_pa);
+    limit = LimitTractionPa(std::atan2(tau, sigma_pa), azimuth);
+  } else {
+    demand = tau;
+    limit = LimitTractionPa(0.5 * std::numbers::pi, azimuth) - params_.friction_mu * sigma_pa;
+  }
+  if (demand == 0.0) return 0.0;
+  const double u = limit > 0.0 ? demand / limit : kFrictionalCap;
+  return std::isnan(u) ? kFrictionalCap : std::min(u, kFrictionalCap);
+}
+
+BondGrid::UpdateResult TabulatedUpdate(BondGrid* grid, const TabulatedLaw& law,
+                                       const PadLoad& load, double* peak_utilisation) {
+  BondGrid::UpdateResult result;
+  grid->ClearBrokenLog();
+  if (peak_utilisation != nullptr) *peak_utilisation = 0.0;
+  if (!IsFinite(load)) {
+    grid->Evaluate(load);  // clears the field
+    result.load_finite = false;
+    result.detached = grid->detached();
+    return result;
+  }
+  const int n = grid->size();
+  while (grid->bonded_count() > 0) {
+    // σ_i over the bonds left, one shear for every bond (the frictional law's field).
+    const bool unsupported = grid->Evaluate(load).load_unsupported;
+    const double area = grid->bonded_area_m2();
+    const double tau_x = load.fx_n / area, tau_y = load.fy_n / area;
+    const int round = result.rounds + 1;
+    int broken = 0;
+    double peak = 0.0;
+    for (int i = 0; i < n; ++i) {
+      if (!grid->bonded(i)) continue;
+      const double u =
+          unsupported ? kFrictionalCap : law.Utilisation(grid->sigma_pa(i), tau_x, tau_y);
+      if (u > 1.0 + kRoundoff) {
+        grid->Break(i, round);
+        ++broken;
+      } else {
+        peak = std::max(peak, u);
+      }
+    }
+    if (broken == 0) {
+      if (peak_utilisation != nullptr) *peak_utilisation = peak;
+      break;
+    }
+    ++result.rounds;
+    result.broken += broken;
+  }
+  result.detached = grid->detached();
+  return result;
+}
+
+PulloffResult TabulatedPullOff(const PadParams& pad, const TabulatedParams& table,
+                               const PullSetup& setup, const PulloffOptions& options) {
+  if (!std::isfinite(setup.angle_rad) || !std::isfinite(setup.azimuth_rad) ||
+      !(std::isfinite(setup.arm_m) && setup.arm_m >= 0.0) || !(options.rel_tol > 0.0) ||
+      options.rel_tol > 0.1 || !(options.max_force_factor > 1.0)) {
+    throw std::invalid_argument("pulloff: bad pull setup or options (pulloff.h)");
+  }
+  const TabulatedLaw law(table);
+  BondGrid grid(pad);
+  // The search brackets from the table's largest force scaled to this pad (> 0), or 1 N.
+  double capacity = 0.0;
+  for (double f : table.pulloff_n) capacity = std::max(capacity, f);
+  capacity *= grid.pad_area_m2() / (table.width_m * table.length_m);
+  if (!(capacity > 0.0)) capacity = 1.0;
+  return SearchPulloff(
+      &grid, capacity, options,
+      {.cascade = [&](double f) { return TabulatedUpdate(&grid, law, PullLoad(f, setup), nullptr); },
+       .max_halvings = 60,
+       .zero_if_never_holds = true});
+}
+
+}  // namespace climbsim::adhesion
