@@ -16,14 +16,6 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // As the frictional law: on the limit itself the bond and table evaluations differ by
 // rounding only, and the law says "holds while ≤".
 constexpr double kRoundoff = 1e-12;
-// Two azimuths closer than this (rad) are one curve.
-constexpr double kSameAzimuthRad = 1e-9;
-
-double WrapAzimuth(double azimuth_rad) {
-  double a = std::fmod(azimuth_rad, kTwoPi);
-  if (a < 0.0) a += kTwoPi;
-  return a >= kTwoPi ? 0.0 : a;
-}
 
 bool IsFinite(const PadLoad& l) {
   return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
@@ -31,32 +23,6 @@ bool IsFinite(const PadLoad& l) {
 }
 
 }  // namespace
-
-void TabulatedParams::Validate(const Checker& c) const {
-  if (pulloff_n.size() != angle_from_normal_deg.size()) {
-    c.Fail("pulloff_n", "must hold one force per angle (" +
-                            std::to_string(angle_from_normal_deg.size()) + " angles), got " +
-                            std::to_string(pulloff_n.size()));
-  }
-  if (!azimuth_deg.empty() && azimuth_deg.size() != angle_from_normal_deg.size()) {
-    c.Fail("azimuth_deg", "must be empty or hold one azimuth per angle (" +
-                              std::to_string(angle_from_normal_deg.size()) + "), got " +
-                              std::to_string(azimuth_deg.size()));
-  }
-  for (size_t i = 0; i < angle_from_normal_deg.size(); ++i) {
-    for (size_t j = 0; j < i; ++j) {
-      const bool same_azimuth =
-          azimuth_deg.empty() ||
-          std::abs(WrapAzimuth(azimuth_deg[i] * kDegToRad) -
-                   WrapAzimuth(azimuth_deg[j] * kDegToRad)) < kSameAzimuthRad;
-      if (same_azimuth && angle_from_normal_deg[i] == angle_from_normal_deg[j]) {
-        c.Fail("angle_from_normal_deg",
-               "rows " + std::to_string(j + 1) + " and " + std::to_string(i + 1) +
-                   " give the same angle (and azimuth) twice: average repeats first");
-      }
-    }
-  }
-}
 
 void ValidateTabulatedParams(const TabulatedParams& params) {
   keys::Validate(params, "adhesion.tabulated");
@@ -71,7 +37,7 @@ TabulatedLaw::TabulatedLaw(const TabulatedParams& params) : params_(params) {
   const double area = params_.width_m * params_.length_m;
   for (size_t i = 0; i < params_.angle_from_normal_deg.size(); ++i) {
     const double az =
-        params_.azimuth_deg.empty() ? 0.0 : WrapAzimuth(params_.azimuth_deg[i] * kDegToRad);
+        params_.azimuth_deg.empty() ? 0.0 : WrapAzimuthRad(params_.azimuth_deg[i] * kDegToRad);
     auto it = std::find_if(curves_.begin(), curves_.end(), [&](const Curve& c) {
       return std::abs(c.azimuth_rad - az) < kSameAzimuthRad;
     });
@@ -132,7 +98,7 @@ double TabulatedLaw::CurveAt(const Curve& c, double angle_rad) const {
 
 double TabulatedLaw::LimitTractionPa(double angle_rad, double azimuth_rad) const {
   if (curves_.size() == 1) return CurveAt(curves_[0], angle_rad);
-  const double az = WrapAzimuth(azimuth_rad);
+  const double az = WrapAzimuthRad(azimuth_rad);
   // The curves on either side of az, periodic: from the last one to the first + 2π.
   size_t hi = 0;
   while (hi < curves_.size() && curves_[hi].azimuth_rad <= az) ++hi;

@@ -81,6 +81,10 @@ struct TabulatedParams {
   void Validate(const Checker& c) const;
 };
 
+// An azimuth wrapped into [0, 2π); two closer than kSameAzimuthRad are one curve.
+double WrapAzimuthRad(double azimuth_rad);
+inline constexpr double kSameAzimuthRad = 1e-9;
+
 // Throws std::invalid_argument naming adhesion.tabulated.<key>: the declared ranges, the
 // lengths, and a non-empty table.
 void ValidateTabulatedParams(const TabulatedParams& params);
