@@ -244,6 +244,7 @@ struct OutputParams {
 struct FallParams {
   double drop_m = 0.1;
   double turn_over_deg = 90.0;
+  double airborne_s = 1.0;
   bool stop = true;
 
   template <class A>
@@ -258,6 +259,12 @@ struct FallParams {
               "started with (a floor-to-wall climb turns it by 90 deg on purpose)",
               Range::OpenClosed(0, 180)},
              &turn_over_deg);
+    a->Visit({"airborne_s", "s",
+              "the robot has left the surface when no part of it touches anything and no pad "
+              "is bonded for this long: in low gravity a robot pushed off a floor drifts away "
+              "without dropping (on Earth a fall drops fall.drop_m in 0.14 s)",
+              Range::Positive()},
+             &airborne_s);
     a->Visit({"stop", "",
               "end the run at the fall (default); false simulates on to duration_s (distance_m "
               "stays the distance up to the fall)"},

@@ -12,6 +12,7 @@ namespace climbsim::sim {
 namespace {
 
 using climbsim::testing::ScenarioErrorOf;
+using climbsim::testing::Source;
 using climbsim::testing::WriteFile;
 
 Eigen::Vector3d GravityOf(const std::string& text) {
@@ -95,6 +96,45 @@ TEST(Gravity, RefusesBothKeysAndUnknownBodies) {
   const std::string zero = ScenarioErrorOf(
       "zero.yaml", "robot: gecko\nscene: {name: wall, gravity_m_s2: 0}\nduration_s: 1\n");
   EXPECT_NE(zero.find("scene.gravity_m_s2: must be in [0.0001, 20]"), std::string::npos) << zero;
+}
+
+// The examples of both robots in other worlds, 8 s of each: they climb or walk and stay on.
+RunResult RunFor(Scenario s, double duration_s) {
+  s.duration_s = duration_s;
+  s.outputs.trajectory_rate_hz = 0.0;
+  const auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  return sim.Run();
+}
+
+TEST(Gravity, BothRobotsClimbTheMoonsWallAndWalkErossFloor) {
+  Scenario gecko_moon = LoadScenario(Source("examples/gecko_moon_wall.yaml"));
+  Scenario spider_eros = LoadScenario(Source("examples/spider_eros_floor.yaml"));
+  Scenario spider_moon = LoadScenario(Source("examples/spider_wall.yaml"));
+  spider_moon.scene.gravity = "moon";
+  Scenario gecko_eros = LoadScenario(Source("examples/gecko_wall.yaml"));
+  gecko_eros.scene.name = "floor";
+  gecko_eros.scene.gravity = "eros";
+  for (const Scenario* s : {&gecko_moon, &spider_moon, &gecko_eros, &spider_eros}) {
+    const RunResult r = RunFor(*s, 8.0);
+    EXPECT_TRUE(r.stable) << s->robot << " " << *s->scene.gravity << ": " << r.failure;
+    EXPECT_FALSE(r.fell) << s->robot << " " << *s->scene.gravity << ": " << r.fall_cause;
+    EXPECT_GT(r.distance_m, 0.08) << s->robot << " " << *s->scene.gravity;
+  }
+}
+
+// A gecko trotting without adhesive pads: on Earth's floor it walks; on Eros's its feet push
+// it off the ground, and the run ends when nothing of it has touched the floor for
+// fall.airborne_s (it drifts upward: no drop would ever say so).
+TEST(Gravity, ARobotPushedOffASmallBodyHasLeftTheSurface) {
+  Scenario s = LoadScenario(Source("examples/gecko_floor.yaml"));
+  const RunResult earth = RunFor(s, 4.0);
+  EXPECT_FALSE(earth.fell) << earth.fall_cause;
+  s.scene.gravity = "eros";
+  const RunResult eros = RunFor(s, 4.0);
+  ASSERT_TRUE(eros.fell);
+  EXPECT_STREQ(eros.fall_cause, "left_surface");
+  EXPECT_GT(eros.fall_time_s, s.fall.airborne_s);
 }
 
 }  // namespace
