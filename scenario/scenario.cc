@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -78,6 +79,36 @@ void CheckRobot(Scenario* s, const std::string& file) {
 }
 
 }  // namespace
+
+std::vector<std::string> GravityBodies() {
+  std::vector<std::string> names;
+  for (const SurfaceGravity& g : kSurfaceGravity) names.emplace_back(g.body);
+  return names;
+}
+
+std::string_view GravityBodiesDoc() {
+  static const std::string doc = [] {
+    std::string d = "gravity's magnitude as a body's surface gravity (";
+    const char* separator = "";
+    for (const SurfaceGravity& g : kSurfaceGravity) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", g.m_s2);
+      d += separator + std::string(g.body) + " " + value;
+      separator = ", ";
+    }
+    return d + " m/s^2), along the scene's own direction; absent: the scene's (9.81)";
+  }();
+  return doc;
+}
+
+std::optional<double> SceneParams::GravityMagnitude() const {
+  if (gravity_m_s2) return gravity_m_s2;
+  if (!gravity) return std::nullopt;
+  for (const SurfaceGravity& g : kSurfaceGravity) {
+    if (g.body == *gravity) return g.m_s2;
+  }
+  return std::nullopt;  // the reader refuses other names
+}
 
 namespace {
 std::string& PackageMjcfDir() {

@@ -109,11 +109,26 @@ struct RoughnessParams {
   }
 };
 
+// Surface gravity of the bodies a climber may be sent to (m/s^2; NASA planetary fact sheets;
+// earth is the bundled scenes' own 9.81, so that `gravity: earth` changes nothing).
+struct SurfaceGravity {
+  std::string_view body;
+  double m_s2;
+};
+inline constexpr SurfaceGravity kSurfaceGravity[] = {
+    {"earth", 9.81}, {"mars", 3.72}, {"moon", 1.62}, {"ceres", 0.28}, {"eros", 0.0059}};
+std::vector<std::string> GravityBodies();
+std::string_view GravityBodiesDoc();
+
 struct SceneParams {
   static constexpr const char* kShorthandKey = "name";  // "scene: wall" means {name: wall}
   std::string name = "floor";
   std::optional<double> incline_deg;  // incline scene only; 30 when not given
+  std::optional<std::string> gravity;  // a body of the solar system (SurfaceGravity)
+  std::optional<double> gravity_m_s2;
   std::optional<WeakPatchParams> weak_patches;
+  // The magnitude the scenario asks for (gravity or gravity_m_s2); none: the scene file's.
+  std::optional<double> GravityMagnitude() const;
   std::optional<RoughnessParams> roughness;
 
   template <class A>
@@ -131,6 +146,12 @@ struct SceneParams {
               "rotated, uphill is +x; incline scene only",
               Range::Closed(0, 180)},
              &incline_deg);
+    a->Choice({"gravity", "", GravityBodiesDoc()}, &gravity, GravityBodies());
+    a->Visit({"gravity_m_s2", "m/s^2",
+              "gravity's magnitude, along the scene's own direction (instead of gravity); from "
+              "a comet's 1e-4 to twice the Earth's, what a servo built for 1 g can still carry",
+              Range::Closed(1e-4, 20.0)},
+             &gravity_m_s2);
     a->Visit({"weak_patches", "",
               "weak patches of the surface where sigma_T is a fraction of the rest (floor, wall, "
               "ceiling, incline); absent: none"},
@@ -141,6 +162,7 @@ struct SceneParams {
   }
 
   void Validate(const Checker& c) const {
+    if (gravity && gravity_m_s2) c.Fail("gravity_m_s2", "give gravity or gravity_m_s2, not both");
     const bool plane = name == "floor" || name == "wall" || name == "ceiling" || name == "incline";
     if (weak_patches && !plane)
       c.Fail("weak_patches", "applies to the plane scenes only (floor, wall, ceiling, incline)");
@@ -222,6 +244,7 @@ struct OutputParams {
 struct FallParams {
   double drop_m = 0.1;
   double turn_over_deg = 90.0;
+  double airborne_s = 1.0;
   bool stop = true;
 
   template <class A>
@@ -236,6 +259,12 @@ struct FallParams {
               "started with (a floor-to-wall climb turns it by 90 deg on purpose)",
               Range::OpenClosed(0, 180)},
              &turn_over_deg);
+    a->Visit({"airborne_s", "s",
+              "the robot has left the surface when no part of it touches anything and no pad "
+              "is bonded for this long: in low gravity a robot pushed off a floor drifts away "
+              "without dropping (on Earth a fall drops fall.drop_m in 0.14 s)",
+              Range::Positive()},
+             &airborne_s);
     a->Visit({"stop", "",
               "end the run at the fall (default); false simulates on to duration_s (distance_m "
               "stays the distance up to the fall)"},

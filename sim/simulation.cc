@@ -46,6 +46,24 @@ Eigen::Vector3d BaseAxis(const mjData* d, const RobotInfo& r, int axis) {
   return {mat[axis], mat[3 + axis], mat[6 + axis]};
 }
 
+// Whether any part of the robot touches the scene (a contact with a body outside the robot) or
+// holds it (an active weld between the robot and the scene: a bonded pad). Allocates nothing.
+bool TouchesScene(const mjModel* m, const mjData* d, const RobotInfo& r) {
+  const int robot = m->body_rootid[r.base_body];
+  const auto outside = [&](int body) { return m->body_rootid[body] != robot; };
+  for (int i = 0; i < d->ncon; ++i) {
+    const bool out1 = outside(m->geom_bodyid[d->contact[i].geom1]);
+    if (out1 != outside(m->geom_bodyid[d->contact[i].geom2])) return true;
+  }
+  for (int i = 0; i < m->neq; ++i) {
+    if (m->eq_active[i] && m->eq_type[i] == mjEQ_WELD &&
+        outside(m->eq_obj1id[i]) != outside(m->eq_obj2id[i])) {
+      return true;
+    }
+  }
+  return false;
+}
+
 Eigen::Vector3d BasePos(const mjData* d, const RobotInfo& r) {
   const double* q = d->qpos + r.root_qpos_adr;
   return {q[0], q[1], q[2]};
@@ -284,6 +302,7 @@ void Simulation::Reset() {
   const Eigen::Vector3d g = world_.gravity();
   down_ = g.norm() > 0 ? Eigen::Vector3d(g.normalized()) : Eigen::Vector3d(0, 0, -1);
   highest_ = -down_.dot(start_pos_);
+  touched_s_ = d->time;
 }
 
 bool Simulation::Step() {
@@ -374,10 +393,12 @@ bool Simulation::Monitor() {
     highest_ = std::max(highest_, height);
     const bool dropped = highest_ - height > scenario_.fall.drop_m;
     const bool turned_over = BaseAxis(d, r, 2).dot(up0_) < turn_over_cos_;
-    if (dropped || turned_over) {
+    if (TouchesScene(world_.model(), d, r)) touched_s_ = t;
+    const bool left = t - touched_s_ > scenario_.fall.airborne_s;
+    if (dropped || turned_over || left) {
       result_.fell = true;
       result_.fall_time_s = t;
-      result_.fall_cause = dropped ? "dropped" : "turned_over";
+      result_.fall_cause = dropped ? "dropped" : turned_over ? "turned_over" : "left_surface";
       fall_pos_ = pos;
       fall_heading_deg_ = Heading();
       if (scenario_.fall.stop) return false;

@@ -37,7 +37,7 @@ struct RunResult {
   double wall_time_s = 0.0;
   bool fell = false;
   double fall_time_s = -1.0;
-  const char* fall_cause = "";  // "dropped" or "turned_over" when fell
+  const char* fall_cause = "";  // "dropped", "turned_over" or "left_surface" when fell
   // travel · base displacement, from the start to the end of the run or, when the robot
   // fell, to the fall: a free fall (or a drift off the surface) after it is not progress.
   double distance_m = 0.0;
@@ -138,6 +138,7 @@ class Simulation {
   Eigen::Vector3d start_pos_, up0_, forward0_, down_;
   double turn_over_cos_ = 0.0;  // cos of fall.turn_over_deg
   double highest_ = 0.0;
+  double touched_s_ = 0.0;    // the last time any part of the robot touched or held the scene
   Eigen::Vector3d fall_pos_;  // base position at the fall
   double fall_heading_deg_ = 0.0;
 };

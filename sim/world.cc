@@ -396,6 +396,13 @@ World::World(const CompiledModel& compiled, const Scenario& s)
     gravity_ = gravity_.norm() * Eigen::Vector3d(-std::sin(a), 0.0, -std::cos(a));
     for (int i = 0; i < 3; ++i) m->opt.gravity[i] = gravity_[i];
   }
+  // Another body's gravity: the scene's direction (down, -z, for a scene without gravity).
+  if (const std::optional<double> g = s.scene.GravityMagnitude()) {
+    const Eigen::Vector3d down =
+        gravity_.norm() > 0 ? Eigen::Vector3d(gravity_.normalized()) : Eigen::Vector3d(0, 0, -1);
+    gravity_ = *g * down;
+    for (int i = 0; i < 3; ++i) m->opt.gravity[i] = gravity_[i];
+  }
 
   // Initial pose: the scenario's offset and yaw about +z, on this run's copy only.
   const int adr = compiled.robot().root_qpos_adr;

@@ -26,9 +26,11 @@ void PrintSummary(const nlohmann::json& s, const std::string& dir) {
   std::printf("  mean speed      %.4f m/s\n", s["mean_speed_mps"].get<double>());
   std::printf("  heading         %.1f deg\n", s["heading_deg"].get<double>());
   if (s["fell"].get<bool>()) {
+    const std::string cause = s["fall_cause"].get<std::string>();
     std::printf("  fell            yes, at %.3f s (%s)%s\n", s["fall_time_s"].get<double>(),
-                s["fall_cause"].get<std::string>() == "dropped"
-                    ? "its base dropped fall.drop_m below the highest point it reached"
+                cause == "dropped" ? "its base dropped fall.drop_m below the highest point it reached"
+                : cause == "left_surface"
+                    ? "nothing of it touched or held the surface for fall.airborne_s"
                     : "its base turned over past fall.turn_over_deg",
                 s["fall_stopped_run"].get<bool>() ? "; the run ended there" : "");
     std::printf("                  (distance, speed and heading are those up to the fall)\n");
