@@ -11,15 +11,8 @@ namespace climbsim::adhesion {
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
-// A bond breaks at utilisation > 1 + kRoundoff: on the limit surface itself (a pull at
-// exactly 90° − α*) the bond and pad-level evaluations differ only by rounding, and the
-// law says "holds while ≤".
-constexpr double kRoundoff = 1e-12;
-
-bool IsFinite(const PadLoad& l) {
-  return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
-         std::isfinite(l.mx_nm) && std::isfinite(l.my_nm);
-}
+// A pull at exactly 90° − α* lies on the limit itself (frictional_law.h, kShearLawRoundoff).
+constexpr double kRoundoff = kShearLawRoundoff;
 
 }  // namespace
 
@@ -78,54 +71,25 @@ BondGrid::UpdateResult FrictionalUpdate(BondGrid* grid, const FrictionalLaw& law
   PadLoad load = full_load;
   load.mx_nm *= law.params().moment_share;
   load.my_nm *= law.params().moment_share;
-  BondGrid::UpdateResult result;
-  grid->ClearBrokenLog();
-  if (peak_utilisation != nullptr) *peak_utilisation = 0.0;
-  if (!IsFinite(load)) {
-    grid->Evaluate(load);  // clears the field
-    result.load_finite = false;
-    result.detached = grid->detached();
-    return result;
-  }
-  const int n = grid->size();
-  while (grid->bonded_count() > 0) {
-    // σ_i over the bonds left (bond_grid.h's field; its shears are not used), one shear
-    // for every bond.
-    const bool unsupported = grid->Evaluate(load).load_unsupported;
-    const double area = grid->bonded_area_m2();
-    const double tau_x = load.fx_n / area, tau_y = load.fy_n / area;
-    const int round = result.rounds + 1;
-    int broken = 0;
-    double peak = 0.0;
-    for (int i = 0; i < n; ++i) {
-      if (!grid->bonded(i)) continue;
-      const double u = unsupported ? kFrictionalCap
-                                   : law.Utilisation(grid->sigma_pa(i), tau_x, tau_y);
-      if (u > 1.0 + kRoundoff) {
-        grid->Break(i, round);
-        ++broken;
-      } else {
-        peak = std::max(peak, u);
-      }
-    }
-    if (broken == 0) {
-      if (peak_utilisation != nullptr) *peak_utilisation = peak;
-      break;
-    }
-    ++result.rounds;
-    result.broken += broken;
-  }
-  result.detached = grid->detached();
-  return result;
+  return ShearFieldCascade(
+      grid, load,
+      [&law](double sigma, double tau_x, double tau_y) {
+        return law.Utilisation(sigma, tau_x, tau_y);
+      },
+      peak_utilisation);
 }
 
-PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& params,
-                                const PullSetup& setup, const PulloffOptions& options) {
+void CheckPullSetup(const PullSetup& setup, const PulloffOptions& options) {
   if (!std::isfinite(setup.angle_rad) || !std::isfinite(setup.azimuth_rad) ||
       !(std::isfinite(setup.arm_m) && setup.arm_m >= 0.0) || !(options.rel_tol > 0.0) ||
       options.rel_tol > 0.1 || !(options.max_force_factor > 1.0)) {
     throw std::invalid_argument("pulloff: bad pull setup or options (pulloff.h)");
   }
+}
+
+PulloffResult FrictionalPullOff(const PadParams& pad, const FrictionalParams& params,
+                                const PullSetup& setup, const PulloffOptions& options) {
+  CheckPullSetup(setup, options);
   const FrictionalLaw law(params);
   BondGrid grid(pad);
   return SearchPulloff(

@@ -51,6 +51,7 @@
 #ifndef CLIMBSIM_ADHESION_FRICTIONAL_LAW_H_
 #define CLIMBSIM_ADHESION_FRICTIONAL_LAW_H_
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -171,6 +172,62 @@ class FrictionalLaw {
   double tan_critical_ = 0.0;
   double dx_ = -1.0, dy_ = 0.0;
 };
+
+// The cascade both per-bond shear laws (frictional, tabulated) break bonds with: σ_i over the
+// bonds left from BondGrid's field (its shears unused), one shear for every bond; each bond
+// whose `utilisation(σ_i, τ_x, τ_y)` passes 1 breaks, and the field is recomputed until none
+// does. Allocates nothing. *peak_utilisation (if not null): the largest over the bonds left.
+inline bool PadLoadFinite(const PadLoad& l) {
+  return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
+         std::isfinite(l.mx_nm) && std::isfinite(l.my_nm);
+}
+// A bond breaks at utilisation > 1 + kShearLawRoundoff: on the limit itself the bond and
+// pad-level evaluations differ only by rounding, and the laws say "holds while ≤".
+inline constexpr double kShearLawRoundoff = 1e-12;
+template <class Utilisation>
+BondGrid::UpdateResult ShearFieldCascade(BondGrid* grid, const PadLoad& load,
+                                         const Utilisation& utilisation,
+                                         double* peak_utilisation) {
+  BondGrid::UpdateResult result;
+  grid->ClearBrokenLog();
+  if (peak_utilisation != nullptr) *peak_utilisation = 0.0;
+  if (!PadLoadFinite(load)) {
+    grid->Evaluate(load);  // clears the field
+    result.load_finite = false;
+    result.detached = grid->detached();
+    return result;
+  }
+  const int n = grid->size();
+  while (grid->bonded_count() > 0) {
+    const bool unsupported = grid->Evaluate(load).load_unsupported;
+    const double area = grid->bonded_area_m2();
+    const double tau_x = load.fx_n / area, tau_y = load.fy_n / area;
+    const int round = result.rounds + 1;
+    int broken = 0;
+    double peak = 0.0;
+    for (int i = 0; i < n; ++i) {
+      if (!grid->bonded(i)) continue;
+      const double u = unsupported ? kFrictionalCap : utilisation(grid->sigma_pa(i), tau_x, tau_y);
+      if (u > 1.0 + kShearLawRoundoff) {
+        grid->Break(i, round);
+        ++broken;
+      } else {
+        peak = std::max(peak, u);
+      }
+    }
+    if (broken == 0) {
+      if (peak_utilisation != nullptr) *peak_utilisation = peak;
+      break;
+    }
+    ++result.rounds;
+    result.broken += broken;
+  }
+  result.detached = grid->detached();
+  return result;
+}
+
+// Throws std::invalid_argument for a pull setup or search options pulloff.h does not take.
+void CheckPullSetup(const PullSetup& setup, const PulloffOptions& options);
 
 // Bond-level breaking under `load` with the frictional law, the cascade of BondGrid::Update
 // (file comment). Broken bonds become kBroken and are logged (grid->last_broken()). Returns

@@ -6,22 +6,13 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "adhesion/frictional_law.h"  // kFrictionalCap
+#include "adhesion/frictional_law.h"  // kFrictionalCap, ShearFieldCascade
 
 namespace climbsim::adhesion {
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-// As the frictional law: on the limit itself the bond and table evaluations differ by
-// rounding only, and the law says "holds while ≤".
-constexpr double kRoundoff = 1e-12;
-
-bool IsFinite(const PadLoad& l) {
-  return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
-         std::isfinite(l.mx_nm) && std::isfinite(l.my_nm);
-}
-
 }  // namespace
 
 void ValidateTabulatedParams(const TabulatedParams& params) {
@@ -136,53 +127,17 @@ double TabulatedLaw::Utilisation(double sigma_pa, double tau_x_pa, double tau_y_
 
 BondGrid::UpdateResult TabulatedUpdate(BondGrid* grid, const TabulatedLaw& law,
                                        const PadLoad& load, double* peak_utilisation) {
-  BondGrid::UpdateResult result;
-  grid->ClearBrokenLog();
-  if (peak_utilisation != nullptr) *peak_utilisation = 0.0;
-  if (!IsFinite(load)) {
-    grid->Evaluate(load);  // clears the field
-    result.load_finite = false;
-    result.detached = grid->detached();
-    return result;
-  }
-  const int n = grid->size();
-  while (grid->bonded_count() > 0) {
-    // σ_i over the bonds left, one shear for every bond (the frictional law's field).
-    const bool unsupported = grid->Evaluate(load).load_unsupported;
-    const double area = grid->bonded_area_m2();
-    const double tau_x = load.fx_n / area, tau_y = load.fy_n / area;
-    const int round = result.rounds + 1;
-    int broken = 0;
-    double peak = 0.0;
-    for (int i = 0; i < n; ++i) {
-      if (!grid->bonded(i)) continue;
-      const double u =
-          unsupported ? kFrictionalCap : law.Utilisation(grid->sigma_pa(i), tau_x, tau_y);
-      if (u > 1.0 + kRoundoff) {
-        grid->Break(i, round);
-        ++broken;
-      } else {
-        peak = std::max(peak, u);
-      }
-    }
-    if (broken == 0) {
-      if (peak_utilisation != nullptr) *peak_utilisation = peak;
-      break;
-    }
-    ++result.rounds;
-    result.broken += broken;
-  }
-  result.detached = grid->detached();
-  return result;
+  return ShearFieldCascade(
+      grid, load,
+      [&law](double sigma, double tau_x, double tau_y) {
+        return law.Utilisation(sigma, tau_x, tau_y);
+      },
+      peak_utilisation);
 }
 
 PulloffResult TabulatedPullOff(const PadParams& pad, const TabulatedParams& table,
                                const PullSetup& setup, const PulloffOptions& options) {
-  if (!std::isfinite(setup.angle_rad) || !std::isfinite(setup.azimuth_rad) ||
-      !(std::isfinite(setup.arm_m) && setup.arm_m >= 0.0) || !(options.rel_tol > 0.0) ||
-      options.rel_tol > 0.1 || !(options.max_force_factor > 1.0)) {
-    throw std::invalid_argument("pulloff: bad pull setup or options (pulloff.h)");
-  }
+  CheckPullSetup(setup, options);
   const TabulatedLaw law(table);
   BondGrid grid(pad);
   // The search brackets from the table's largest force scaled to this pad (> 0), or 1 N.
