@@ -18,28 +18,13 @@ namespace climbsim::optimise {
 namespace {
 
 // The cases and the "survived" rule are the objective's robustness term's too
-// (optimise/disturbance.h); these names keep the bench's own.
+// (optimise/disturbance.h).
 using Setup = DisturbanceSetup;
-
-Setup MakeSetup(const sim::Scenario& base, const RobustnessOptions& options) {
-  return MakeDisturbanceSetup(base, options);
-}
-
-std::vector<RobustnessFamily> AllFamilies(double mass_kg) { return AllRobustnessFamilies(mass_kg); }
-
-std::string CannotTake(const Setup& u, const std::string& family) {
-  return CannotTakeFamily(u, family);
-}
 
 bool PushFamily(const std::string& family) { return family.rfind("push_", 0) == 0; }
 
-double PushTime(const Setup& u, int phase) { return DisturbancePushTime(u, phase); }
-
-bool Applicable(const Setup& u, const std::string& family) { return CannotTake(u, family).empty(); }
-
-sim::Scenario MakeCase(const Setup& u, const std::string& family, double magnitude, int mode,
-                       int seed, int phase) {
-  return DisturbanceCase(u, family, magnitude, mode, seed, phase);
+bool Applicable(const Setup& u, const std::string& family) {
+  return CannotTakeFamily(u, family).empty();
 }
 
 bool Survives(const sim::Scenario& s, double baseline_m, ModelCache* cache, std::string* how) {
@@ -53,14 +38,14 @@ std::string Num(double v) { return sim::ExactNumber(v); }
 
 std::vector<std::string> RobustnessFamilyNames() {
   std::vector<std::string> names;
-  for (const auto& f : AllFamilies(1.0)) names.push_back(f.name);
+  for (const auto& f : AllRobustnessFamilies(1.0)) names.push_back(f.name);
   return names;
 }
 
 std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario) {
-  const Setup u = MakeSetup(scenario, RobustnessOptions{});
+  const Setup u = MakeDisturbanceSetup(scenario, RobustnessOptions{});
   std::vector<RobustnessFamily> out;
-  for (const auto& f : AllFamilies(u.robot_mass_kg)) {
+  for (const auto& f : AllRobustnessFamilies(u.robot_mass_kg)) {
     if (Applicable(u, f.name)) out.push_back(f);
   }
   return out;
@@ -69,7 +54,7 @@ std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario) 
 sim::Scenario RobustnessCase(const sim::Scenario& base, const RobustnessOptions& options,
                              const std::string& family, double magnitude, int mode, int seed,
                              int phase) {
-  return MakeCase(MakeSetup(base, options), family, magnitude, mode, seed, phase);
+  return DisturbanceCase(MakeDisturbanceSetup(base, options), family, magnitude, mode, seed, phase);
 }
 
 bool RobustnessSurvives(const sim::Scenario& scenario, double baseline_m, std::string* how) {
@@ -90,7 +75,7 @@ void CheckOptions(const Setup& u, const RobustnessOptions& options) {
       throw InputError("climbsim bench robustness", 0, 0, "--families",
                        "unknown family '" + f + "' (" + list + ")");
     }
-    const std::string why = CannotTake(u, f);
+    const std::string why = CannotTakeFamily(u, f);
     if (!why.empty()) {
       throw InputError("climbsim bench robustness", 0, 0, "--families",
                        "the scenario cannot take family '" + f + "': " + why);
@@ -108,12 +93,12 @@ void CheckOptions(const Setup& u, const RobustnessOptions& options) {
   // Every phase's push inside the run (a push after its end would "survive" anything).
   const bool pushes = std::any_of(options.families.begin(), options.families.end(), PushFamily) ||
                       (options.families.empty() && u.frequency_hz > 0);
-  if (pushes && PushTime(u, u.options.phases - 1) + kPushDuration > u.duration_s) {
+  if (pushes && DisturbancePushTime(u, u.options.phases - 1) + kPushDuration > u.duration_s) {
     char buf[200];
     std::snprintf(buf, sizeof(buf),
                   "the last of %d push phases, at %.3f s, ends after the %g s run: give a longer "
                   "--duration or fewer --phases",
-                  u.options.phases, PushTime(u, u.options.phases - 1), u.duration_s);
+                  u.options.phases, DisturbancePushTime(u, u.options.phases - 1), u.duration_s);
     throw InputError("climbsim bench robustness", 0, 0, "--phases", buf);
   }
 }
@@ -125,7 +110,7 @@ namespace {
 // The families asked for (all when none are named) that the scenario can take, in table order.
 std::vector<RobustnessFamily> WantedFamilies(const Setup& u, const RobustnessOptions& options) {
   std::vector<RobustnessFamily> families;
-  for (const auto& f : AllFamilies(u.robot_mass_kg)) {
+  for (const auto& f : AllRobustnessFamilies(u.robot_mass_kg)) {
     const bool wanted = options.families.empty() ||
                         std::find(options.families.begin(), options.families.end(), f.name) !=
                             options.families.end();
@@ -138,7 +123,7 @@ std::vector<RobustnessFamily> WantedFamilies(const Setup& u, const RobustnessOpt
 void CheckLargestCases(const Setup& u, const std::vector<RobustnessFamily>& families) {
   ModelCache cache;
   for (const auto& f : families) {
-    const sim::Scenario s = MakeCase(u, f.name, f.hi, 0, std::max(0, u.options.seeds - 1), 0);
+    const sim::Scenario s = DisturbanceCase(u, f.name, f.hi, 0, std::max(0, u.options.seeds - 1), 0);
     sim::Simulation check(s, cache.For(s));
   }
 }
@@ -247,7 +232,7 @@ class Search {
     const Setup* u = &u_;
     internal::CaseFn run = [u, family = f_.name, m, mode = mode_, baseline = baseline_m_,
                             phases = phases_](int i, ModelCache* cache, std::string* how) {
-      return Survives(MakeCase(*u, family, m, mode, i / phases, i % phases), baseline[i / phases],
+      return Survives(DisturbanceCase(*u, family, m, mode, i / phases, i % phases), baseline[i / phases],
                       cache, how);
     };
     std::string how;
@@ -299,7 +284,7 @@ std::vector<RobustnessRow> PairedRows(std::vector<RobustnessRow> rows, size_t fa
 double SuggestedDuration(const Setup& u, bool pushes) {
   const double need_s = kRobustnessMinCycles / u.frequency_hz;
   if (!pushes) return need_s;
-  const double after_first_s = PushTime(u, u.options.phases - 1) - u.push_time_s + need_s;
+  const double after_first_s = DisturbancePushTime(u, u.options.phases - 1) - u.push_time_s + need_s;
   if (u.options.push_time_s) {
     return std::max(*u.options.push_time_s + after_first_s, 3.0 * *u.options.push_time_s);
   }
@@ -313,11 +298,11 @@ RobustnessPlan MakePlan(const Setup& u, const RobustnessOptions& options) {
   plan.duration_s = u.duration_s;
   plan.frequency_hz = u.frequency_hz;
   bool pushes = false;
-  for (const auto& f : AllFamilies(u.robot_mass_kg)) {
+  for (const auto& f : AllRobustnessFamilies(u.robot_mass_kg)) {
     const bool named = std::find(options.families.begin(), options.families.end(), f.name) !=
                        options.families.end();
     if (!options.families.empty() && !named) continue;
-    const std::string why = CannotTake(u, f.name);
+    const std::string why = CannotTakeFamily(u, f.name);
     if (!why.empty()) {
       plan.skipped.push_back(f.name + ": " + why);
       continue;
@@ -326,7 +311,7 @@ RobustnessPlan MakePlan(const Setup& u, const RobustnessOptions& options) {
     pushes = pushes || PushFamily(f.name);
   }
   if (pushes) {
-    for (int j = 0; j < options.phases; ++j) plan.push_times_s.push_back(PushTime(u, j));
+    for (int j = 0; j < options.phases; ++j) plan.push_times_s.push_back(DisturbancePushTime(u, j));
   }
   if (u.frequency_hz <= 0 || plan.families.empty()) return plan;
   const double left_s = u.duration_s - (pushes ? plan.push_times_s.back() : 0.0);
@@ -349,7 +334,7 @@ RobustnessPlan MakePlan(const Setup& u, const RobustnessOptions& options) {
 }  // namespace
 
 RobustnessPlan PlanRobustness(const sim::Scenario& scenario, const RobustnessOptions& options) {
-  return MakePlan(MakeSetup(scenario, options), options);
+  return MakePlan(MakeDisturbanceSetup(scenario, options), options);
 }
 
 std::string RobustnessPlanText(const RobustnessPlan& plan) {
@@ -394,7 +379,7 @@ void RunAll(const Setup& u, const std::vector<RobustnessFamily>& families, int m
     try {
       std::string how;
       pool.RunStep(modes * options.seeds, [&](int t, ModelCache* cache, std::string*) {
-        const sim::Scenario s = MakeCase(u, "", 0, t / options.seeds, t % options.seeds, 0);
+        const sim::Scenario s = DisturbanceCase(u, "", 0, t / options.seeds, t % options.seeds, 0);
         sim::Simulation run(s, cache->For(s));
         report->baseline_m[t / options.seeds][t % options.seeds] = run.Run().distance_m;
         bar->Advance(1);
@@ -435,13 +420,13 @@ void RunAll(const Setup& u, const std::vector<RobustnessFamily>& families, int m
 RobustnessReport BenchRobustness(const std::string& file, const RobustnessOptions& options,
                                  const std::function<void(double)>& progress) {
   const sim::Scenario base = sim::LoadScenario(file);
-  const Setup u = MakeSetup(base, options);
+  const Setup u = MakeDisturbanceSetup(base, options);
   const RobustnessPlan plan = MakePlan(u, options);
   const std::vector<RobustnessFamily> families = WantedFamilies(u, options);
   CheckLargestCases(u, families);
   // Spindle and GTO already off (or no reflexes): mode 1 is mode 0, searched once.
-  const bool same = sim::ScenarioToYamlText(MakeCase(u, "", 0, 0, 0, 0)) ==
-                    sim::ScenarioToYamlText(MakeCase(u, "", 0, 1, 0, 0));
+  const bool same = sim::ScenarioToYamlText(DisturbanceCase(u, "", 0, 0, 0, 0)) ==
+                    sim::ScenarioToYamlText(DisturbanceCase(u, "", 0, 1, 0, 0));
   const int modes = same ? 1 : 2;
 
   RobustnessReport report;
