@@ -40,6 +40,7 @@ AdhesionSystem::AdhesionSystem(const mjModel* m, const AdhesionSystemParams& par
   pads_.reserve(params_.pads.size());
   for (const PadSpec& spec : params_.pads) sticky[AddPad(m, spec)] = 1;
   ResolveSurfaces(m, sticky);
+  for (StickyPad& p : pads_) p.SetSurfaces(sticks_to_);
 }
 
 // Resolves one pad (its body, box, and the weld or actuator AdhesionMjcf added) and builds
@@ -141,7 +142,7 @@ void AdhesionSystem::StartAttached(mjModel* m, mjData* d, PadEventSink* sink) {
   for (size_t i = 0; i < pads_.size(); ++i) {
     if (surface[i] < 0) continue;
     pads_[i].ForceAttach(m, d, d->time, surface[i], 1.0, PadCause::kStartAttached,
-                         &kinematics_current, sink);
+                         &kinematics_current, sink, params_.start_gap_m);
   }
   // Leave mjData consistent with the true margins and the welds (contacts, efc forces).
   mj_forward(m, d);

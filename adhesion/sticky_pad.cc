@@ -127,9 +127,13 @@ StickyPad::StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
       contype_(m->geom_contype[geometry.geom]),
       conaffinity_(m->geom_conaffinity[geometry.geom]),
       grid_(GridParams(params, geometry)),
+      probe_(m, geometry, grid_.grid_x(), grid_.grid_y()),
+      touching_(grid_.size(), 1),
+      surfaces_(m->ngeom, 1),
       frictional_law_(params.law == PadLaw::kFrictional ? params.frictional : FrictionalParams{}) {
   ValidateStickyPadParams(params_);
   if (params_.law == PadLaw::kTabulated) tabulated_law_.emplace(params_.tabulated);
+  surfaces_[geometry.geom] = 0;
   params_.bonds = grid_.params();
   if (params_.model == AdhesionModel::kBonds && (weld_eq < 0 || weld_eq >= m->neq)) {
     throw std::invalid_argument("adhesion: pad has no weld equality");
@@ -238,8 +242,9 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   const FailedCondition failed = FirstFailedCondition(a, touchdown_speed_mps_,
                                                       touchdown_angle_deg_, sense_, &counts_);
   if (failed.cause == PadCause::kNone) {
+    // Pressed on by its contacts: it sinks into the soft contact by their depth.
     Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
-           kinematics_current, sink);
+           kinematics_current, sink, 0.0, sense_.depth_m);
     return;
   }
   if (failed.final || time_s - touchdown_time_s_ >= a.attach_window_s) {
@@ -251,17 +256,20 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
 }
 
 bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                            PadCause cause, bool* kinematics_current, PadEventSink* sink) {
+                            PadCause cause, bool* kinematics_current, PadEventSink* sink,
+                            double standoff_m) {
   if (attached_) return false;
   sense_.surface_geom = surface_geom;
   ++counts_.touchdown;
   Emit(sink, time_s, PadEventKind::kTouchdown, PadCause::kNone, 0.0, false);
-  Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink);
+  Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink, standoff_m,
+         0.0);
   return true;
 }
 
 void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                       PadCause cause, bool* kinematics_current, PadEventSink* sink) {
+                       PadCause cause, bool* kinematics_current, PadEventSink* sink,
+                       double standoff_m, double pressed_m) {
   attached_ = true;
   surface_geom_ = surface_geom;
   lost_since_attach_ = 0;
@@ -278,6 +286,8 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
     contact_off_steps_ = 0;  // welded: no contacts to give back
     m->geom_contype[geometry_.geom] = 0;
     m->geom_conaffinity[geometry_.geom] = 0;
+    // Landed by its contacts (not forced): seated on the surface it touched.
+    MeasureTouching(m, d, standoff_m, pressed_m, cause == PadCause::kNone);
     buildup_ = fraction;
     grid_.BondFraction(fraction);
     load_ = PadLoad{};
@@ -287,6 +297,22 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
   }
   ++counts_.attach;
   Emit(sink, time_s, PadEventKind::kAttach, cause, 0.0, false);
+}
+
+void StickyPad::MeasureTouching(const mjModel* m, const mjData* d, double standoff_m,
+                                double pressed_m, bool seated) {
+  if (!params_.contact.partial_contact) {
+    grid_.TouchAll();
+    return;
+  }
+  if (seated) {
+    probe_.MeasureSeated(m, d, surfaces_, params_.contact.contact_gap_m, pressed_m,
+                         sense_.contact_pos, sense_.surface_normal, touching_);
+  } else {
+    probe_.Measure(m, d, surfaces_, params_.contact.contact_gap_m, standoff_m, pressed_m,
+                   touching_);
+  }
+  grid_.SetTouching(touching_);
 }
 
 void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {

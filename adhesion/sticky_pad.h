@@ -79,6 +79,7 @@
 #include "adhesion/frictional_law.h"
 #include "adhesion/tabulated_law.h"
 #include "adhesion/pad_contact.h"
+#include "adhesion/pad_touch.h"
 
 namespace climbsim::adhesion {
 
@@ -147,6 +148,8 @@ struct StickyPadParams {
   // directional gecko: a released front pad's kick pulled its hind neighbour off). A peeling
   // pad leaves the surface in that time.
   double release_contact_delay_s = 0.0;
+  // kBonds: bond only the cells that touch the surface at attach (pad_touch.h).
+  PartialContactParams contact;
 };
 
 // Throws std::invalid_argument naming the key and the value (ValidatePadParams for the grid).
@@ -223,6 +226,11 @@ class StickyPad {
   // mj_resetData (which does not reset model-level switches).
   void Reset(mjModel* m, mjData* d);
 
+  // The geoms the pad sticks to (one entry per geom, as Sense's sticks_to): the targets of
+  // partial contact's rays. By default every geom but the pad's own; AdhesionSystem sets its
+  // surfaces. Allocates: call it at setup.
+  void SetSurfaces(const std::vector<uint8_t>& sticks_to) { surfaces_ = sticks_to; }
+
   // --- The step (see the file comment) ---
   void Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to);
   // `kinematics_current`: whether xpos/xquat already describe the current qpos (an attach
@@ -231,9 +239,12 @@ class StickyPad {
   void AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
 
   // Attaches to `surface_geom` now, skipping the conditions, with `fraction` of the bonds
-  // (start_attached, the pull-off rig). False if already attached.
+  // (start_attached, the pull-off rig). With partial contact the cells that touch are those
+  // within `standoff_m` + contact_gap_m of the surface (pad_touch.h; start_attached:
+  // start_gap_m). False if already attached.
   bool ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                   PadCause cause, bool* kinematics_current, PadEventSink* sink);
+                   PadCause cause, bool* kinematics_current, PadEventSink* sink,
+                   double standoff_m = 0.0);
   // The controller is peeling this pad (a detach while it is counts as "peel").
   void SetPeeling(bool peeling) { peeling_ = peeling; }
   // The pad's adhesive is disengaged (an active-release foot keeps its toe peeled through the
@@ -300,7 +311,12 @@ class StickyPad {
   enum class Episode : uint8_t { kNone, kPending, kClosed };
 
   void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-              PadCause cause, bool* kinematics_current, PadEventSink* sink);
+              PadCause cause, bool* kinematics_current, PadEventSink* sink,
+              double standoff_m, double pressed_m);
+  // kBonds with partial contact: the grid's touching set from the current poses.
+  // `seated`: the pad landed by its contacts (TouchProbe::MeasureSeated on sense_).
+  void MeasureTouching(const mjModel* m, const mjData* d, double standoff_m, double pressed_m,
+                       bool seated);
   void Detach(mjModel* m, mjData* d, double time_s, PadCause cause, PadEventSink* sink);
   void Emit(PadEventSink* sink, double time_s, PadEventKind kind, PadCause cause, double value,
             bool has_value) const;
@@ -317,6 +333,9 @@ class StickyPad {
   int contact_off_steps_ = 0;      // steps left before a released pad collides again
 
   BondGrid grid_;
+  TouchProbe probe_;
+  std::vector<uint8_t> touching_;  // per cell, the last measure
+  std::vector<uint8_t> surfaces_;  // per geom: the rays' targets (SetSurfaces)
   ContactSense sense_;
   PadLoad load_;
   bool load_known_ = false;  // the weld has carried at least one step since the attach

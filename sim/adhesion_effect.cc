@@ -22,6 +22,7 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   s.frictional = p.frictional;
   s.tabulated = p.tabulated;
   s.release_contact_delay_s = p.release_contact_delay_s;
+  s.contact = p;
   return s;
 }
 
