@@ -103,7 +103,6 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
     full_sums_.kyy += ky * ky;
     full_sums_.kxy += kx * ky;
   }
-
   state_.assign(n, static_cast<uint8_t>(BondState::kUnbonded));
   TouchAll();
   col_count_.assign(nx, 0);
