@@ -69,14 +69,14 @@ int TouchProbe::Measure(const mjModel* m, const mjData* d, const std::vector<uin
 
 int TouchProbe::MeasureSeated(const mjModel* m, const mjData* d,
                               const std::vector<uint8_t>& sticks_to, double contact_gap_m,
-                              double pressed_m, const Eigen::Vector3d& point,
+                              double standoff_m, double pressed_m, const Eigen::Vector3d& point,
                               const Eigen::Vector3d& normal, std::span<uint8_t> touching) {
   const PadFrame f = FaceFrame(d, pad_);
   // The shortest turn of the pad normal onto the surface's, about the contact point.
   const Eigen::Matrix3d turn =
       Eigen::Quaterniond::FromTwoVectors(f.rot.col(2), normal).toRotationMatrix();
   return MeasureFrom(m, d, sticks_to, point + turn * (f.pos - point), turn * f.rot,
-                     contact_gap_m, 0.0, pressed_m, touching);
+                     contact_gap_m, standoff_m, pressed_m, touching);
 }
 
 int TouchProbe::MeasureFrom(const mjModel* m, const mjData* d,

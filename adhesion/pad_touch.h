@@ -90,9 +90,12 @@ class TouchProbe {
   // contact point `point` (world), until its normal is the surface's `normal` (unit, from the
   // surface into the pad), the rays along −normal. A pad that lands tilted on two corners of a
   // flat surface is seated flat on it by its compliance (the weld would freeze the tilt), so
-  // what decides the touch is the surface's shape: a step, a hollow, a bump's edge.
+  // what decides the touch is the surface's shape: a step, a hollow, a bump's edge. A pad that
+  // starts attached is seated the same way on the contact its widened margin found, standing
+  // off by `standoff_m` (start_gap_m; 0 for a landing).
   int MeasureSeated(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
-                    double contact_gap_m, double pressed_m, const Eigen::Vector3d& point,
+                    double contact_gap_m, double standoff_m, double pressed_m,
+                    const Eigen::Vector3d& point,
                     const Eigen::Vector3d& normal, std::span<uint8_t> touching);
 
   // The gaps of the last Measure (m; kNoSurface: no surface within the ray's reach).

@@ -244,7 +244,7 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   if (failed.cause == PadCause::kNone) {
     // Pressed on by its contacts: it sinks into the soft contact by their depth.
     Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
-           kinematics_current, sink, 0.0, sense_.depth_m);
+           kinematics_current, sink, {0.0, sense_.depth_m, true});
     return;
   }
   if (failed.final || time_s - touchdown_time_s_ >= a.attach_window_s) {
@@ -257,19 +257,20 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
 
 bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
                             PadCause cause, bool* kinematics_current, PadEventSink* sink,
-                            double standoff_m) {
+                            double standoff_m, const ContactSense* seat) {
   if (attached_) return false;
+  if (seat != nullptr) sense_ = *seat;
   sense_.surface_geom = surface_geom;
   ++counts_.touchdown;
   Emit(sink, time_s, PadEventKind::kTouchdown, PadCause::kNone, 0.0, false);
-  Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink, standoff_m,
-         0.0);
+  Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink,
+         {standoff_m, seat != nullptr ? seat->depth_m : 0.0, seat != nullptr});
   return true;
 }
 
 void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
                        PadCause cause, bool* kinematics_current, PadEventSink* sink,
-                       double standoff_m, double pressed_m) {
+                       Seating seating) {
   attached_ = true;
   surface_geom_ = surface_geom;
   lost_since_attach_ = 0;
@@ -286,8 +287,7 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
     contact_off_steps_ = 0;  // welded: no contacts to give back
     m->geom_contype[geometry_.geom] = 0;
     m->geom_conaffinity[geometry_.geom] = 0;
-    // Landed by its contacts (not forced): seated on the surface it touched.
-    MeasureTouching(m, d, standoff_m, pressed_m, cause == PadCause::kNone);
+    MeasureTouching(m, d, seating);
     buildup_ = fraction;
     grid_.BondFraction(fraction);
     load_ = PadLoad{};
@@ -299,17 +299,16 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
   Emit(sink, time_s, PadEventKind::kAttach, cause, 0.0, false);
 }
 
-void StickyPad::MeasureTouching(const mjModel* m, const mjData* d, double standoff_m,
-                                double pressed_m, bool seated) {
+void StickyPad::MeasureTouching(const mjModel* m, const mjData* d, const Seating& s) {
   if (!params_.contact.partial_contact) {
     grid_.TouchAll();
     return;
   }
-  if (seated) {
-    probe_.MeasureSeated(m, d, surfaces_, params_.contact.contact_gap_m, pressed_m,
-                         sense_.contact_pos, sense_.surface_normal, touching_);
+  if (s.seated) {
+    probe_.MeasureSeated(m, d, surfaces_, params_.contact.contact_gap_m, s.standoff_m,
+                         s.pressed_m, sense_.contact_pos, sense_.surface_normal, touching_);
   } else {
-    probe_.Measure(m, d, surfaces_, params_.contact.contact_gap_m, standoff_m, pressed_m,
+    probe_.Measure(m, d, surfaces_, params_.contact.contact_gap_m, s.standoff_m, s.pressed_m,
                    touching_);
   }
   grid_.SetTouching(touching_);

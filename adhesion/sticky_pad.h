@@ -241,10 +241,12 @@ class StickyPad {
   // Attaches to `surface_geom` now, skipping the conditions, with `fraction` of the bonds
   // (start_attached, the pull-off rig). With partial contact the cells that touch are those
   // within `standoff_m` + contact_gap_m of the surface (pad_touch.h; start_attached:
-  // start_gap_m). False if already attached.
+  // start_gap_m). `seat`: the contact that placed it there (start_attached's widened-margin
+  // contact), on which the pad is seated like a landing one; null: measured as it stands.
+  // False if already attached.
   bool ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
                    PadCause cause, bool* kinematics_current, PadEventSink* sink,
-                   double standoff_m = 0.0);
+                   double standoff_m = 0.0, const ContactSense* seat = nullptr);
   // The controller is peeling this pad (a detach while it is counts as "peel").
   void SetPeeling(bool peeling) { peeling_ = peeling; }
   // The pad's adhesive is disengaged (an active-release foot keeps its toe peeled through the
@@ -310,13 +312,17 @@ class StickyPad {
   double strength_scale_ = 1.0;
   enum class Episode : uint8_t { kNone, kPending, kClosed };
 
+  // How an attaching pad meets the surface (pad_touch.h): its stand-off, how far its contacts
+  // press it in, and whether it is seated on sense_'s contact (TouchProbe::MeasureSeated).
+  struct Seating {
+    double standoff_m = 0.0;
+    double pressed_m = 0.0;
+    bool seated = false;
+  };
   void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-              PadCause cause, bool* kinematics_current, PadEventSink* sink,
-              double standoff_m, double pressed_m);
+              PadCause cause, bool* kinematics_current, PadEventSink* sink, Seating seating);
   // kBonds with partial contact: the grid's touching set from the current poses.
-  // `seated`: the pad landed by its contacts (TouchProbe::MeasureSeated on sense_).
-  void MeasureTouching(const mjModel* m, const mjData* d, double standoff_m, double pressed_m,
-                       bool seated);
+  void MeasureTouching(const mjModel* m, const mjData* d, const Seating& seating);
   void Detach(mjModel* m, mjData* d, double time_s, PadCause cause, PadEventSink* sink);
   void Emit(PadEventSink* sink, double time_s, PadEventKind kind, PadCause cause, double value,
             bool has_value) const;

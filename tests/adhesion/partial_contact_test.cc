@@ -96,7 +96,7 @@ class ProbeWorld {
   // The same, seated about `point` onto the surface normal +z.
   std::vector<uint8_t> MeasureSeated(double gap_m, const Eigen::Vector3d& point, int* count) {
     std::vector<uint8_t> touching(kGrid * kGrid, 2);
-    *count = probe_->MeasureSeated(m_, d_, sticks_to_, gap_m, 0.0, point,
+    *count = probe_->MeasureSeated(m_, d_, sticks_to_, gap_m, 0.0, 0.0, point,
                                    Eigen::Vector3d::UnitZ(), touching);
     return touching;
   }
