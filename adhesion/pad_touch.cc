@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Geometry>
+#include <Eigen/LU>
 
 namespace climbsim::adhesion {
 
@@ -15,7 +15,16 @@ TouchProbe::TouchProbe(const mjModel* m, const PadGeometry& pad, int grid_x, int
       half_diagonal_m_(0.5 * std::hypot(pad.width_m, pad.length_m)),
       own_root_(m->body_rootid[pad.body]),
       gaps_(static_cast<size_t>(grid_x) * grid_y, kNoSurface),
-      candidates_(m->ngeom, -1) {}
+      cell_x_m_(gaps_.size()),
+      cell_y_m_(gaps_.size()),
+      candidates_(m->ngeom, -1) {
+  for (int iy = 0; iy < grid_y; ++iy) {
+    for (int ix = 0; ix < grid_x; ++ix) {
+      cell_x_m_[iy * grid_x + ix] = ((ix + 0.5) / grid_x - 0.5) * pad.width_m;
+      cell_y_m_[iy * grid_x + ix] = ((iy + 0.5) / grid_y - 0.5) * pad.length_m;
+    }
+  }
+}
 
 int TouchProbe::Candidates(const mjModel* m, const mjData* d,
                            const std::vector<uint8_t>& sticks_to, const Eigen::Vector3d& face_pos,
@@ -59,49 +68,31 @@ double TouchProbe::NearestHit(const mjModel* m, const mjData* d, int candidates,
   return best;
 }
 
-int TouchProbe::Measure(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
-                        double contact_gap_m, double standoff_m, double pressed_m,
-                        std::span<uint8_t> touching) {
+double TouchProbe::MeasureGaps(const mjModel* m, const mjData* d,
+                               const std::vector<uint8_t>& sticks_to, double back_m,
+                               double reach_m) {
   const PadFrame f = FaceFrame(d, pad_);
-  return MeasureFrom(m, d, sticks_to, f.pos, f.rot, contact_gap_m, standoff_m, pressed_m,
-                     touching);
-}
-
-int TouchProbe::MeasureSeated(const mjModel* m, const mjData* d,
-                              const std::vector<uint8_t>& sticks_to, double contact_gap_m,
-                              double standoff_m, double pressed_m, const Eigen::Vector3d& point,
-                              const Eigen::Vector3d& normal, std::span<uint8_t> touching) {
-  const PadFrame f = FaceFrame(d, pad_);
-  // The shortest turn of the pad normal onto the surface's, about the contact point.
-  const Eigen::Matrix3d turn =
-      Eigen::Quaterniond::FromTwoVectors(f.rot.col(2), normal).toRotationMatrix();
-  return MeasureFrom(m, d, sticks_to, point + turn * (f.pos - point), turn * f.rot,
-                     contact_gap_m, standoff_m, pressed_m, touching);
-}
-
-int TouchProbe::MeasureFrom(const mjModel* m, const mjData* d,
-                            const std::vector<uint8_t>& sticks_to, const Eigen::Vector3d& origin,
-                            const Eigen::Matrix3d& axes, double contact_gap_m, double standoff_m,
-                            double pressed_m, std::span<uint8_t> touching) {
-  const PadFrame f{origin, axes};
   const Eigen::Vector3d n = f.rot.col(2);
-  // The rays start back_m_ behind the face and reach the farthest gap that can still touch.
-  const double reach_m = back_m_ + standoff_m + pressed_m + back_m_ + contact_gap_m;
   const int candidates = Candidates(m, d, sticks_to, f.pos, reach_m);
   const mjtNum vec[3] = {-n.x(), -n.y(), -n.z()};
   double nearest = kNoSurface;
-  for (int iy = 0; iy < grid_y_; ++iy) {
-    const double y = ((iy + 0.5) / grid_y_ - 0.5) * pad_.length_m;
-    for (int ix = 0; ix < grid_x_; ++ix) {
-      const double x = ((ix + 0.5) / grid_x_ - 0.5) * pad_.width_m;
-      const Eigen::Vector3d start = f.pos + x * f.rot.col(0) + y * f.rot.col(1) + back_m_ * n;
-      const mjtNum pnt[3] = {start.x(), start.y(), start.z()};
-      const double hit = NearestHit(m, d, candidates, pnt, vec);
-      const double gap = hit < 0 ? kNoSurface : hit - back_m_;
-      gaps_[iy * grid_x_ + ix] = gap;
-      nearest = std::min(nearest, gap);
-    }
+  for (int i = 0; i < size(); ++i) {
+    const Eigen::Vector3d start =
+        f.pos + cell_x_m_[i] * f.rot.col(0) + cell_y_m_[i] * f.rot.col(1) + back_m * n;
+    const mjtNum pnt[3] = {start.x(), start.y(), start.z()};
+    const double hit = NearestHit(m, d, candidates, pnt, vec);
+    gaps_[i] = hit < 0 ? kNoSurface : hit - back_m;
+    nearest = std::min(nearest, gaps_[i]);
   }
+  return nearest;
+}
+
+int TouchProbe::Measure(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
+                        double contact_gap_m, double standoff_m, double pressed_m,
+                        std::span<uint8_t> touching) {
+  // The rays start back_m_ behind the face and reach the farthest gap that can still touch.
+  const double reach_m = back_m_ + standoff_m + pressed_m + back_m_ + contact_gap_m;
+  const double nearest = MeasureGaps(m, d, sticks_to, back_m_, reach_m);
   // Pressed in: by the contacts' depth, or by the deepest cell's (a start pose in the surface).
   const double pressed = std::max(pressed_m, nearest < 0 ? -nearest : 0.0);
   const double limit = standoff_m + pressed + contact_gap_m;
@@ -111,6 +102,83 @@ int TouchProbe::MeasureFrom(const mjModel* m, const mjData* d,
     count += touching[i];
   }
   return count;
+}
+
+int TouchProbe::MeasureSeated(const mjModel* m, const mjData* d,
+                              const std::vector<uint8_t>& sticks_to, double contact_gap_m,
+                              double standoff_m, double pressed_m, std::span<uint8_t> touching) {
+  // A tilt lifts the far edge, or buries the near one (a start pose set into the surface), by
+  // up to the face's diagonal: the rays start and reach that much farther.
+  const double tilt_m = 2.0 * half_diagonal_m_;
+  const double back_m = back_m_ + tilt_m;
+  const double reach_m = back_m + standoff_m + pressed_m + back_m + contact_gap_m;
+  MeasureGaps(m, d, sticks_to, back_m, reach_m);
+  double plane[3];
+  if (!RestPlane(cell_x_m_, cell_y_m_, gaps_, grid_x_, grid_y_, plane)) {
+    return Measure(m, d, sticks_to, contact_gap_m, standoff_m, pressed_m, touching);
+  }
+  const double limit = pressed_m + contact_gap_m;
+  int count = 0;
+  for (int i = 0; i < size(); ++i) {
+    const double rest = plane[0] + plane[1] * cell_x_m_[i] + plane[2] * cell_y_m_[i];
+    touching[i] = gaps_[i] < kNoSurface && gaps_[i] - rest <= limit ? 1 : 0;
+    count += touching[i];
+  }
+  return count;
+}
+
+namespace {
+
+// Far above any real gap: a cell without a surface joins the program as a point so high that
+// the optimum uses it only when the centre lies beyond every other cell.
+constexpr double kNoSurfaceGapM = 1.0;
+
+double GapOrFar(std::span<const double> gap_m, int i) {
+  return gap_m[i] < TouchProbe::kNoSurface ? gap_m[i] : kNoSurfaceGapM;
+}
+
+}  // namespace
+
+bool RestPlane(std::span<const double> x_m, std::span<const double> y_m,
+               std::span<const double> gap_m, int grid_x, int grid_y, double plane[3]) {
+  if (grid_x < 2 || grid_y < 2) return false;
+  const int n = static_cast<int>(gap_m.size());
+  // A first basis whose triangle holds the centre: two corners of one edge and a cell of the
+  // opposite edge's middle (the grid is centred on the face).
+  int basis[3] = {0, grid_x - 1, (grid_y - 1) * grid_x + grid_x / 2};
+  const auto column = [&](int i) { return Eigen::Vector3d(1.0, x_m[i], y_m[i]); };
+  Eigen::Matrix3d cols;
+  for (int k = 0; k < 3; ++k) cols.col(k) = column(basis[k]);
+  Eigen::Vector3d lambda = cols.fullPivLu().solve(Eigen::Vector3d(1, 0, 0));
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int pivots = 0; pivots <= 4 * n; ++pivots) {
+    const Eigen::Vector3d g_basis(GapOrFar(gap_m, basis[0]), GapOrFar(gap_m, basis[1]),
+                                  GapOrFar(gap_m, basis[2]));
+    p = cols.transpose().fullPivLu().solve(g_basis);  // the plane through the basis' gaps
+    int enter = -1;  // Bland: the first cell below the plane
+    for (int i = 0; i < n && enter < 0; ++i) {
+      if (GapOrFar(gap_m, i) - column(i).dot(p) < -1e-12) enter = i;
+    }
+    if (enter < 0) break;
+    const Eigen::Vector3d dir = cols.fullPivLu().solve(column(enter));
+    int leave = -1;
+    double ratio = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      if (dir[k] <= 1e-12) continue;
+      const double r = lambda[k] / dir[k];
+      if (leave < 0 || r < ratio || (r == ratio && basis[k] < basis[leave])) leave = k, ratio = r;
+    }
+    if (leave < 0) return false;  // cannot happen: the program is bounded
+    lambda -= ratio * dir;
+    lambda[leave] = ratio;
+    basis[leave] = enter;
+    cols.col(leave) = column(enter);
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (lambda[k] > 1e-12 && !(gap_m[basis[k]] < TouchProbe::kNoSurface)) return false;
+  }
+  plane[0] = p[0], plane[1] = p[1], plane[2] = p[2];
+  return true;
 }
 
 }  // namespace climbsim::adhesion

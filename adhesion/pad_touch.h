@@ -52,6 +52,10 @@ struct PartialContactParams {
   // (mushroom-tipped and wedge microstructures of 0.1–0.2 mm on a soft backing; gecko setae
   // and lamellae together about 0.1–1 mm): farther than this a cell does not reach the surface.
   double contact_gap_m = 0.5e-3;
+  // Half: a foot set down on an edge with most of its face in the air is placed again (the
+  // search reflex, a corner manoeuvre's probe) rather than held by a sliver; on a flat surface
+  // every cell touches and nothing changes.
+  double min_contact_share = 0.5;
 
   template <class A>
   void Serialize(A* a) {
@@ -65,6 +69,11 @@ struct PartialContactParams {
               "adhesive's fibre length and backing compliance, about 0.5 mm)",
               Range::Closed(0, 0.01)},
              &contact_gap_m);
+    a->Visit({"min_contact_share", "",
+              "partial contact: attach condition 5, the share of the pad face that must touch "
+              "the surface for a landing pad to attach (within attach_window_s)",
+              Range::Closed(0, 1)},
+             &min_contact_share);
   }
 };
 
@@ -86,17 +95,17 @@ class TouchProbe {
   int Measure(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
               double contact_gap_m, double standoff_m, double pressed_m,
               std::span<uint8_t> touching);
-  // SEATED. The same for a pad that landed by its contacts: its face first turned, about the
-  // contact point `point` (world), until its normal is the surface's `normal` (unit, from the
-  // surface into the pad), the rays along −normal. A pad that lands tilted on two corners of a
-  // flat surface is seated flat on it by its compliance (the weld would freeze the tilt), so
-  // what decides the touch is the surface's shape: a step, a hollow, a bump's edge. A pad that
-  // starts attached is seated the same way on the contact its widened margin found, standing
-  // off by `standoff_m` (start_gap_m; 0 for a landing).
+  // SEATED. The same for a pad pressed onto the surface through its centre (a landing, a
+  // start pose): it comes to rest on the gaps' REST PLANE (RestPlane below) instead of where
+  // its tilt left it, and cell i touches when gap_i − p_i ≤ pressed + contact_gap_m. A pad that
+  // lands tilted on two corners of a flat surface is seated flat by its compliance (the weld
+  // would freeze the tilt): every cell touches. What decides is the surface's shape: a step, a
+  // hollow, a bump's edge, the kink of a fillet's facets. Where the centre lies beyond every
+  // cell that sees a surface (the pad would tip off an edge), the cells are judged as they
+  // stand (Measure with `standoff_m`).
   int MeasureSeated(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
                     double contact_gap_m, double standoff_m, double pressed_m,
-                    const Eigen::Vector3d& point,
-                    const Eigen::Vector3d& normal, std::span<uint8_t> touching);
+                    std::span<uint8_t> touching);
 
   // The gaps of the last Measure (m; kNoSurface: no surface within the ray's reach).
   double gap_m(int cell) const { return gaps_[cell]; }
@@ -106,11 +115,10 @@ class TouchProbe {
   // The surface geoms whose bounding sphere the rays may reach; how many.
   int Candidates(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
                  const Eigen::Vector3d& face_pos, double reach_m);
-  // The cells' gaps from the face (origin, axes x, y, n) and the touching set.
-  int MeasureFrom(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
-                  const Eigen::Vector3d& origin, const Eigen::Matrix3d& axes,
-                  double contact_gap_m, double standoff_m, double pressed_m,
-                  std::span<uint8_t> touching);
+  // Fills gaps_ from the face's current pose, the rays starting back_m behind the face;
+  // returns the nearest gap.
+  double MeasureGaps(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to,
+                     double back_m, double reach_m);
   // Distance along the ray (pnt, unit vec) to the nearest candidate; −1 for none.
   double NearestHit(const mjModel* m, const mjData* d, int candidates, const mjtNum pnt[3],
                     const mjtNum vec[3]) const;
@@ -121,8 +129,20 @@ class TouchProbe {
   double half_diagonal_m_;  // of the face
   int own_root_;  // the pad's tree (body_rootid): the robot, never a surface
   std::vector<double> gaps_;
+  std::vector<double> cell_x_m_, cell_y_m_;  // the cells' points in the pad frame
   std::vector<int> candidates_;
 };
+
+// THE REST PLANE of a rigid pad pressed through its centre onto a surface whose gaps under the
+// cells (x_i, y_i) are g_i (kNoSurface where none): the plane p(x, y) = a + b·x + c·y below
+// every gap (p_i ≤ g_i) that is highest under the centre (0, 0) — the facet of the gaps' lower
+// convex hull beneath the centre, on which the pad rests. A linear program in (a, b, c), solved
+// through its dual (the centre as a convex combination Σλ_i(x_i, y_i) = 0, Σλ_i = 1, λ ≥ 0, of
+// least Σλ_i g_i) by the simplex method with Bland's rule: exact, a few pivots over the cells,
+// no allocation. Writes {a, b, c}; false when the centre lies beyond the cells that see a
+// surface (or the grid has fewer than 2×2 cells).
+bool RestPlane(std::span<const double> x_m, std::span<const double> y_m,
+               std::span<const double> gap_m, int grid_x, int grid_y, double plane[3]);
 
 }  // namespace climbsim::adhesion
 

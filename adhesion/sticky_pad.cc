@@ -97,6 +97,8 @@ const char* PadCauseName(PadCause cause) {
       return "contacts";
     case PadCause::kPreload:
       return "preload_n";
+    case PadCause::kContactShare:
+      return "contact_share";
     case PadCause::kFractionLost:
       return "fraction_lost";
     case PadCause::kStartAttached:
@@ -178,6 +180,11 @@ double StickyPad::bonded_fraction() const {
   return grid_.bonded_fraction();
 }
 
+double StickyPad::touched_fraction() const {
+  if (params_.model == AdhesionModel::kMujoco) return 1.0;
+  return static_cast<double>(grid_.touching_count()) / grid_.size();
+}
+
 void StickyPad::Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to) {
   bonds_lost_ = false;
   if (attached_ && params_.model == AdhesionModel::kBonds) return;  // no contacts while welded
@@ -239,13 +246,17 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
 
   const AttachParams& a = params_.attach;
-  const FailedCondition failed = FirstFailedCondition(a, touchdown_speed_mps_,
+  FailedCondition failed = FirstFailedCondition(a, touchdown_speed_mps_,
                                                       touchdown_angle_deg_, sense_, &counts_);
   if (failed.cause == PadCause::kNone) {
-    // Pressed on by its contacts: it sinks into the soft contact by their depth.
-    Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
-           kinematics_current, sink, {0.0, sense_.depth_m, true});
-    return;
+    const double share = LandingContactShare(m, d, kinematics_current);
+    if (share >= params_.contact.min_contact_share) {
+      // Pressed on by its contacts: it sinks into the soft contact by their depth.
+      Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
+             kinematics_current, sink, {0.0, sense_.depth_m, true, true});
+      return;
+    }
+    failed = {PadCause::kContactShare, share, &counts_.rejected_contact_share, false};
   }
   if (failed.final || time_s - touchdown_time_s_ >= a.attach_window_s) {
     episode_ = Episode::kClosed;
@@ -299,14 +310,29 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
   Emit(sink, time_s, PadEventKind::kAttach, cause, 0.0, false);
 }
 
+double StickyPad::LandingContactShare(const mjModel* m, mjData* d, bool* kinematics_current) {
+  if (!params_.contact.partial_contact || params_.model != AdhesionModel::kBonds) return 1.0;
+  if (!*kinematics_current) {
+    mj_kinematics(m, d);
+    *kinematics_current = true;
+  }
+  const int touched = probe_.MeasureSeated(m, d, surfaces_, params_.contact.contact_gap_m, 0.0,
+                                           sense_.depth_m, touching_);
+  return static_cast<double>(touched) / grid_.size();
+}
+
 void StickyPad::MeasureTouching(const mjModel* m, const mjData* d, const Seating& s) {
   if (!params_.contact.partial_contact) {
     grid_.TouchAll();
     return;
   }
+  if (s.measured) {
+    grid_.SetTouching(touching_);
+    return;
+  }
   if (s.seated) {
     probe_.MeasureSeated(m, d, surfaces_, params_.contact.contact_gap_m, s.standoff_m,
-                         s.pressed_m, sense_.contact_pos, sense_.surface_normal, touching_);
+                         s.pressed_m, touching_);
   } else {
     probe_.Measure(m, d, surfaces_, params_.contact.contact_gap_m, s.standoff_m, s.pressed_m,
                    touching_);

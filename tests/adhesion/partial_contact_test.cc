@@ -93,11 +93,10 @@ class ProbeWorld {
     *count = probe_->Measure(m_, d_, sticks_to_, gap_m, standoff_limit_m, pressed_m, touching);
     return touching;
   }
-  // The same, seated about `point` onto the surface normal +z.
-  std::vector<uint8_t> MeasureSeated(double gap_m, const Eigen::Vector3d& point, int* count) {
+  // The same, seated on the rest plane (pressed through the centre).
+  std::vector<uint8_t> MeasureSeated(double gap_m, int* count) {
     std::vector<uint8_t> touching(kGrid * kGrid, 2);
-    *count = probe_->MeasureSeated(m_, d_, sticks_to_, gap_m, 0.0, 0.0, point,
-                                   Eigen::Vector3d::UnitZ(), touching);
+    *count = probe_->MeasureSeated(m_, d_, sticks_to_, gap_m, 0.0, 0.0, touching);
     return touching;
   }
   const TouchProbe& probe() const { return *probe_; }
@@ -185,26 +184,66 @@ TEST(TouchProbe, StandOffWidensTheGapThatTouches) {
   EXPECT_EQ(count, 0);
 }
 
-// A pad that landed tilted by 10° on the corners of its −x edge, seated (turned about its
-// contact point onto the surface's normal): on a plane every cell touches, however far the
-// tilt lifts the +x edge (2 mm); over a step whose edge passes under the pad, exactly the
-// cells on the upper level, where the contact is.
+// A pad that landed tilted by 10° on the corners of its −x edge, seated (pressed through its
+// centre onto its rest plane): on a plane every cell touches, however far the tilt lifts the
+// +x edge (4 mm); with a step edge two cells right of the centre it rests flat on the upper
+// level: exactly the cells over it touch.
 TEST(TouchProbe, SeatedPadTouchesWhatTheSurfaceOffersNotWhatTheTiltLeaves) {
   const double alpha = 10.0 * M_PI / 180.0;
   const Eigen::Quaterniond q(Eigen::AngleAxisd(-alpha, Eigen::Vector3d::UnitY()));  // +x up
   const double lift = 0.5 * kPad * std::sin(alpha);  // the face centre's height
-  const Eigen::Vector3d contact(-0.5 * kPad * std::cos(alpha), 0, 0);
   int count = 0;
   ProbeWorld plane(LowerLevel(), Eigen::Vector3d(0, 0, lift - kDrop), q);
   plane.Measure(0.5e-3, 0.0, &count);
   EXPECT_LT(count, kGrid * kGrid / 4) << "unseated, the lifted side does not touch";
-  plane.MeasureSeated(0.5e-3, contact - Eigen::Vector3d(0, 0, kDrop), &count);
+  plane.MeasureSeated(0.5e-3, &count);
   EXPECT_EQ(count, kGrid * kGrid);
 
-  ProbeWorld step(Step(0.0), Eigen::Vector3d(0, 0, lift), q);
-  const std::vector<uint8_t> t = step.MeasureSeated(0.5e-3, contact, &count);
-  EXPECT_EQ(count, kGrid * kGrid / 2);
-  for (int i = 0; i < kGrid * kGrid; ++i) EXPECT_EQ(t[i], i % kGrid < kGrid / 2 ? 1 : 0) << i;
+  const double edge = 2.0 * kPad / kGrid;
+  ProbeWorld step(Step(edge), Eigen::Vector3d(0, 0, lift), q);
+  const std::vector<uint8_t> t = step.MeasureSeated(0.5e-3, &count);
+  EXPECT_EQ(count, kGrid * 10);  // the columns whose centre lies left of the edge
+  for (int i = 0; i < kGrid * kGrid; ++i) EXPECT_EQ(t[i], i % kGrid < 10 ? 1 : 0) << i;
+}
+
+// A flat pad whose centre lies over the lower level, two cells beyond a step edge, pressed
+// through its centre: it tips onto the edge and its far side, and rests bridging them. The rest
+// plane runs from column 5 (the last on the upper level) to column 15 on the lower one, kDrop
+// lower: slope kDrop / (10 pitches) = 0.32, so the neighbouring columns stand 0.5 mm off it and,
+// with a 0.3 mm gap, only those two columns touch.
+TEST(TouchProbe, SeatedPadOverTheLowerSideOfAStepBridgesEdgeAndFarSide) {
+  ProbeWorld step(Step(-2.0 * kPad / kGrid), Eigen::Vector3d::Zero());
+  int count = 0;
+  const std::vector<uint8_t> t = step.MeasureSeated(0.3e-3, &count);
+  EXPECT_EQ(count, 2 * kGrid);
+  for (int i = 0; i < kGrid * kGrid; ++i) {
+    EXPECT_EQ(t[i], i % kGrid == 5 || i % kGrid == 15 ? 1 : 0) << i;
+  }
+}
+
+// RestPlane against closed forms on a 16×16 grid of pitch h: gaps g = k·|x| (a valley whose
+// bottom falls between two columns) rest on those columns, a = k·h/2; gaps g = −k·x² (a
+// ridge-free trough seen from above: the surface curving towards the pad at both ends) rest on
+// the two end columns, a = −k·x_max²; a surface under only the +x half leaves the centre
+// outside: false.
+TEST(RestPlane, LowerHullFacetUnderTheCentre) {
+  const double h = kPad / kGrid, k = 0.1;
+  std::vector<double> x(kGrid * kGrid), y(x.size()), g(x.size());
+  for (int i = 0; i < kGrid * kGrid; ++i) x[i] = CellCentre(i % kGrid), y[i] = CellCentre(i / kGrid);
+  double p[3];
+  for (size_t i = 0; i < g.size(); ++i) g[i] = k * std::abs(x[i]);
+  ASSERT_TRUE(RestPlane(x, y, g, kGrid, kGrid, p));
+  EXPECT_NEAR(p[0], 0.5 * k * h, 1e-15);
+  EXPECT_NEAR(p[1], 0.0, 1e-12);
+  EXPECT_NEAR(p[2], 0.0, 1e-12);
+  for (size_t i = 0; i < g.size(); ++i) g[i] = -k * x[i] * x[i];
+  ASSERT_TRUE(RestPlane(x, y, g, kGrid, kGrid, p));
+  const double x_max = CellCentre(kGrid - 1);
+  EXPECT_NEAR(p[0], -k * x_max * x_max, 1e-15);
+  EXPECT_NEAR(p[1], 0.0, 1e-12);
+  EXPECT_NEAR(p[2], 0.0, 1e-12);
+  for (size_t i = 0; i < g.size(); ++i) g[i] = x[i] < 0 ? TouchProbe::kNoSurface : 0.0;
+  EXPECT_FALSE(RestPlane(x, y, g, kGrid, kGrid, p));
 }
 
 // The rim's cells of a pad centred over a square hollow: those whose centre lies outside it.
