@@ -6,6 +6,7 @@
 //   tabulated_law.h    the measured law: pull-off against angle, interpolated, per bond
 //   weld.h             weld switching and the weld's wrench (MuJoCo 2.2.2)
 //   pad_contact.h      pad geometry, face frame, contact sensing
+//   pad_touch.h        partial contact: which cells of a pad touch the surface at attach
 //   sticky_pad.h       one pad: attach conditions, weld, build-up, load → bonds → detach, events
 //   adhesion_system.h  every pad of a model, their MJCF, surfaces, start attachment
 //   pulloff_rig.h      the figure-6 experiment in MuJoCo, both models
@@ -20,6 +21,7 @@
 #include "adhesion/bond_grid.h"
 #include "adhesion/frictional_law.h"
 #include "adhesion/pad_contact.h"
+#include "adhesion/pad_touch.h"
 #include "adhesion/params.h"
 #include "adhesion/pulloff.h"
 #include "adhesion/pulloff_rig.h"

@@ -40,6 +40,7 @@ AdhesionSystem::AdhesionSystem(const mjModel* m, const AdhesionSystemParams& par
   pads_.reserve(params_.pads.size());
   for (const PadSpec& spec : params_.pads) sticky[AddPad(m, spec)] = 1;
   ResolveSurfaces(m, sticky);
+  for (StickyPad& p : pads_) p.SetSurfaces(sticks_to_);
 }
 
 // Resolves one pad (its body, box, and the weld or actuator AdhesionMjcf added) and builds
@@ -128,20 +129,21 @@ void AdhesionSystem::StartAttached(mjModel* m, mjData* d, PadEventSink* sink) {
     m->geom_gap[g] = 0.0;
   }
   mj_fwdPosition(m, d);
-  ContactSense sense;
-  std::vector<int> surface(pads_.size(), -1);
+  std::vector<ContactSense> sense(pads_.size());
   for (size_t i = 0; i < pads_.size(); ++i) {
-    SensePadContacts(m, d, pads_[i].geometry(), sticks_to_, &sense);
-    if (sense.contacts > 0) surface[i] = sense.surface_geom;
+    SensePadContacts(m, d, pads_[i].geometry(), sticks_to_, &sense[i]);
     const int g = pads_[i].geometry().geom;
     m->geom_margin[g] = saved[i][0];
     m->geom_gap[g] = saved[i][1];
   }
   bool kinematics_current = true;  // mj_fwdPosition ran on the current qpos
   for (size_t i = 0; i < pads_.size(); ++i) {
-    if (surface[i] < 0) continue;
-    pads_[i].ForceAttach(m, d, d->time, surface[i], 1.0, PadCause::kStartAttached,
-                         &kinematics_current, sink);
+    if (sense[i].contacts == 0) continue;
+    // Seated on the contact that found it, like a landing pad: the robot was set on the
+    // surface, its pads pressed flat (a start pose a few degrees off leaves the far cells
+    // beyond the gap otherwise).
+    pads_[i].ForceAttach(m, d, d->time, sense[i].surface_geom, 1.0, PadCause::kStartAttached,
+                         &kinematics_current, sink, params_.start_gap_m, &sense[i]);
   }
   // Leave mjData consistent with the true margins and the welds (contacts, efc forces).
   mj_forward(m, d);

@@ -103,8 +103,8 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
     full_sums_.kyy += ky * ky;
     full_sums_.kxy += kx * ky;
   }
-
   state_.assign(n, static_cast<uint8_t>(BondState::kUnbonded));
+  TouchAll();
   col_count_.assign(nx, 0);
   row_count_.assign(ny, 0);
   col_sigma_.assign(nx, 0.0);
@@ -114,7 +114,28 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
   broken_log_.resize(n);
 }
 
+void BondGrid::SetTouching(std::span<const uint8_t> touching) {
+  if (static_cast<int>(touching.size()) != size()) {
+    throw std::invalid_argument("BondGrid::SetTouching: " + std::to_string(touching.size()) +
+                                " cells for a grid of " + std::to_string(size()));
+  }
+  touching_count_ = 0;
+  for (int i = 0; i < size(); ++i) {
+    touching_[i] = touching[i] != 0 ? 1 : 0;
+    touching_count_ += touching_[i];
+  }
+}
+
+void BondGrid::TouchAll() {
+  touching_.assign(state_.size(), 1);  // sized once: no allocation after the constructor
+  touching_count_ = size();
+}
+
 void BondGrid::BondAll() {
+  if (touching_count_ < size()) {
+    BondFraction(1.0);
+    return;
+  }
   std::fill(state_.begin(), state_.end(), static_cast<uint8_t>(BondState::kBonded));
   std::fill(col_count_.begin(), col_count_.end(), params_.grid_y);
   std::fill(row_count_.begin(), row_count_.end(), params_.grid_x);
@@ -136,16 +157,20 @@ void BondGrid::Release() {
 
 void BondGrid::BondFraction(double fraction) {
   Release();
-  const int target = CountFor(fraction, size());
-  for (int k = 0; k < target; ++k) SetState(centre_out_[k], BondState::kBonded);
+  const int target = CountFor(fraction, touching_count_);
+  for (int k = 0, bonded = 0; bonded < target; ++k) {
+    if (!touching_[centre_out_[k]]) continue;
+    SetState(centre_out_[k], BondState::kBonded);
+    ++bonded;
+  }
 }
 
 int BondGrid::Grow(double fraction) {
-  const int target = CountFor(fraction, size());
+  const int target = CountFor(fraction, touching_count_);
   int added = 0;
   for (int k = 0; k < size() && bonded_count_ < target; ++k) {
     const int i = centre_out_[k];
-    if (state(i) == BondState::kUnbonded) {
+    if (state(i) == BondState::kUnbonded && touching_[i]) {
       SetState(i, BondState::kBonded);
       ++added;
     }

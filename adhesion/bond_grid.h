@@ -208,14 +208,26 @@ class BondGrid {
   explicit BondGrid(const PadParams& params);
 
   // --- Attachment state (no allocation) ---
-  // Every bond bonded (a fresh, full attachment).
+  // PARTIAL CONTACT (pad_touch.h): only the cells that touch the surface can bond. T is the
+  // touching set, all N cells after construction and until SetTouching changes it (Release
+  // keeps it). With T the whole pad, everything below is as without it, bit for bit.
+  // `touching` has one entry per bond (index iy·N_x + ix), nonzero where the cell touches.
+  // Call it before the attachment's BondAll or BondFraction; bonds already bonded stay.
+  void SetTouching(std::span<const uint8_t> touching);
+  void TouchAll();
+  bool touching(int index) const { return touching_[index] != 0; }
+  int touching_count() const { return touching_count_; }
+
+  // Every touching bond bonded (a fresh, full attachment).
   void BondAll();
-  // A fresh attachment with round(fraction·N) bonds bonded, chosen centre-out: bonds in
-  // order of (2x/b)² + (2y/h)² (the patch keeps the pad's aspect), ties by index. All other
-  // bonds become unbonded (not broken). fraction is clamped to [0, 1]; NaN counts as 0.
+  // A fresh attachment with round(fraction·|T|) bonds bonded, chosen centre-out among the
+  // touching cells: bonds in order of (2x/b)² + (2y/h)² (the patch keeps the pad's aspect),
+  // ties by index. All other bonds become unbonded (not broken). fraction is clamped to
+  // [0, 1]; NaN counts as 0.
   void BondFraction(double fraction);
-  // Grows the bonded set, centre-out, until round(fraction·N) bonds are bonded, skipping
-  // bonds broken since the last attachment. Never unbonds. Returns how many it added.
+  // Grows the bonded set, centre-out, until round(fraction·|T|) bonds are bonded, skipping
+  // bonds broken since the last attachment and cells that do not touch. Never unbonds.
+  // Returns how many it added.
   int Grow(double fraction);
   // Sets one bond bonded or unbonded (tests, custom patterns). Throws std::out_of_range.
   void SetBonded(int index, bool bonded);
@@ -343,6 +355,8 @@ class BondGrid {
 
   // State.
   std::vector<uint8_t> state_;  // BondState per bond
+  std::vector<uint8_t> touching_;  // 1: the cell touches the surface and may bond
+  int touching_count_ = 0;
   std::vector<int> col_count_;  // bonded bonds per column
   std::vector<int> row_count_;  // bonded bonds per row
   int bonded_count_ = 0;

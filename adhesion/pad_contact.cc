@@ -94,6 +94,7 @@ void SensePadContacts(const mjModel* m, const mjData* d, const PadGeometry& pad,
     }
     if (c.exclude != 0) continue;
     ++out->contacts;
+    out->depth_m = std::max(out->depth_m, -c.dist);
     mjtNum f[6];
     mj_contactForce(m, d, i, f);
     out->preload_n += f[0];

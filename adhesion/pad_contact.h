@@ -15,6 +15,8 @@
 //
 //   contacts           contacts with exclude == 0
 //   preload_n          Σ f[0] over them (N, ≥ 0: compression)
+//   depth_m            the deepest of them, −dist (m, ≥ 0): how far the soft contact lets the
+//                      pad sink in
 //   surface_normal     unit normal from the surface into the pad (the contact normal,
 //                      oriented), of the contact with the largest normal force (or the first)
 //   contact_pos        that contact's point (world)
@@ -63,6 +65,7 @@ struct ContactSense {
   int contacts = 0;         // with a surface geom, exclude == 0
   int contacts_in_gap = 0;  // with a surface geom, exclude == 1 (no force; adhesion actuator)
   double preload_n = 0.0;
+  double depth_m = 0.0;   // deepest penetration of those contacts (−dist, ≥ 0)
   int surface_geom = -1;  // geom of the strongest contact (or the first in the gap)
   Eigen::Vector3d surface_normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d contact_pos = Eigen::Vector3d::Zero();  // that contact's point, world

@@ -50,7 +50,7 @@ struct PadOverride {
 // The bond grid's keys (PadParams: one declaration and one default each; width_m
 // and length_m are not keys, they come from each pad's box geom) and the attach conditions
 // (AttachParams), plus what only the scenario has.
-struct AdhesionKeys : PadParams, AttachParams {
+struct AdhesionKeys : PadParams, AttachParams, PartialContactParams {
   std::string model = "bonds";
   std::vector<std::string> pads;
   std::vector<std::string> surfaces;
@@ -93,6 +93,7 @@ struct AdhesionKeys : PadParams, AttachParams {
              &start_gap_m);
     PadParams::Serialize(a);     // sigma_t_pa, mu, grid_x, grid_y, min_bonds
     AttachParams::Serialize(a);  // min_contacts .. attach_window_s
+    PartialContactParams::Serialize(a);  // partial_contact, contact_gap_m
     a->Visit({"weld_solref", "s, -",
               "solref (time constant, damping ratio) of the welds that hold attached pads; MuJoCo "
               "raises the time constant to 2 time steps",

@@ -21,6 +21,14 @@ void Require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
 }
 
+// The plane z = 0, or the given geoms in one static body.
+std::string SurfaceXml(const std::string& geoms) {
+  if (geoms.empty()) {
+    return std::string("    <geom name=\"") + kSurfaceName + "\" type=\"plane\" size=\"1 1 0.1\"/>\n";
+  }
+  return std::string("    <body name=\"") + kSurfaceName + "\">\n" + geoms + "\n    </body>\n";
+}
+
 std::string BlockXml(AdhesionModel model, const PulloffRigParams& p, double gain_n) {
   std::ostringstream x;
   x.precision(17);
@@ -30,7 +38,7 @@ std::string BlockXml(AdhesionModel model, const PulloffRigParams& p, double gain
     << " impratio=\"10\" noslip_iterations=\""
     << (model == AdhesionModel::kMujoco ? p.noslip_iterations : 0) << "\"/>\n"
     << "  <worldbody>\n"
-    << "    <geom name=\"" << kSurfaceName << "\" type=\"plane\" size=\"1 1 0.1\"/>\n"
+    << SurfaceXml(p.surface_mjcf)
     << "    <body name=\"" << kBlockName << "\" pos=\"0 0 " << half_t << "\">\n"
     << "      <freejoint/>\n"
     << "      <geom name=\"" << kBlockName << "\" type=\"box\" size=\"" << 0.5 * p.pad.width_m
@@ -114,6 +122,10 @@ void ValidatePulloffRigParams(const PulloffRigParams& p) {
   ValidatePadParams(p.pad);
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   Require(std::isfinite(p.arm_m) && p.arm_m >= 0, "arm_m must be >= 0");
+  Require(std::isfinite(p.pull_point_m[0]) && std::isfinite(p.pull_point_m[1]),
+          "pull_point_m must be finite");
+  Require(p.contact.contact_gap_m >= 0 && p.contact.contact_gap_m <= 0.01,
+          "contact_gap_m must be in [0, 0.01]");
   Require(std::isfinite(p.azimuth_rad), "azimuth must be finite");
   Require(positive(p.ramp_time_s), "ramp_time_s must be > 0");
   Require(positive(p.timestep_s) && p.timestep_s <= 0.01, "timestep_s must be in (0, 0.01]");
@@ -143,6 +155,11 @@ PulloffRig::PulloffRig(AdhesionModel model, const PulloffRigParams& params)
   data_ = mj_makeData(model_);
   block_ = mj_name2id(model_, mjOBJ_BODY, kBlockName);
   surface_geom_ = mj_name2id(model_, mjOBJ_GEOM, kSurfaceName);
+  if (surface_geom_ < 0) {
+    const int body = mj_name2id(model_, mjOBJ_BODY, kSurfaceName);
+    Require(body >= 0 && model_->body_geomnum[body] > 0, "pull-off model: surface_mjcf has no geom");
+    surface_geom_ = model_->body_geomadr[body];
+  }
 
   AdhesionSystemParams sys;
   PadSpec spec;
@@ -151,6 +168,7 @@ PulloffRig::PulloffRig(AdhesionModel model, const PulloffRigParams& params)
   spec.params.bonds = params_.pad;
   spec.params.actuator_gain_n = gain_n();
   spec.params.actuator_ctrl = 1.0;
+  spec.params.contact = params_.contact;
   sys.pads.push_back(spec);
   sys.surfaces = {kSurfaceName};
   sys.reach_m = params_.reach_m;
@@ -184,7 +202,9 @@ void PulloffRig::Step(const Eigen::Vector3d& u, double force_n, PadEventSink* si
   mjData* d = data_;
   // The pull at L above the face centroid, as a force and its moment about the centre of mass.
   const PadFrame face = FaceFrame(d, system_->pad(0).geometry());
-  const Eigen::Vector3d point = face.pos + params_.arm_m * face.rot.col(2);
+  const Eigen::Vector3d point = face.pos + params_.arm_m * face.rot.col(2) +
+                                params_.pull_point_m[0] * face.rot.col(0) +
+                                params_.pull_point_m[1] * face.rot.col(1);
   const Eigen::Vector3d com(d->xipos[3 * block_], d->xipos[3 * block_ + 1],
                             d->xipos[3 * block_ + 2]);
   const Eigen::Vector3d f = force_n * u;

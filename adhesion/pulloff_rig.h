@@ -62,6 +62,13 @@ struct PulloffRigParams {
   double reach_m = 0.001;                            // pad margin = gap
   std::array<double, 2> contact_solref{0.004, 1.0};  // stiff: the block is light
   int noslip_iterations = 10;
+  // The surface: "" is the plane z = 0; otherwise MJCF geoms (world frame) that replace it, all
+  // of them surfaces, with the block's face resting at z = 0 (a step edge or a hollow under the
+  // pad: partial contact, pad_touch.h).
+  std::string surface_mjcf;
+  // Where the pull acts: (x, y) in the pad frame, arm_m above the face ((0, 0): its centroid).
+  std::array<double, 2> pull_point_m{0.0, 0.0};
+  PartialContactParams contact;  // kBonds: which cells bond at the attach
 };
 
 // Throws std::invalid_argument naming the bad key.

@@ -97,6 +97,8 @@ const char* PadCauseName(PadCause cause) {
       return "contacts";
     case PadCause::kPreload:
       return "preload_n";
+    case PadCause::kContactShare:
+      return "contact_share";
     case PadCause::kFractionLost:
       return "fraction_lost";
     case PadCause::kStartAttached:
@@ -127,9 +129,13 @@ StickyPad::StickyPad(const mjModel* m, int index, const PadGeometry& geometry,
       contype_(m->geom_contype[geometry.geom]),
       conaffinity_(m->geom_conaffinity[geometry.geom]),
       grid_(GridParams(params, geometry)),
+      probe_(m, geometry, grid_.grid_x(), grid_.grid_y()),
+      touching_(grid_.size(), 1),
+      surfaces_(m->ngeom, 1),
       frictional_law_(params.law == PadLaw::kFrictional ? params.frictional : FrictionalParams{}) {
   ValidateStickyPadParams(params_);
   if (params_.law == PadLaw::kTabulated) tabulated_law_.emplace(params_.tabulated);
+  surfaces_[geometry.geom] = 0;
   params_.bonds = grid_.params();
   if (params_.model == AdhesionModel::kBonds && (weld_eq < 0 || weld_eq >= m->neq)) {
     throw std::invalid_argument("adhesion: pad has no weld equality");
@@ -172,6 +178,11 @@ void StickyPad::Reset(mjModel* m, mjData* d) {
 double StickyPad::bonded_fraction() const {
   if (params_.model == AdhesionModel::kMujoco) return attached_ ? 1.0 : 0.0;
   return grid_.bonded_fraction();
+}
+
+double StickyPad::touched_fraction() const {
+  if (params_.model == AdhesionModel::kMujoco) return 1.0;
+  return static_cast<double>(grid_.touching_count()) / grid_.size();
 }
 
 void StickyPad::Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to) {
@@ -235,12 +246,17 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
 
   const AttachParams& a = params_.attach;
-  const FailedCondition failed = FirstFailedCondition(a, touchdown_speed_mps_,
+  FailedCondition failed = FirstFailedCondition(a, touchdown_speed_mps_,
                                                       touchdown_angle_deg_, sense_, &counts_);
   if (failed.cause == PadCause::kNone) {
-    Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
-           kinematics_current, sink);
-    return;
+    const double share = LandingContactShare(m, d, kinematics_current);
+    if (share >= params_.contact.min_contact_share) {
+      // Pressed on by its contacts: it sinks into the soft contact by their depth.
+      Attach(m, d, time_s, sense_.surface_geom, a.initial_fraction, PadCause::kNone,
+             kinematics_current, sink, {0.0, sense_.depth_m, true, true});
+      return;
+    }
+    failed = {PadCause::kContactShare, share, &counts_.rejected_contact_share, false};
   }
   if (failed.final || time_s - touchdown_time_s_ >= a.attach_window_s) {
     episode_ = Episode::kClosed;
@@ -251,17 +267,21 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
 }
 
 bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                            PadCause cause, bool* kinematics_current, PadEventSink* sink) {
+                            PadCause cause, bool* kinematics_current, PadEventSink* sink,
+                            double standoff_m, const ContactSense* seat) {
   if (attached_) return false;
+  if (seat != nullptr) sense_ = *seat;
   sense_.surface_geom = surface_geom;
   ++counts_.touchdown;
   Emit(sink, time_s, PadEventKind::kTouchdown, PadCause::kNone, 0.0, false);
-  Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink);
+  Attach(m, d, time_s, surface_geom, fraction, cause, kinematics_current, sink,
+         {standoff_m, seat != nullptr ? seat->depth_m : 0.0, seat != nullptr});
   return true;
 }
 
 void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                       PadCause cause, bool* kinematics_current, PadEventSink* sink) {
+                       PadCause cause, bool* kinematics_current, PadEventSink* sink,
+                       Seating seating) {
   attached_ = true;
   surface_geom_ = surface_geom;
   lost_since_attach_ = 0;
@@ -278,6 +298,7 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
     contact_off_steps_ = 0;  // welded: no contacts to give back
     m->geom_contype[geometry_.geom] = 0;
     m->geom_conaffinity[geometry_.geom] = 0;
+    MeasureTouching(m, d, seating);
     buildup_ = fraction;
     grid_.BondFraction(fraction);
     load_ = PadLoad{};
@@ -287,6 +308,36 @@ void StickyPad::Attach(mjModel* m, mjData* d, double time_s, int surface_geom, d
   }
   ++counts_.attach;
   Emit(sink, time_s, PadEventKind::kAttach, cause, 0.0, false);
+}
+
+double StickyPad::LandingContactShare(const mjModel* m, mjData* d, bool* kinematics_current) {
+  if (!params_.contact.partial_contact || params_.model != AdhesionModel::kBonds) return 1.0;
+  if (!*kinematics_current) {
+    mj_kinematics(m, d);
+    *kinematics_current = true;
+  }
+  const int touched = probe_.MeasureSeated(m, d, surfaces_, params_.contact.contact_gap_m, 0.0,
+                                           sense_.depth_m, touching_);
+  return static_cast<double>(touched) / grid_.size();
+}
+
+void StickyPad::MeasureTouching(const mjModel* m, const mjData* d, const Seating& s) {
+  if (!params_.contact.partial_contact) {
+    grid_.TouchAll();
+    return;
+  }
+  if (s.measured) {
+    grid_.SetTouching(touching_);
+    return;
+  }
+  if (s.seated) {
+    probe_.MeasureSeated(m, d, surfaces_, params_.contact.contact_gap_m, s.standoff_m,
+                         s.pressed_m, touching_);
+  } else {
+    probe_.Measure(m, d, surfaces_, params_.contact.contact_gap_m, s.standoff_m, s.pressed_m,
+                   touching_);
+  }
+  grid_.SetTouching(touching_);
 }
 
 void StickyPad::AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {

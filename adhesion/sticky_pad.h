@@ -24,9 +24,11 @@
 //   2. approach_angle_deg  at touchdown ≤ max_approach_angle_deg   (else rejected at once)
 //   3. contacts            now ≥ min_contacts                       (may still come)
 //   4. preload_n           now ≥ min_preload_n                      (may still come)
+//   5. contact_share       now ≥ min_contact_share (partial contact: the share of the face
+//                          that touches, pad_touch.h; a foot set on an edge)  (may still come)
 //
-// The pad attaches at the first step of the episode where all four hold. If 1 or 2 fails, or
-// 3 or 4 still fails attach_window_s after touchdown, the episode is rejected: an
+// The pad attaches at the first step of the episode where all five hold. If 1 or 2 fails, or
+// 3, 4 or 5 still fails attach_window_s after touchdown, the episode is rejected: an
 // attach_rejected event names the FIRST failing condition in this order with its measured
 // value (cause "approach_speed_mps=0.42"), and the pad cannot attach again before it has lost
 // every contact with the surfaces (a new touchdown). Rejected touches are ordinary contacts,
@@ -79,6 +81,7 @@
 #include "adhesion/frictional_law.h"
 #include "adhesion/tabulated_law.h"
 #include "adhesion/pad_contact.h"
+#include "adhesion/pad_touch.h"
 
 namespace climbsim::adhesion {
 
@@ -147,6 +150,8 @@ struct StickyPadParams {
   // directional gecko: a released front pad's kick pulled its hind neighbour off). A peeling
   // pad leaves the surface in that time.
   double release_contact_delay_s = 0.0;
+  // kBonds: bond only the cells that touch the surface at attach (pad_touch.h).
+  PartialContactParams contact;
 };
 
 // Throws std::invalid_argument naming the key and the value (ValidatePadParams for the grid).
@@ -163,6 +168,7 @@ enum class PadCause : uint8_t {
   kApproachAngle,  // "approach_angle_deg"  attach_rejected: condition 2
   kContacts,       // "contacts"            attach_rejected: condition 3
   kPreload,        // "preload_n"           attach_rejected: condition 4
+  kContactShare,   // "contact_share"       attach_rejected: condition 5
   kFractionLost,   // "fraction_lost"       bonds_lost
   kStartAttached,  // "start_attached"      attach at t = 0
   kForced,         // "forced"              attach by ForceAttach otherwise
@@ -203,6 +209,7 @@ struct PadCounts {
   long rejected_approach_angle = 0;
   long rejected_contacts = 0;
   long rejected_preload = 0;
+  long rejected_contact_share = 0;
   long bonds_lost = 0;  // steps that lost bonds
   long detach_peel = 0;
   long detach_overload = 0;
@@ -223,6 +230,11 @@ class StickyPad {
   // mj_resetData (which does not reset model-level switches).
   void Reset(mjModel* m, mjData* d);
 
+  // The geoms the pad sticks to (one entry per geom, as Sense's sticks_to): the targets of
+  // partial contact's rays. By default every geom but the pad's own; AdhesionSystem sets its
+  // surfaces. Allocates: call it at setup.
+  void SetSurfaces(const std::vector<uint8_t>& sticks_to) { surfaces_ = sticks_to; }
+
   // --- The step (see the file comment) ---
   void Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to);
   // `kinematics_current`: whether xpos/xquat already describe the current qpos (an attach
@@ -231,9 +243,15 @@ class StickyPad {
   void AfterStep(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
 
   // Attaches to `surface_geom` now, skipping the conditions, with `fraction` of the bonds
-  // (start_attached, the pull-off rig). False if already attached.
+  // (start_attached, the pull-off rig). With partial contact the cells that touch are those
+  // within `standoff_m` + contact_gap_m of the surface (pad_touch.h; start_attached:
+  // start_gap_m). `seat`: the contact that placed it there (start_attached's widened-margin
+  // contact): the pad is then seated on its rest plane like a landing one
+  // (TouchProbe::MeasureSeated); null: measured as it stands.
+  // False if already attached.
   bool ForceAttach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-                   PadCause cause, bool* kinematics_current, PadEventSink* sink);
+                   PadCause cause, bool* kinematics_current, PadEventSink* sink,
+                   double standoff_m = 0.0, const ContactSense* seat = nullptr);
   // The controller is peeling this pad (a detach while it is counts as "peel").
   void SetPeeling(bool peeling) { peeling_ = peeling; }
   // The pad's adhesive is disengaged (an active-release foot keeps its toe peeled through the
@@ -263,6 +281,10 @@ class StickyPad {
   bool touching() const { return attached_ || sense_.contacts > 0; }
   // kBonds: the grid's bonded fraction; kMujoco: 1 while on, else 0.
   double bonded_fraction() const;
+  // The share of the face that touched the surface at the last attach (partial contact,
+  // pad_touch.h): the most bonded_fraction can reach in this attachment. 1 for kMujoco and
+  // for a pad that touched everywhere (exactly 1.0: the whole grid).
+  double touched_fraction() const;
   const PadLoad& load() const { return load_; }  // pad frame, + F_n pulls off
   const ContactSense& sense() const { return sense_; }
   bool bonds_lost_this_step() const { return bonds_lost_; }
@@ -299,8 +321,21 @@ class StickyPad {
   double strength_scale_ = 1.0;
   enum class Episode : uint8_t { kNone, kPending, kClosed };
 
+  // How an attaching pad meets the surface (pad_touch.h): its stand-off, how far its contacts
+  // press it in, and whether it is seated on its rest plane (TouchProbe::MeasureSeated).
+  struct Seating {
+    double standoff_m = 0.0;
+    double pressed_m = 0.0;
+    bool seated = false;
+    bool measured = false;  // touching_ already holds this attach's touched set
+  };
   void Attach(mjModel* m, mjData* d, double time_s, int surface_geom, double fraction,
-              PadCause cause, bool* kinematics_current, PadEventSink* sink);
+              PadCause cause, bool* kinematics_current, PadEventSink* sink, Seating seating);
+  // kBonds with partial contact: the grid's touching set from the current poses.
+  void MeasureTouching(const mjModel* m, const mjData* d, const Seating& seating);
+  // Condition 5 for a landing pad: measures touching_ (seated) and returns the share of the
+  // face that touches; 1 without partial contact or for kMujoco.
+  double LandingContactShare(const mjModel* m, mjData* d, bool* kinematics_current);
   void Detach(mjModel* m, mjData* d, double time_s, PadCause cause, PadEventSink* sink);
   void Emit(PadEventSink* sink, double time_s, PadEventKind kind, PadCause cause, double value,
             bool has_value) const;
@@ -317,6 +352,9 @@ class StickyPad {
   int contact_off_steps_ = 0;      // steps left before a released pad collides again
 
   BondGrid grid_;
+  TouchProbe probe_;
+  std::vector<uint8_t> touching_;  // per cell, the last measure
+  std::vector<uint8_t> surfaces_;  // per geom: the rays' targets (SetSurfaces)
   ContactSense sense_;
   PadLoad load_;
   bool load_known_ = false;  // the weld has carried at least one step since the attach

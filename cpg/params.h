@@ -189,7 +189,8 @@ struct CpgKeys {
               "swing (the other diagonal in a trot) have their pads attached and bonded"},
              &wait_for_support);
     a->Visit({"support_bond_fraction", "",
-              "wait_for_support: the bonded fraction a support pad must have built",
+              "wait_for_support: the bonded fraction a support pad must have built, of the share "
+              "of its face that touches the surface (all of it on a flat surface)",
               Range::Closed(0, 1)},
              &support_bond_fraction);
     a->Visit({"spine", "", "drive the robot's spine (robot.body.spine) with the gait; absent: off"},

@@ -22,6 +22,7 @@ adhesion::StickyPadParams PadParamsFrom(const AdhesionParams& p) {
   s.frictional = p.frictional;
   s.tabulated = p.tabulated;
   s.release_contact_delay_s = p.release_contact_delay_s;
+  s.contact = p;
   return s;
 }
 
@@ -271,6 +272,7 @@ void AdhesionEffect::FillSignals() {
     s.touching = p.touching();
     s.attached = p.attached();
     s.bonded_fraction = p.bonded_fraction();
+    s.touched_fraction = p.touched_fraction();
     s.normal_load_n = p.load().fn_n;
     // A welded pad does not collide: its compression is in the weld.
     const bool welded = p.attached() && p.params().model == adhesion::AdhesionModel::kBonds;
@@ -338,7 +340,8 @@ void AdhesionEffect::Summarise(const World&, nlohmann::json* summary) const {
         {PadCauseName(PadCause::kApproachSpeed), c.rejected_approach_speed},
         {PadCauseName(PadCause::kApproachAngle), c.rejected_approach_angle},
         {PadCauseName(PadCause::kContacts), c.rejected_contacts},
-        {PadCauseName(PadCause::kPreload), c.rejected_preload}};
+        {PadCauseName(PadCause::kPreload), c.rejected_preload},
+        {PadCauseName(PadCause::kContactShare), c.rejected_contact_share}};
     j["bonds_lost_steps"] = c.bonds_lost;
     j["detach_peel"] = c.detach_peel;
     j["detach_overload"] = c.detach_overload;

@@ -266,7 +266,9 @@ void CpgEffect::Feedback(RunContext& ctx) {
     if (params_.wait_for_support && leaving) {
       for (int j : support_[i]) {
         if (hold) break;
-        hold = !legs[j].attached || legs[j].bonded_fraction < params_.support_bond_fraction;
+        // Built: the share of what the pad touches (a pad over an edge cannot bond the rest).
+        hold = !legs[j].attached || legs[j].bonded_fraction <
+                                        params_.support_bond_fraction * legs[j].touched_fraction;
         if (hold) {
           why = {HoldCause::kWaitForSupport, j, static_cast<int>(i), legs[j].attached,
                  legs[j].bonded_fraction};

@@ -129,7 +129,8 @@ void TransitionEffect::SensePads(const RunContext& ctx) {
   const std::vector<LegSignals>& legs = *ctx.legs;
   std::vector<PadSignals>& pads = manoeuvre_.pads();
   for (size_t i = 0; i < pads.size(); ++i) {
-    pads[i] = {legs[i].touching, legs[i].attached, legs[i].bonded_fraction, legs[i].preload_n};
+    pads[i] = {legs[i].touching, legs[i].attached, legs[i].bonded_fraction,
+               legs[i].touched_fraction, legs[i].preload_n};
   }
 }
 

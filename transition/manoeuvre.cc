@@ -229,7 +229,9 @@ bool CornerManoeuvre::SupportsHold(int except) const {
   for (size_t i = 0; i < feet_.size(); ++i) {
     if (static_cast<int>(i) == except || feet_[i].idle) continue;
     if (!feet_[i].stance || !pads_[i].attached) return false;
-    if (pads_[i].bonded_fraction < params_.support_bond_fraction) return false;
+    if (pads_[i].bonded_fraction < params_.support_bond_fraction * pads_[i].touched_fraction) {
+      return false;
+    }
   }
   return true;
 }

@@ -56,6 +56,7 @@ struct PadSignals {
   bool touching = false;
   bool attached = false;
   double bonded_fraction = 0.0;
+  double touched_fraction = 1.0;  // the most bonded_fraction can reach (partial contact)
   double preload_n = 0.0;  // compressive contact force on the pad
 };
 

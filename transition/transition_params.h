@@ -133,7 +133,7 @@ struct TransitionParams {
              &crouch_m);
     a->Visit({"support_bond_fraction", "",
               "a foot moves only while every other pad is attached with at least this bonded "
-              "fraction",
+              "fraction of the share of its face that touches the surface",
               Range::Closed(0, 1)},
              &support_bond_fraction);
     a->Visit({"max_place_attempts", "",

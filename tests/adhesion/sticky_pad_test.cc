@@ -150,6 +150,7 @@ TEST(PadAttach, RejectedPadAttachesOnlyAfterLeavingTheSurface) {
 TEST(Weld, SwitchingOnAtAnArbitraryPoseDoesNotMoveThePad) {
   BlockSpec s;
   s.pos = {0, 0, 0.3};  // falling, far from the floor
+  s.pad.contact.partial_contact = false;  // in the air no cell touches: bond the whole face
   BlockRig rig(s);
   rig.Run(0.03);
   // The arbitrary pose, set directly: xpos still describes the old one.
