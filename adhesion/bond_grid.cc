@@ -111,6 +111,7 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
   row_sigma_.assign(ny, 0.0);
   col_tau3_.assign(nx, 0.0);
   row_tau3_.assign(ny, 0.0);
+  row_bound_u2_.assign(ny, 0.0);
   broken_log_.resize(n);
 }
 
@@ -141,6 +142,7 @@ void BondGrid::BondAll() {
   std::fill(row_count_.begin(), row_count_.end(), params_.grid_x);
   bonded_count_ = size();
   sums_ = full_sums_;
+  set_cached_ = false;
 }
 
 void BondGrid::Release() {
@@ -149,6 +151,7 @@ void BondGrid::Release() {
   std::fill(row_count_.begin(), row_count_.end(), 0);
   bonded_count_ = 0;
   sums_ = MomentSums{};
+  set_cached_ = false;
   // A released grid carries no stress: a grid bonded again reads the field of no load until
   // the next one is applied, as a new grid does (a reset run's first utilisation was the
   // last run's).
@@ -191,6 +194,7 @@ void BondGrid::SetState(int index, BondState new_state) {
   const bool now = new_state == BondState::kBonded;
   state_[index] = static_cast<uint8_t>(new_state);
   if (was == now) return;
+  set_cached_ = false;
   const int ix = ix_of(index);
   const int iy = iy_of(index);
   const int step = now ? 1 : -1;
@@ -263,7 +267,15 @@ void BondGrid::ComputeField(const PadLoad& load) {
   const int ny = params_.grid_y;
   const double da = cell_area_m2_;
 
-  const Bending bend = BendingOfBondedSet();
+  if (!set_cached_) {
+    set_bend_ = BendingOfBondedSet();
+    set_sum_v_ = 0.0;
+    for (int ix = 0; ix < nx; ++ix) set_sum_v_ += col_count_[ix] * col_v_[ix];
+    set_sum_w_ = 0.0;
+    for (int iy = 0; iy < ny; ++iy) set_sum_w_ += row_count_[iy] * row_w_[iy];
+    set_cached_ = true;
+  }
+  const Bending& bend = set_bend_;
   const double x_c = bend.x_c, y_c = bend.y_c;
 
   unsupported_ = false;
@@ -320,13 +332,8 @@ void BondGrid::BendingGradient(const Bending& bend, const PadLoad& load, double*
 // Parabolic shears normalised over the bonded set (tau_x_per_w_, tau_y_per_v_); a shear that
 // no row or column can carry sets unsupported_.
 void BondGrid::NormaliseShears(const PadLoad& load) {
-  const int nx = params_.grid_x;
-  const int ny = params_.grid_y;
   const double da = cell_area_m2_;
-  double sum_v = 0.0;
-  for (int ix = 0; ix < nx; ++ix) sum_v += col_count_[ix] * col_v_[ix];
-  double sum_w = 0.0;
-  for (int iy = 0; iy < ny; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+  const double sum_v = set_sum_v_, sum_w = set_sum_w_;  // ComputeField's, of this set
   tau_x_per_w_ = 0.0;
   if (sum_w > 0.0) {
     tau_x_per_w_ = load.fx_n / (sum_w * da);
@@ -442,16 +449,19 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
     return (sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy])) / sigma_t_sq_;
   };
   double peak_u2 = 0.0;
-  // Rows in order of (bound descending, index ascending), without a buffer: each pick is the
-  // largest key below the last one. O(N_y) per pick; a comfortable pad stops after a row or two.
+  // Rows in order of (bound descending, index ascending): each pick is the largest key below
+  // the last one. The bounds once (a row without bonds: −1, never picked), then O(N_y) per
+  // pick; a comfortable pad stops after a row or two.
+  double* row_bound = row_bound_u2_.data();
+  for (int iy = 0; iy < ny; ++iy) row_bound[iy] = row_count_[iy] == 0 ? -1.0 : row_bound_u2(iy);
   double last_bound = std::numeric_limits<double>::infinity();
   int last_row = -1;
+  double skip_d = -1.0;  // d ≥ 0: the first bond is never skipped
   for (int pick = 0; pick < ny; ++pick) {
     int row = -1;
     double bound = -1.0;
     for (int iy = 0; iy < ny; ++iy) {
-      if (row_count_[iy] == 0) continue;
-      const double b = row_bound_u2(iy);
+      const double b = row_bound[iy];
       const bool after_last = b < last_bound || (b == last_bound && iy > last_row);
       if (after_last && b > bound) {
         bound = b;
@@ -466,9 +476,13 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
       if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
       const double sigma = col_sigma_[ix] + row_sigma_[row];
       const double tau3 = col_tau3_[ix] + row_tau3_[row];
+      // Without a division: u² ≤ d/σ_T² with d = σ² + 3τ² (in compression the threshold is
+      // ≥ σ_T), and skip_d/σ_T² ≤ peak_u2, so a bond with d ≤ skip_d cannot raise the peak.
+      const double d = sigma * sigma + tau3;
+      if (d <= skip_d) continue;
       double u2;
       if (sigma >= 0.0) {
-        u2 = (sigma * sigma + tau3) / sigma_t_sq_;
+        u2 = d / sigma_t_sq_;
       } else {
         const double threshold = sigma_t - mu * sigma;
         u2 = tau3 / (threshold * threshold);
@@ -477,9 +491,42 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
         peak_u2 = std::max(peak_u2, u2);
         if (peak_bond != nullptr) *peak_bond = row * nx + ix;
       }
+      if (sigma >= 0.0) skip_d = std::max(skip_d, d);  // d/σ_T² = u2 ≤ peak_u2 now
     }
   }
   return std::sqrt(peak_u2);
+}
+
+bool BondGrid::SigmaFinite() const {
+  for (double s : col_sigma_) {
+    if (!std::isfinite(s)) return false;
+  }
+  for (double s : row_sigma_) {
+    if (!std::isfinite(s)) return false;
+  }
+  return true;
+}
+
+double BondGrid::PeakSigma() const {
+  const int nx = params_.grid_x;
+  double best = -std::numeric_limits<double>::infinity();
+  for (int iy = 0; iy < params_.grid_y; ++iy) {
+    if (row_count_[iy] == 0) continue;
+    // Every σ of the row is at most this, and a full row reaches it (rounding is monotone).
+    const double bound = col_sigma_max_ + row_sigma_[iy];
+    if (row_count_[iy] == nx) {
+      best = std::max(best, bound);
+      continue;
+    }
+    if (bound <= best) continue;
+    const uint8_t* state = state_.data() + iy * nx;
+    for (int ix = 0; ix < nx; ++ix) {
+      if (state[ix] == static_cast<uint8_t>(BondState::kBonded)) {
+        best = std::max(best, col_sigma_[ix] + row_sigma_[iy]);
+      }
+    }
+  }
+  return best;
 }
 
 int BondGrid::PeakSigmaBond() const {
