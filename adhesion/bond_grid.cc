@@ -64,7 +64,6 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
   hinge_nm_ = kHingeMomentTolerance * params_.sigma_t_pa * b * h * std::max(b, h);
   unit_x_m_ = b / (2.0 * nx);
   unit_y_m_ = h / (2.0 * ny);
-
   // Cell centres, written so that mirror cells have exactly opposite coordinates.
   col_x_m_.resize(nx);
   col_v_.resize(nx);
@@ -441,19 +440,17 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
   const int ny = params_.grid_y;
   const double sigma_t = params_.sigma_t_pa;
   const double mu = params_.mu;
-  // u² of a bond: (σ² + 3τ²)/σ_T² in tension, 3τ²/(σ_T + μ|σ|)² in compression. Both are at
-  // most the row's bound/σ_T² (σ ≤ max σ; σ_T + μ|σ| ≥ σ_T; rounding is monotone), so once
-  // the largest u² found beats every row left, the peak is found.
-  const auto row_bound_u2 = [&](int iy) {
-    const double sigma_bound = std::max(col_sigma_max_ + row_sigma_[iy], 0.0);
-    return (sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy])) / sigma_t_sq_;
-  };
-  double peak_u2 = 0.0;
-  // Rows in order of (bound descending, index ascending): each pick is the largest key below
-  // the last one. The bounds once (a row without bonds: −1, never picked), then O(N_y) per
-  // pick; a comfortable pad stops after a row or two.
+  // u² of a bond: (σ² + 3τ²)/σ_T² in tension, 3τ²/(σ_T + μ|σ|)² in compression, both at most
+  // the row's bound/σ_T² (σ ≤ max σ; σ_T + μ|σ| ≥ σ_T; rounding is monotone). Rows in order of
+  // (bound descending, index ascending), each pick the largest key below the last (a row
+  // without bonds: −1, never picked), until the peak found beats every row left.
   double* row_bound = row_bound_u2_.data();
-  for (int iy = 0; iy < ny; ++iy) row_bound[iy] = row_count_[iy] == 0 ? -1.0 : row_bound_u2(iy);
+  for (int iy = 0; iy < ny; ++iy) {
+    const double sigma_bound = std::max(col_sigma_max_ + row_sigma_[iy], 0.0);
+    const double bound = sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy]);
+    row_bound[iy] = row_count_[iy] == 0 ? -1.0 : bound / sigma_t_sq_;
+  }
+  double peak_u2 = 0.0;
   double last_bound = std::numeric_limits<double>::infinity();
   int last_row = -1;
   double skip_d = -1.0;  // d ≥ 0: the first bond is never skipped
@@ -476,8 +473,7 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
       if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
       const double sigma = col_sigma_[ix] + row_sigma_[row];
       const double tau3 = col_tau3_[ix] + row_tau3_[row];
-      // Without a division: u² ≤ d/σ_T² with d = σ² + 3τ² (in compression the threshold is
-      // ≥ σ_T), and skip_d/σ_T² ≤ peak_u2, so a bond with d ≤ skip_d cannot raise the peak.
+      // u² ≤ d/σ_T² (in compression too) and skip_d/σ_T² ≤ peak_u2: d ≤ skip_d cannot win.
       const double d = sigma * sigma + tau3;
       if (d <= skip_d) continue;
       double u2;
@@ -532,6 +528,20 @@ double BondGrid::PeakSigma() const {
 int BondGrid::PeakSigmaBond() const {
   const int nx = params_.grid_x;
   const int ny = params_.grid_y;
+  if (SigmaFinite()) {
+    // The scan below keeps the first bond, in index order, of the largest σ: find that σ from
+    // the field's parts, then the first bond that has it, skipping rows that cannot.
+    const double peak = PeakSigma();
+    for (int iy = 0; iy < ny; ++iy) {
+      if (row_count_[iy] == 0 || col_sigma_max_ + row_sigma_[iy] < peak) continue;
+      const uint8_t* state = state_.data() + iy * nx;
+      for (int ix = 0; ix < nx; ++ix) {
+        const bool bonded_here = state[ix] == static_cast<uint8_t>(BondState::kBonded);
+        if (bonded_here && col_sigma_[ix] + row_sigma_[iy] == peak) return iy * nx + ix;
+      }
+    }
+    return -1;  // none bonded
+  }
   int best = -1;
   double best_sigma = -std::numeric_limits<double>::infinity();
   for (int iy = 0; iy < ny; ++iy) {

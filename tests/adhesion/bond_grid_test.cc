@@ -679,6 +679,11 @@ TEST(PadStress, PeakUtilisationEqualsTheFullScanBitForBit) {
       // largest σ from the field's parts is the scan's.
       if (g.bonded_count() > 0) {
         EXPECT_EQ(g.PeakSigma(), g.sigma_pa(g.PeakSigmaBond())) << "trial " << trial;
+        int first = -1;  // the first bond, in index order, of the largest σ
+        for (int i = 0; i < g.size() && first < 0; ++i) {
+          if (g.bonded(i) && g.sigma_pa(i) == g.PeakSigma()) first = i;
+        }
+        EXPECT_EQ(g.PeakSigmaBond(), first) << "trial " << trial;
         ASSERT_GE(bond, 0) << "trial " << trial;
         EXPECT_NEAR(g.stress(bond).utilisation, peak, 1e-12 * (1.0 + peak)) << "trial " << trial;
       }
