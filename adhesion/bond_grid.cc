@@ -30,6 +30,14 @@ bool IsFinite(const PadLoad& load) {
          std::isfinite(load.mx_nm) && std::isfinite(load.my_nm);
 }
 
+// A row's bound on u² when every bond of it is pressed (σ ≤ s_max < 0): each threshold is
+// at least σ_T − μ·s_max (rounding is monotone); else the tension bound as given.
+double PressedRowBound(double s_max, double tau3_max, double sigma_t, double mu, double bound) {
+  if (!(s_max < 0.0)) return bound;
+  const double threshold = sigma_t - mu * s_max;
+  return tau3_max / (threshold * threshold);
+}
+
 }  // namespace
 
 void ValidatePadParams(const PadParams& p) {
@@ -436,10 +444,8 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
   if (peak_bond != nullptr) *peak_bond = -1;
   if (bonded_count_ == 0) return 0.0;
   if (unsupported_) return std::numeric_limits<double>::infinity();
-  const int nx = params_.grid_x;
-  const int ny = params_.grid_y;
-  const double sigma_t = params_.sigma_t_pa;
-  const double mu = params_.mu;
+  const int nx = params_.grid_x, ny = params_.grid_y;
+  const double sigma_t = params_.sigma_t_pa, mu = params_.mu;
   // u² of a bond: (σ² + 3τ²)/σ_T² in tension, 3τ²/(σ_T + μ|σ|)² in compression, both at most
   // the row's bound/σ_T² (σ ≤ max σ; σ_T + μ|σ| ≥ σ_T; rounding is monotone). Rows in order of
   // (bound descending, index ascending), each pick the largest key below the last (a row
@@ -450,10 +456,9 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
     const double bound = sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy]);
     row_bound[iy] = row_count_[iy] == 0 ? -1.0 : bound / sigma_t_sq_;
   }
-  double peak_u2 = 0.0;
+  double peak_u2 = 0.0, skip_d = -1.0;  // d ≥ 0: the first bond is never skipped
   double last_bound = std::numeric_limits<double>::infinity();
   int last_row = -1;
-  double skip_d = -1.0;  // d ≥ 0: the first bond is never skipped
   for (int pick = 0; pick < ny; ++pick) {
     int row = -1;
     double bound = -1.0;
@@ -468,6 +473,11 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
     if (row < 0 || bound < peak_u2) break;
     last_bound = bound;
     last_row = row;
+    // Pressed rows have a tighter bound: skipped (not reordered: ties keep the first bond).
+    if (PressedRowBound(col_sigma_max_ + row_sigma_[row], col_tau3_max_ + row_tau3_[row], sigma_t,
+                        mu, bound) < peak_u2) {
+      continue;
+    }
     const uint8_t* state = state_.data() + row * nx;
     for (int ix = 0; ix < nx; ++ix) {
       if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
@@ -476,13 +486,8 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
       // u² ≤ d/σ_T² (in compression too) and skip_d/σ_T² ≤ peak_u2: d ≤ skip_d cannot win.
       const double d = sigma * sigma + tau3;
       if (d <= skip_d) continue;
-      double u2;
-      if (sigma >= 0.0) {
-        u2 = d / sigma_t_sq_;
-      } else {
-        const double threshold = sigma_t - mu * sigma;
-        u2 = tau3 / (threshold * threshold);
-      }
+      const double threshold = sigma_t - mu * sigma;  // σ < 0
+      const double u2 = sigma >= 0.0 ? d / sigma_t_sq_ : tau3 / (threshold * threshold);
       if (u2 > peak_u2 || (peak_bond != nullptr && *peak_bond < 0)) {
         peak_u2 = std::max(peak_u2, u2);
         if (peak_bond != nullptr) *peak_bond = row * nx + ix;
