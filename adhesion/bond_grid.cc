@@ -30,6 +30,14 @@ bool IsFinite(const PadLoad& load) {
          std::isfinite(load.mx_nm) && std::isfinite(load.my_nm);
 }
 
+// A row's bound on u² when every bond of it is pressed (σ ≤ s_max < 0): each threshold is
+// at least σ_T − μ·s_max (rounding is monotone); else the tension bound as given.
+double PressedRowBound(double s_max, double tau3_max, double sigma_t, double mu, double bound) {
+  if (!(s_max < 0.0)) return bound;
+  const double threshold = sigma_t - mu * s_max;
+  return tau3_max / (threshold * threshold);
+}
+
 }  // namespace
 
 void ValidatePadParams(const PadParams& p) {
@@ -64,7 +72,6 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
   hinge_nm_ = kHingeMomentTolerance * params_.sigma_t_pa * b * h * std::max(b, h);
   unit_x_m_ = b / (2.0 * nx);
   unit_y_m_ = h / (2.0 * ny);
-
   // Cell centres, written so that mirror cells have exactly opposite coordinates.
   col_x_m_.resize(nx);
   col_v_.resize(nx);
@@ -111,6 +118,7 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
   row_sigma_.assign(ny, 0.0);
   col_tau3_.assign(nx, 0.0);
   row_tau3_.assign(ny, 0.0);
+  row_bound_u2_.assign(ny, 0.0);
   broken_log_.resize(n);
 }
 
@@ -141,6 +149,7 @@ void BondGrid::BondAll() {
   std::fill(row_count_.begin(), row_count_.end(), params_.grid_x);
   bonded_count_ = size();
   sums_ = full_sums_;
+  set_cached_ = false;
 }
 
 void BondGrid::Release() {
@@ -149,6 +158,7 @@ void BondGrid::Release() {
   std::fill(row_count_.begin(), row_count_.end(), 0);
   bonded_count_ = 0;
   sums_ = MomentSums{};
+  set_cached_ = false;
   // A released grid carries no stress: a grid bonded again reads the field of no load until
   // the next one is applied, as a new grid does (a reset run's first utilisation was the
   // last run's).
@@ -191,6 +201,7 @@ void BondGrid::SetState(int index, BondState new_state) {
   const bool now = new_state == BondState::kBonded;
   state_[index] = static_cast<uint8_t>(new_state);
   if (was == now) return;
+  set_cached_ = false;
   const int ix = ix_of(index);
   const int iy = iy_of(index);
   const int step = now ? 1 : -1;
@@ -263,7 +274,15 @@ void BondGrid::ComputeField(const PadLoad& load) {
   const int ny = params_.grid_y;
   const double da = cell_area_m2_;
 
-  const Bending bend = BendingOfBondedSet();
+  if (!set_cached_) {
+    set_bend_ = BendingOfBondedSet();
+    set_sum_v_ = 0.0;
+    for (int ix = 0; ix < nx; ++ix) set_sum_v_ += col_count_[ix] * col_v_[ix];
+    set_sum_w_ = 0.0;
+    for (int iy = 0; iy < ny; ++iy) set_sum_w_ += row_count_[iy] * row_w_[iy];
+    set_cached_ = true;
+  }
+  const Bending& bend = set_bend_;
   const double x_c = bend.x_c, y_c = bend.y_c;
 
   unsupported_ = false;
@@ -320,13 +339,8 @@ void BondGrid::BendingGradient(const Bending& bend, const PadLoad& load, double*
 // Parabolic shears normalised over the bonded set (tau_x_per_w_, tau_y_per_v_); a shear that
 // no row or column can carry sets unsupported_.
 void BondGrid::NormaliseShears(const PadLoad& load) {
-  const int nx = params_.grid_x;
-  const int ny = params_.grid_y;
   const double da = cell_area_m2_;
-  double sum_v = 0.0;
-  for (int ix = 0; ix < nx; ++ix) sum_v += col_count_[ix] * col_v_[ix];
-  double sum_w = 0.0;
-  for (int iy = 0; iy < ny; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+  const double sum_v = set_sum_v_, sum_w = set_sum_w_;  // ComputeField's, of this set
   tau_x_per_w_ = 0.0;
   if (sum_w > 0.0) {
     tau_x_per_w_ = load.fx_n / (sum_w * da);
@@ -430,28 +444,26 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
   if (peak_bond != nullptr) *peak_bond = -1;
   if (bonded_count_ == 0) return 0.0;
   if (unsupported_) return std::numeric_limits<double>::infinity();
-  const int nx = params_.grid_x;
-  const int ny = params_.grid_y;
-  const double sigma_t = params_.sigma_t_pa;
-  const double mu = params_.mu;
-  // u² of a bond: (σ² + 3τ²)/σ_T² in tension, 3τ²/(σ_T + μ|σ|)² in compression. Both are at
-  // most the row's bound/σ_T² (σ ≤ max σ; σ_T + μ|σ| ≥ σ_T; rounding is monotone), so once
-  // the largest u² found beats every row left, the peak is found.
-  const auto row_bound_u2 = [&](int iy) {
+  const int nx = params_.grid_x, ny = params_.grid_y;
+  const double sigma_t = params_.sigma_t_pa, mu = params_.mu;
+  // u² of a bond: (σ² + 3τ²)/σ_T² in tension, 3τ²/(σ_T + μ|σ|)² in compression, both at most
+  // the row's bound/σ_T² (σ ≤ max σ; σ_T + μ|σ| ≥ σ_T; rounding is monotone). Rows in order of
+  // (bound descending, index ascending), each pick the largest key below the last (a row
+  // without bonds: −1, never picked), until the peak found beats every row left.
+  double* row_bound = row_bound_u2_.data();
+  for (int iy = 0; iy < ny; ++iy) {
     const double sigma_bound = std::max(col_sigma_max_ + row_sigma_[iy], 0.0);
-    return (sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy])) / sigma_t_sq_;
-  };
-  double peak_u2 = 0.0;
-  // Rows in order of (bound descending, index ascending), without a buffer: each pick is the
-  // largest key below the last one. O(N_y) per pick; a comfortable pad stops after a row or two.
+    const double bound = sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy]);
+    row_bound[iy] = row_count_[iy] == 0 ? -1.0 : bound / sigma_t_sq_;
+  }
+  double peak_u2 = 0.0, skip_d = -1.0;  // d ≥ 0: the first bond is never skipped
   double last_bound = std::numeric_limits<double>::infinity();
   int last_row = -1;
   for (int pick = 0; pick < ny; ++pick) {
     int row = -1;
     double bound = -1.0;
     for (int iy = 0; iy < ny; ++iy) {
-      if (row_count_[iy] == 0) continue;
-      const double b = row_bound_u2(iy);
+      const double b = row_bound[iy];
       const bool after_last = b < last_bound || (b == last_bound && iy > last_row);
       if (after_last && b > bound) {
         bound = b;
@@ -461,30 +473,80 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
     if (row < 0 || bound < peak_u2) break;
     last_bound = bound;
     last_row = row;
+    // Pressed rows have a tighter bound: skipped (not reordered: ties keep the first bond).
+    if (PressedRowBound(col_sigma_max_ + row_sigma_[row], col_tau3_max_ + row_tau3_[row], sigma_t,
+                        mu, bound) < peak_u2) {
+      continue;
+    }
     const uint8_t* state = state_.data() + row * nx;
     for (int ix = 0; ix < nx; ++ix) {
       if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
       const double sigma = col_sigma_[ix] + row_sigma_[row];
       const double tau3 = col_tau3_[ix] + row_tau3_[row];
-      double u2;
-      if (sigma >= 0.0) {
-        u2 = (sigma * sigma + tau3) / sigma_t_sq_;
-      } else {
-        const double threshold = sigma_t - mu * sigma;
-        u2 = tau3 / (threshold * threshold);
-      }
+      // u² ≤ d/σ_T² (in compression too) and skip_d/σ_T² ≤ peak_u2: d ≤ skip_d cannot win.
+      const double d = sigma * sigma + tau3;
+      if (d <= skip_d) continue;
+      const double threshold = sigma_t - mu * sigma;  // σ < 0
+      const double u2 = sigma >= 0.0 ? d / sigma_t_sq_ : tau3 / (threshold * threshold);
       if (u2 > peak_u2 || (peak_bond != nullptr && *peak_bond < 0)) {
         peak_u2 = std::max(peak_u2, u2);
         if (peak_bond != nullptr) *peak_bond = row * nx + ix;
       }
+      if (sigma >= 0.0) skip_d = std::max(skip_d, d);  // d/σ_T² = u2 ≤ peak_u2 now
     }
   }
   return std::sqrt(peak_u2);
 }
 
+bool BondGrid::SigmaFinite() const {
+  for (double s : col_sigma_) {
+    if (!std::isfinite(s)) return false;
+  }
+  for (double s : row_sigma_) {
+    if (!std::isfinite(s)) return false;
+  }
+  return true;
+}
+
+double BondGrid::PeakSigma() const {
+  const int nx = params_.grid_x;
+  double best = -std::numeric_limits<double>::infinity();
+  for (int iy = 0; iy < params_.grid_y; ++iy) {
+    if (row_count_[iy] == 0) continue;
+    // Every σ of the row is at most this, and a full row reaches it (rounding is monotone).
+    const double bound = col_sigma_max_ + row_sigma_[iy];
+    if (row_count_[iy] == nx) {
+      best = std::max(best, bound);
+      continue;
+    }
+    if (bound <= best) continue;
+    const uint8_t* state = state_.data() + iy * nx;
+    for (int ix = 0; ix < nx; ++ix) {
+      if (state[ix] == static_cast<uint8_t>(BondState::kBonded)) {
+        best = std::max(best, col_sigma_[ix] + row_sigma_[iy]);
+      }
+    }
+  }
+  return best;
+}
+
 int BondGrid::PeakSigmaBond() const {
   const int nx = params_.grid_x;
   const int ny = params_.grid_y;
+  if (SigmaFinite()) {
+    // The scan below keeps the first bond, in index order, of the largest σ: find that σ from
+    // the field's parts, then the first bond that has it, skipping rows that cannot.
+    const double peak = PeakSigma();
+    for (int iy = 0; iy < ny; ++iy) {
+      if (row_count_[iy] == 0 || col_sigma_max_ + row_sigma_[iy] < peak) continue;
+      const uint8_t* state = state_.data() + iy * nx;
+      for (int ix = 0; ix < nx; ++ix) {
+        const bool bonded_here = state[ix] == static_cast<uint8_t>(BondState::kBonded);
+        if (bonded_here && col_sigma_[ix] + row_sigma_[iy] == peak) return iy * nx + ix;
+      }
+    }
+    return -1;  // none bonded
+  }
   int best = -1;
   double best_sigma = -std::numeric_limits<double>::infinity();
   for (int iy = 0; iy < ny; ++iy) {

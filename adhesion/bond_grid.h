@@ -307,6 +307,16 @@ class BondGrid {
   void ClearBrokenLog() { broken_count_ = 0; }
   // Breaks bond `index` if bonded (kBroken, as Update does) and logs it with `round`.
   void Break(int index, int round);
+  // The field of Evaluate under a finite load_pad, without its summary's scan of every bond;
+  // returns whether the load is unsupported (Summary().load_unsupported).
+  bool Field(const PadLoad& load_pad) {
+    ComputeField(load_pad);
+    return unsupported_;
+  }
+  // Whether every part of the σ field is finite; the largest σ over the bonds (−inf: none),
+  // a full row's from its parts alone (the max over columns plus the row's part).
+  bool SigmaFinite() const;
+  double PeakSigma() const;
   // σ of one bond in the current field (Evaluate, Update); 0 for a bond not bonded.
   double sigma_pa(int index) const {
     return bonded(index) ? col_sigma_[ix_of(index)] + row_sigma_[iy_of(index)] : 0.0;
@@ -361,6 +371,11 @@ class BondGrid {
   std::vector<int> row_count_;  // bonded bonds per row
   int bonded_count_ = 0;
   MomentSums sums_;
+  // Of the bonded set, kept until it changes (SetState, BondAll, Release): ComputeField's
+  // bending geometry and shear sums Σ count·v, Σ count·w.
+  bool set_cached_ = false;
+  Bending set_bend_;
+  double set_sum_v_ = 0.0, set_sum_w_ = 0.0;
 
   // The current field.
   std::vector<double> col_sigma_;
@@ -372,6 +387,7 @@ class BondGrid {
   double col_sigma_max_ = 0.0;  // max over columns of col_sigma_
   double col_tau3_max_ = 0.0;   // max over columns of col_tau3_
   bool unsupported_ = false;
+  mutable std::vector<double> row_bound_u2_;  // PeakUtilisation's scratch, one per row
 
   // The log of the last Update.
   std::vector<BrokenBond> broken_log_;

@@ -76,7 +76,7 @@ BondGrid::UpdateResult FrictionalUpdate(BondGrid* grid, const FrictionalLaw& law
       [&law](double sigma, double tau_x, double tau_y) {
         return law.Utilisation(sigma, tau_x, tau_y);
       },
-      peak_utilisation);
+      peak_utilisation, /*monotone_in_sigma=*/true);
 }
 
 void CheckPullSetup(const PullSetup& setup, const PulloffOptions& options) {

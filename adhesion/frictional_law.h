@@ -149,7 +149,8 @@ class FrictionalLaw {
   }
 
   // Utilisation of a stress state (σ tension +, shear (τ_x, τ_y)), per the file comment;
-  // > 1 breaks. Also the pad-level law with forces over the pad area.
+  // > 1 breaks. Also the pad-level law with forces over the pad area. Never falls as σ grows
+  // at a fixed shear, rounding included (FrictionalUpdate's shortcut relies on it).
   double Utilisation(double sigma_pa, double tau_x_pa, double tau_y_pa) const;
   bool Holds(double sigma_pa, double tau_x_pa, double tau_y_pa) const {
     return Utilisation(sigma_pa, tau_x_pa, tau_y_pa) <= 1.0;
@@ -177,6 +178,10 @@ class FrictionalLaw {
 // bonds left from BondGrid's field (its shears unused), one shear for every bond; each bond
 // whose `utilisation(σ_i, τ_x, τ_y)` passes 1 breaks, and the field is recomputed until none
 // does. Allocates nothing. *peak_utilisation (if not null): the largest over the bonds left.
+// `monotone_in_sigma`: the law's utilisation never falls as σ grows at a fixed shear (the
+// frictional law): a round then first tries the largest σ alone (BondGrid::PeakSigma, from the
+// field's row and column parts); if it holds, every bond holds and its utilisation is the
+// peak, the numbers of the scan bit for bit. Only a round that breaks bonds scans them all.
 inline bool PadLoadFinite(const PadLoad& l) {
   return std::isfinite(l.fn_n) && std::isfinite(l.fx_n) && std::isfinite(l.fy_n) &&
          std::isfinite(l.mx_nm) && std::isfinite(l.my_nm);
@@ -187,7 +192,7 @@ inline constexpr double kShearLawRoundoff = 1e-12;
 template <class Utilisation>
 BondGrid::UpdateResult ShearFieldCascade(BondGrid* grid, const PadLoad& load,
                                          const Utilisation& utilisation,
-                                         double* peak_utilisation) {
+                                         double* peak_utilisation, bool monotone_in_sigma) {
   BondGrid::UpdateResult result;
   grid->ClearBrokenLog();
   if (peak_utilisation != nullptr) *peak_utilisation = 0.0;
@@ -199,9 +204,16 @@ BondGrid::UpdateResult ShearFieldCascade(BondGrid* grid, const PadLoad& load,
   }
   const int n = grid->size();
   while (grid->bonded_count() > 0) {
-    const bool unsupported = grid->Evaluate(load).load_unsupported;
+    const bool unsupported = grid->Field(load);
     const double area = grid->bonded_area_m2();
     const double tau_x = load.fx_n / area, tau_y = load.fy_n / area;
+    if (monotone_in_sigma && !unsupported && grid->SigmaFinite()) {
+      const double u = utilisation(grid->PeakSigma(), tau_x, tau_y);
+      if (!(u > 1.0 + kShearLawRoundoff)) {
+        if (peak_utilisation != nullptr) *peak_utilisation = std::max(0.0, u);
+        break;
+      }
+    }
     const int round = result.rounds + 1;
     int broken = 0;
     double peak = 0.0;

@@ -132,7 +132,7 @@ BondGrid::UpdateResult TabulatedUpdate(BondGrid* grid, const TabulatedLaw& law,
       [&law](double sigma, double tau_x, double tau_y) {
         return law.Utilisation(sigma, tau_x, tau_y);
       },
-      peak_utilisation);
+      peak_utilisation, /*monotone_in_sigma=*/false);  // a table may fall with σ
 }
 
 PulloffResult TabulatedPullOff(const PadParams& pad, const TabulatedParams& table,

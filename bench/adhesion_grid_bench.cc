@@ -13,6 +13,9 @@
 //   BondAll:  the re-bonding alone, to subtract from Cascade.
 //   Evaluate: the stress field and summary without the rupture bookkeeping.
 //   PullOff:  the whole quasi-static search (about 25 cascades), for the CLI's pulloff verb.
+//   PeakUtilisation: the reflexes' signal after a Holding update (rows by their bound).
+//   FrictionalHolding: FrictionalUpdate of a pad that holds (a gripping pull at 60 % of the
+//             shear limit, with a lever): the bond of largest σ decides, no scan.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -20,6 +23,7 @@
 #include <numbers>
 
 #include "adhesion/bond_grid.h"
+#include "adhesion/frictional_law.h"
 #include "adhesion/pulloff.h"
 
 namespace climbsim::adhesion {
@@ -115,6 +119,38 @@ void BM_Evaluate(benchmark::State& state) {
   }
 }
 
+void BM_PeakUtilisation(benchmark::State& state) {
+  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+  BondGrid grid(pad);
+  grid.BondAll();
+  grid.Update(PullLoad(0.6 * PullOff(pad, kHoldingPull).force_n, kHoldingPull));
+  int bond = -1;
+  for (auto _ : state) {
+    const double u = grid.PeakUtilisation(&bond);
+    benchmark::DoNotOptimize(u);
+  }
+  state.counters["utilisation"] = grid.PeakUtilisation();
+}
+
+void BM_FrictionalHolding(benchmark::State& state) {
+  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+  FrictionalParams f;
+  f.shear_limit_pa = pad.sigma_t_pa;
+  const FrictionalLaw law(f);
+  const double shear_n = 0.6 * f.shear_limit_pa * pad.width_m * pad.length_m;
+  const PadLoad load{.fn_n = 0.3 * shear_n, .fx_n = -shear_n, .fy_n = 0.1 * shear_n,
+                     .mx_nm = 1e-4 * shear_n, .my_nm = 2e-4 * shear_n};
+  BondGrid grid(pad);
+  grid.BondAll();
+  double u = 0.0;
+  for (auto _ : state) {
+    BondGrid::UpdateResult r = FrictionalUpdate(&grid, law, load, &u);
+    benchmark::DoNotOptimize(r);
+  }
+  if (grid.bonded_count() != grid.size()) state.SkipWithError("the holding case broke bonds");
+  state.counters["utilisation"] = u;
+}
+
 void BM_PullOff(benchmark::State& state) {
   const PadParams pad = Pad(static_cast<int>(state.range(0)));
   for (auto _ : state) {
@@ -129,6 +165,8 @@ BENCHMARK(BM_UpdateHoldingScan)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_UpdateCascade)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_BondAll)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_Evaluate)->RangeMultiplier(2)->Range(4, 64);
+BENCHMARK(BM_PeakUtilisation)->RangeMultiplier(2)->Range(4, 64);
+BENCHMARK(BM_FrictionalHolding)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_PullOff)->Arg(16)->Arg(32)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

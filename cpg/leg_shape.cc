@@ -48,7 +48,6 @@ LegCommand ShapeLeg(const LegShape& shape, double theta_rad, double amplitude) {
   LegCommand command{};
   if (theta < swing_end_rad) {
     const double p = theta / swing_end_rad;
-    const double s = std::sin(kPi * p);
     command.stance = false;
     command.progress = p;
     if (shape.lift_share > 0.0) {
@@ -56,6 +55,7 @@ LegCommand ShapeLeg(const LegShape& shape, double theta_rad, double amplitude) {
       command.stride = 2.0 * SmoothStep((p - a) / (1.0 - 2.0 * a)) - 1.0;
       command.lift = SmoothStep(p / a) * SmoothStep((1.0 - p) / a);
     } else {
+      const double s = std::sin(kPi * p);  // only here: a smoothstep lift needs no sine
       command.stride = -std::cos(kPi * p);
       command.lift = s * s;
     }

@@ -669,11 +669,24 @@ TEST(PadStress, PeakUtilisationEqualsTheFullScanBitForBit) {
     if (trial % 7 == 0) load.fn_n = -std::abs(load.fn_n) - 1.0;  // pressed: the μ branch
     g.Update(load);
     const double full = g.Summary().peak_utilisation;
-    const double peak = g.PeakUtilisation();
+    int bond = -1;
+    const double peak = g.PeakUtilisation(&bond);
     if (std::isinf(full)) {
       EXPECT_TRUE(std::isinf(peak)) << "trial " << trial;
     } else {
       EXPECT_EQ(peak, full) << "trial " << trial;
+      // The bond it names carries that peak (the reflexes' gradient is taken there); the
+      // largest σ from the field's parts is the scan's.
+      if (g.bonded_count() > 0) {
+        EXPECT_EQ(g.PeakSigma(), g.sigma_pa(g.PeakSigmaBond())) << "trial " << trial;
+        int first = -1;  // the first bond, in index order, of the largest σ
+        for (int i = 0; i < g.size() && first < 0; ++i) {
+          if (g.bonded(i) && g.sigma_pa(i) == g.PeakSigma()) first = i;
+        }
+        EXPECT_EQ(g.PeakSigmaBond(), first) << "trial " << trial;
+        ASSERT_GE(bond, 0) << "trial " << trial;
+        EXPECT_NEAR(g.stress(bond).utilisation, peak, 1e-12 * (1.0 + peak)) << "trial " << trial;
+      }
     }
     rows_only += g.bonded_count() > 0 && !std::isinf(full) ? 1 : 0;
   }

@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
+#include <vector>
 #include <stdexcept>
 
 #include "tests/common/alloc_counter.h"
@@ -271,6 +274,86 @@ TEST(FrictionalLaw, LimitBoundaryLiesOnTheLimitSurface) {
   // The von Mises closed form used by the plots: σ_T·A at 0°, 0.385 σ_T·A at 90°.
   EXPECT_DOUBLE_EQ(VonMisesPulloffClosedForm(1.0, 0.0, 0.0), 1.0);
   EXPECT_NEAR(VonMisesPulloffClosedForm(1.0, 90.0 * kDeg, 0.0), 1.0 / std::sqrt(6.75), 1e-12);
+}
+
+// Utilisation never falls as σ grows at a fixed shear, rounding included: FrictionalUpdate's
+// shortcut (the bond of largest σ decides) rests on it. Every shear direction, both signs of
+// the gripping shear, σ across zero from tiny to huge, and friction 0.
+TEST(FrictionalLaw, UtilisationNeverFallsAsSigmaGrows) {
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<double> sigmas;
+  for (double m = 1e-3; m < 1e9; m *= 1.7) {
+    sigmas.push_back(m);
+    sigmas.push_back(-m);
+  }
+  sigmas.insert(sigmas.end(), {0.0, -0.0, 5e-324, -5e-324});
+  std::sort(sigmas.begin(), sigmas.end());
+  int rises = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    FrictionalParams f = Law(10.0 + 0.25 * trial, unit(rng), unit(rng));
+    if (trial % 4 == 0) f.friction_mu = 0.0;
+    const FrictionalLaw law(f);
+    const double scale = std::pow(10.0, 1 + trial % 6);
+    const double tx = scale * unit(rng), ty = scale * unit(rng);
+    double last = -1.0;
+    for (double sigma : sigmas) {
+      const double u = law.Utilisation(sigma, tx, ty);
+      ASSERT_GE(u, last) << "trial " << trial << " sigma " << sigma;
+      rises += u > last ? 1 : 0;
+      last = u;
+    }
+  }
+  EXPECT_GT(rises, 3000);  // not constant: the law does rise with σ
+}
+
+// The cascade with the shortcut (FrictionalUpdate) and the full scan of every bond in every
+// round give the same bonds broken, in the same order and rounds, and the same peak, bit for
+// bit: random bonded sets and loads, comfortable, peeling and torn off.
+TEST(FrictionalLaw, ShortcutEqualsTheFullScanBitForBit) {
+  std::mt19937 rng(20261128);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::bernoulli_distribution keep(0.85);
+  int held = 0, broke = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    PadParams pad = Pad(2 + trial % 17);
+    pad.grid_y = 3 + trial % 11;
+    FrictionalParams f = Law(20.0 + trial % 40, unit(rng), unit(rng));
+    f.moment_share = trial % 3 == 0 ? 0.0 : 1.0;
+    const FrictionalLaw law(f);
+    BondGrid fast(pad), full(pad);
+    fast.BondAll();
+    if (trial % 2 == 1) {
+      for (int i = 0; i < fast.size(); ++i) fast.SetBonded(i, keep(rng));
+    }
+    for (int i = 0; i < fast.size(); ++i) full.SetBonded(i, fast.bonded(i));
+    const double capacity = f.shear_limit_pa * pad.width_m * pad.length_m;
+    const double s = capacity * (trial % 5 == 0 ? 3.0 : 0.4);
+    PadLoad load{.fn_n = s * unit(rng), .fx_n = s * unit(rng), .fy_n = s * unit(rng),
+                 .mx_nm = 0.003 * s * unit(rng), .my_nm = 0.003 * s * unit(rng)};
+    if (trial % 7 == 0) load.fn_n = -std::abs(load.fn_n);
+    double u_fast = -1.0, u_full = -2.0;
+    const auto a = FrictionalUpdate(&fast, law, load, &u_fast);
+    PadLoad shared = load;
+    shared.mx_nm *= f.moment_share;
+    shared.my_nm *= f.moment_share;
+    const auto b = ShearFieldCascade(
+        &full, shared, [&law](double sg, double tx, double ty) { return law.Utilisation(sg, tx, ty); },
+        &u_full, /*monotone_in_sigma=*/false);
+    ASSERT_EQ(a.broken, b.broken) << "trial " << trial;
+    EXPECT_EQ(a.rounds, b.rounds) << "trial " << trial;
+    EXPECT_EQ(a.detached, b.detached) << "trial " << trial;
+    EXPECT_EQ(u_fast, u_full) << "trial " << trial;
+    ASSERT_EQ(fast.last_broken().size(), full.last_broken().size());
+    for (size_t k = 0; k < fast.last_broken().size(); ++k) {
+      EXPECT_EQ(fast.last_broken()[k].index, full.last_broken()[k].index) << "trial " << trial;
+      EXPECT_EQ(fast.last_broken()[k].round, full.last_broken()[k].round) << "trial " << trial;
+    }
+    held += a.broken == 0 && fast.bonded_count() > 0 ? 1 : 0;
+    broke += a.broken > 0 ? 1 : 0;
+  }
+  EXPECT_GT(held, 100);  // the shortcut decided these
+  EXPECT_GT(broke, 50);  // and these fell back to the scan
 }
 
 // The frictional cascade allocates nothing (the step loop runs it on every welded pad).
