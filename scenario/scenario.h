@@ -161,9 +161,7 @@ struct SceneParams {
     a->Visit({"roughness", "",
               "bumps on the surface (floor, wall, ceiling, incline); absent: a flat surface"},
              &roughness);
-    a->Visit({"terrain", "",
-              "rough rock: a seeded heightfield in place of the flat surface (floor, wall, ceiling, "
-              "incline); absent: a flat surface"},
+    a->Visit({"terrain", "", "rough rock: a seeded heightfield for the plane scenes' flat surface"},
              &terrain);
   }
 
