@@ -20,8 +20,8 @@ namespace climbsim::sim {
 // Defaults (docs/climbing.md, "Rough rock"): the pads are 25 mm squares that bond where their
 // face lies within 0.5 mm (adhesion.contact_gap_m) of the rock. ξ = 50 mm, twice the pad, and
 // H = 0.8: across one pad the rock rises about σ·√2·(25/50)^0.8 ≈ 0.8σ, most of it a tilt the
-// pad's seat follows; σ = 1 mm leaves about half the face within the gap on a typical
-// landing, the asperities shorter than the pad (which cost contact) are a fraction of a mm.
+// pad's seat follows; what costs contact is the asperities shorter than the pad. σ = 1 mm,
+// twice the gap, is rock a pad cannot bridge everywhere: some landings bond half the face.
 struct TerrainParams {
   double rms_m = 0.001;
   double correlation_m = 0.05;
