@@ -189,10 +189,12 @@ std::string WriteAccuracy(const std::string& dir, const AccuracyReport& report);
 //   weak_patch  1 − scene.weak_patches.fraction (σ_T lost on a patch; 5 cm cells, 30 % weak)
 //                                                                      -     0.02 .. 0.99
 //   roughness   scene.roughness.height_m (4 cm pitch, 1.5 cm tops)     m     0.0005 .. 0.03
-// Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch and
-// roughness off the plane scenes, pushes without cpg, and a family whose key the scenario sets
-// itself: scene.roughness, scene.weak_patches, adhesion.pad_failure_probability > 0, which the
-// search would replace) are left out; named in `families`, one is refused (InputError saying
+//   terrain     scene.terrain.rms_m (rough rock; seed case k: rock seed k + 1; only when
+//               named in families)                                      m     0.0001 .. 0.005
+// Families a scenario cannot take (pad_failure and weak_patch without adhesion, weak_patch,
+// roughness and terrain off the plane scenes, pushes without cpg, and a family whose key the
+// scenario sets itself: scene.roughness, scene.terrain, scene.weak_patches,
+// adhesion.pad_failure_probability > 0, which the search would replace) are left out; named in `families`, one is refused (InputError saying
 // why), before any run. So are pushes whose last phase would end after the run (--phases).
 // RobustnessOptions and RobustnessFamily: optimise/disturbance.h (the objective's robustness
 // term builds the same cases).

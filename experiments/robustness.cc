@@ -46,7 +46,7 @@ std::vector<RobustnessFamily> RobustnessFamilies(const sim::Scenario& scenario) 
   const Setup u = MakeDisturbanceSetup(scenario, RobustnessOptions{});
   std::vector<RobustnessFamily> out;
   for (const auto& f : AllRobustnessFamilies(u.robot_mass_kg)) {
-    if (Applicable(u, f.name)) out.push_back(f);
+    if (!f.named_only && Applicable(u, f.name)) out.push_back(f);
   }
   return out;
 }
@@ -111,7 +111,7 @@ namespace {
 std::vector<RobustnessFamily> WantedFamilies(const Setup& u, const RobustnessOptions& options) {
   std::vector<RobustnessFamily> families;
   for (const auto& f : AllRobustnessFamilies(u.robot_mass_kg)) {
-    const bool wanted = options.families.empty() ||
+    const bool wanted = (options.families.empty() && !f.named_only) ||
                         std::find(options.families.begin(), options.families.end(), f.name) !=
                             options.families.end();
     if (wanted && Applicable(u, f.name)) families.push_back(f);
@@ -301,7 +301,7 @@ RobustnessPlan MakePlan(const Setup& u, const RobustnessOptions& options) {
   for (const auto& f : AllRobustnessFamilies(u.robot_mass_kg)) {
     const bool named = std::find(options.families.begin(), options.families.end(), f.name) !=
                        options.families.end();
-    if (!options.families.empty() && !named) continue;
+    if (options.families.empty() ? f.named_only : !named) continue;
     const std::string why = CannotTakeFamily(u, f.name);
     if (!why.empty()) {
       plan.skipped.push_back(f.name + ": " + why);
@@ -553,6 +553,7 @@ std::string RobustnessScript(const RobustnessReport& r, int n) {
                              : on.family == "weak_patch" ? "share of sigma_T lost on a patch"
                              : on.family == "payload"    ? "payload [kg]"
                              : on.family == "roughness"  ? "bump height [m]"
+                             : on.family == "terrain"    ? "RMS height of the rock [m]"
                                                          : "impulse in 10 ms [" + on.unit + "]") +
         "\nset yrange [" + Num(on.lo * 0.4) + ":" + Num(on.hi * 1.5) +
         "]\n"

@@ -32,6 +32,9 @@ std::vector<RobustnessFamily> AllRobustnessFamilies(double mass_kg) {
       {"pad_failure", "", "probability that an attachment fails", 0.01, 1.0},
       {"weak_patch", "", "sigma_T lost on weak patches (1 - fraction)", 0.02, 0.99},
       {"roughness", "m", "bump height", 0.0005, 0.03},
+      // scene.terrain's RMS height; case seed k draws rock seed k + 1. Named only: a rock run
+      // costs about twice a flat one, and "all" stays what it was.
+      {"terrain", "m", "RMS height of rough rock", 0.0001, 0.005, true},
   };
 }
 
@@ -80,12 +83,21 @@ std::string CannotTakeFamily(const DisturbanceSetup& u, const std::string& famil
   if (family == "weak_patch" && u.base.adhesion->model != "bonds") {
     return "its adhesion.model is '" + u.base.adhesion->model + "', not bonds";
   }
-  if ((family == "weak_patch" || family == "roughness") && !PlaneScene(u.base)) {
+  const bool surface_family =
+      family == "weak_patch" || family == "roughness" || family == "terrain";
+  if (surface_family && !PlaneScene(u.base)) {
     return "its scene '" + u.base.scene.name + "' is not a plane (floor, wall, ceiling, incline)";
   }
   // The search sets these keys itself: the scenario's own would be silently replaced.
   if (family == "roughness" && u.base.scene.roughness) {
     return "it sets scene.roughness itself (the search replaces it: remove it)";
+  }
+  if (family == "terrain" && u.base.scene.terrain) {
+    return "it sets scene.terrain itself (the search replaces it: remove it)";
+  }
+  if ((family == "terrain" && u.base.scene.roughness) ||
+      (family == "roughness" && u.base.scene.terrain)) {
+    return "it sets scene.roughness or scene.terrain (bumps and rock do not combine)";
   }
   if (family == "weak_patch" && u.base.scene.weak_patches) {
     return "it sets scene.weak_patches itself (the search replaces it: remove it)";
@@ -136,6 +148,11 @@ sim::Scenario DisturbanceCase(const DisturbanceSetup& u, const std::string& fami
     sim::RoughnessParams r;
     r.height_m = magnitude;
     s.scene.roughness = r;
+  } else if (family == "terrain") {
+    sim::TerrainParams t;
+    t.rms_m = magnitude;
+    t.seed = seed + 1;
+    s.scene.terrain = t;
   } else {
     throw InputError("climbsim bench robustness", 0, 0, "--families",
                      "unknown family '" + family + "'");

@@ -34,6 +34,7 @@ struct RobustnessOptions {
 struct RobustnessFamily {
   std::string name, unit, what;
   double lo = 0.0, hi = 0.0;
+  bool named_only = false;  // searched only when --families names it (each run costs more)
 };
 // Every family in table order, ranges resolved for a robot of `robot_mass_kg` (payload's).
 std::vector<RobustnessFamily> AllRobustnessFamilies(double robot_mass_kg);

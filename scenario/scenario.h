@@ -17,6 +17,7 @@
 #include "cpg/cpg.h"
 #include "reflex/reflex.h"
 #include "scenario/optimise_params.h"
+#include "sim/terrain_params.h"
 #include "transition/transition_params.h"
 
 namespace climbsim::sim {
@@ -130,6 +131,7 @@ struct SceneParams {
   // The magnitude the scenario asks for (gravity or gravity_m_s2); none: the scene file's.
   std::optional<double> GravityMagnitude() const;
   std::optional<RoughnessParams> roughness;
+  std::optional<TerrainParams> terrain;
 
   template <class A>
   void Serialize(A* a) {
@@ -159,6 +161,8 @@ struct SceneParams {
     a->Visit({"roughness", "",
               "bumps on the surface (floor, wall, ceiling, incline); absent: a flat surface"},
              &roughness);
+    a->Visit({"terrain", "", "rough rock: a seeded heightfield for the plane scenes' flat surface"},
+             &terrain);
   }
 
   void Validate(const Checker& c) const {
@@ -168,6 +172,9 @@ struct SceneParams {
       c.Fail("weak_patches", "applies to the plane scenes only (floor, wall, ceiling, incline)");
     if (roughness && !plane)
       c.Fail("roughness", "applies to the plane scenes only (floor, wall, ceiling, incline)");
+    if (terrain && !plane)
+      c.Fail("terrain", "applies to the plane scenes only (floor, wall, ceiling, incline)");
+    if (terrain && roughness) c.Fail("terrain", "give roughness or terrain, not both");
   }
 };
 

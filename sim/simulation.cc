@@ -16,6 +16,7 @@
 #include "sim/perturbation_effect.h"
 #include "sim/reflex_effect.h"
 #include "sim/surface.h"
+#include "sim/terrain.h"
 #include "sim/trajectory.h"
 #include "sim/transition_effect.h"
 
@@ -119,6 +120,7 @@ MjcfAdditions EffectAdditions(const Scenario& scenario) {
   MjcfAdditions additions;
   if (scenario.adhesion) AddAdhesionMjcf(scenario, *scenario.adhesion, &additions);
   additions.worldbody += RoughnessMjcf(scenario);
+  AddTerrainMjcf(scenario, &additions);
   return additions;
 }
 

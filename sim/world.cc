@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "adhesion/adhesion.h"
+#include "sim/terrain.h"
 
 namespace climbsim::sim {
 namespace {
@@ -165,6 +166,7 @@ std::string Compose(const std::string& robot_part, const std::string& scene_file
   std::string xml = "<mujoco model=\"climbsim\">\n";
   xml += "  <include file=\"" + XmlAttribute(scene_file) + "\"/>\n";
   xml += robot_part;
+  xml += add.top;
   if (!add.worldbody.empty()) xml += "  <worldbody>\n" + add.worldbody + "  </worldbody>\n";
   if (!add.contact.empty()) xml += "  <contact>\n" + add.contact + "  </contact>\n";
   if (!add.equality.empty()) xml += "  <equality>\n" + add.equality + "  </equality>\n";
@@ -351,6 +353,7 @@ std::unique_ptr<CompiledModel> CompiledModel::Build(const Scenario& s,
 
   // Spawn: the robot file's base position moved by the scene's offset.
   for (int i = 0; i < 3; ++i) m->qpos0[r.root_qpos_adr + i] += c->spawn_offset_[i];
+  FillTerrain(s, r, m);  // scene.terrain's heights (MJCF cannot carry them in MuJoCo 2.2.2)
   return c;
 }
 

@@ -23,11 +23,12 @@ namespace climbsim::sim {
 
 // MJCF sections added to the composed model, as XML text.
 struct MjcfAdditions {
+  std::string top;  // whole top-level elements (scene.terrain's <size> and <asset>)
   std::string equality;
   std::string sensor;
   std::string actuator;
   std::string contact;
-  std::string worldbody;  // geoms of the world body (scene.roughness's bumps)
+  std::string worldbody;  // geoms of the world body (scene.roughness's bumps, scene.terrain)
 };
 
 struct SceneInfo {

@@ -128,7 +128,7 @@ void AddBenchCommand(CLI::App& app) {
       "first push [s], at most a third of the duration (default: 4, or a third if earlier)");
   rob->add_option("--families", families,
                   "comma-separated: push_off, push_down, push_side, payload, pad_failure, "
-                  "weak_patch, roughness (default: all the scenario can take)");
+                  "weak_patch, roughness, terrain (default: all the scenario can take but terrain)");
   rob->add_option("--threads", robust.threads,
                   "runs side by side: every search's current magnitude's seeds and phases "
                   "(default: all cores)")

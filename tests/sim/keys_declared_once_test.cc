@@ -189,6 +189,7 @@ TEST(KeysDeclaredOnce, TheReaderRefusesAValueJustOutsideEachRangeAtItsKey) {
 // range: the bound is still inside the key's own range.
 const std::map<std::string, std::string> kRuleAtBound = {
     {"scene.roughness.size_m", "a bump's top is at most its grid pitch (spacing_m)"},
+    {"scene.terrain.correlation_m", "at least two pitches of the height grid (grid_m)"},
     {"adhesion.min_bonds", "at most the bonds a pad has (grid_x * grid_y)"},
     {"optimise.max_evaluations", "at least one evaluation per start"},
     {"optimise.starts", "at most max_evaluations starts"},

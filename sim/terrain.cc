@@ -1,0 +1,213 @@
+#include "sim/terrain.h"
+
+#include <unsupported/Eigen/FFT>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <cstring>
+#include <random>
+
+namespace climbsim::sim {
+namespace {
+
+constexpr char kTerrainName[] = "climbsim_terrain";
+constexpr double kTopRms = 12.0;      // the declared top: 12 σ (a Gaussian's range over 1e6 points ≈ 10 σ)
+constexpr double kBaseM = 0.01;       // the rock's thickness below its lowest point
+constexpr double kPadClearM = 0.005;  // flat beyond a starting pad's half-diagonal...
+constexpr double kBlendM = 0.02;      // ...then blended back to rock over this
+constexpr int kMaxContacts = 1000;    // the model's contact buffer (MuJoCo's default: 100)
+
+int PowerOfTwoAtLeast(int n) {
+  int p = 1;
+  while (p < n) p *= 2;
+  return p;
+}
+
+// A uniform draw in [0, 1) from the generator's 53 high bits (the same on every machine).
+double Unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+
+// Spectrum coefficients: amplitude √C(q), phase drawn per coefficient and mirrored
+// (c(−q) = conj c(q)) so that the inverse transform is real. Column-major in y: [j·nx + i].
+std::vector<std::complex<double>> Coefficients(const TerrainParams& p, int nx, int ny) {
+  std::mt19937_64 rng(static_cast<uint64_t>(p.seed));
+  std::vector<double> phase(static_cast<size_t>(nx) * ny);
+  for (double& ph : phase) ph = 2.0 * M_PI * Unit(rng);
+  std::vector<std::complex<double>> c(phase.size());
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const int mi = (nx - i) % nx, mj = (ny - j) % ny;
+      const size_t k = static_cast<size_t>(j) * nx + i, mk = static_cast<size_t>(mj) * nx + mi;
+      if (k == mk) continue;  // self-mirrored (the mean, the Nyquist corners): left out
+      const double qx = 2.0 * M_PI * (i <= nx / 2 ? i : i - nx) / (nx * p.grid_m);
+      const double qy = 2.0 * M_PI * (j <= ny / 2 ? j : j - ny) / (ny * p.grid_m);
+      const double q2 = (qx * qx + qy * qy) * p.correlation_m * p.correlation_m;
+      const double amplitude = std::pow(1.0 + q2, -0.5 * (1.0 + p.hurst));
+      const double ph = k < mk ? phase[k] : -phase[mk];
+      c[k] = std::polar(amplitude, ph);
+    }
+  }
+  return c;
+}
+
+// In-place 2-D inverse transform (rows, then columns).
+void Inverse2d(int nx, int ny, std::vector<std::complex<double>>* c) {
+  Eigen::FFT<double> fft;
+  std::vector<std::complex<double>> in, out;
+  for (int j = 0; j < ny; ++j) {
+    in.assign(c->begin() + static_cast<long>(j) * nx, c->begin() + static_cast<long>(j + 1) * nx);
+    fft.inv(out, in);
+    std::copy(out.begin(), out.end(), c->begin() + static_cast<long>(j) * nx);
+  }
+  in.resize(ny);
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) in[j] = (*c)[static_cast<size_t>(j) * nx + i];
+    fft.inv(out, in);
+    for (int j = 0; j < ny; ++j) (*c)[static_cast<size_t>(j) * nx + i] = out[j];
+  }
+}
+
+// The starting pads' centres (x, y) on the plane, the scenario's initial pose applied as
+// World applies it (offset, then yaw about the base), and the largest half-diagonal.
+std::vector<std::array<double, 2>> StartPads(const Scenario& s, const RobotInfo& r,
+                                             const mjModel* m, double* half_diagonal_m) {
+  mjData* d = mj_makeData(m);
+  mj_kinematics(m, d);
+  const double bx = m->qpos0[r.root_qpos_adr], by = m->qpos0[r.root_qpos_adr + 1];
+  const double yaw = s.initial.yaw_deg * M_PI / 180.0;
+  std::vector<std::array<double, 2>> pads;
+  *half_diagonal_m = 0.0;
+  for (const LegInfo& leg : r.legs) {
+    const int g = leg.pad_geom;
+    const double x = d->geom_xpos[3 * g] - bx, y = d->geom_xpos[3 * g + 1] - by;
+    pads.push_back({bx + s.initial.offset_m[0] + std::cos(yaw) * x - std::sin(yaw) * y,
+                    by + s.initial.offset_m[1] + std::sin(yaw) * x + std::cos(yaw) * y});
+    *half_diagonal_m =
+        std::max(*half_diagonal_m, std::hypot(m->geom_size[3 * g], m->geom_size[3 * g + 1]));
+  }
+  mj_deleteData(d);
+  return pads;
+}
+
+// The smooth step 0 → 1 over [0, 1].
+double Blend(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// Copies friction and contact softness of the scene's first plane (the surface) to geom g.
+void CopySurfaceContact(mjModel* m, int g) {
+  for (int p = 0; p < m->ngeom; ++p) {
+    if (m->geom_bodyid[p] != 0 || m->geom_type[p] != mjGEOM_PLANE) continue;
+    std::memcpy(m->geom_friction + 3 * g, m->geom_friction + 3 * p, 3 * sizeof(mjtNum));
+    std::memcpy(m->geom_solref + mjNREF * g, m->geom_solref + mjNREF * p, mjNREF * sizeof(mjtNum));
+    std::memcpy(m->geom_solimp + mjNIMP * g, m->geom_solimp + mjNIMP * p, mjNIMP * sizeof(mjtNum));
+    m->geom_condim[g] = m->geom_condim[p];
+    return;
+  }
+}
+
+}  // namespace
+
+std::vector<double> RockField(const TerrainParams& p, int nx, int ny) {
+  std::vector<std::complex<double>> c = Coefficients(p, nx, ny);
+  Inverse2d(nx, ny, &c);
+  std::vector<double> h(c.size());
+  double mean = 0.0;
+  for (size_t k = 0; k < c.size(); ++k) mean += (h[k] = c[k].real());
+  mean /= static_cast<double>(h.size());
+  double sq = 0.0;
+  for (double& v : h) {
+    v -= mean;
+    sq += v * v;
+  }
+  const double scale = p.rms_m / std::sqrt(sq / static_cast<double>(h.size()));
+  for (double& v : h) v *= scale;
+  return h;
+}
+
+double RockCorrelation(const TerrainParams& p, double r_m) {
+  if (r_m <= 0.0) return 1.0;
+  const double u = r_m / p.correlation_m;
+  return std::pow(2.0, 1.0 - p.hurst) / std::tgamma(p.hurst) * std::pow(u, p.hurst) *
+         std::cyl_bessel_k(p.hurst, u);
+}
+
+int TerrainColumns(const TerrainParams& p) {
+  return static_cast<int>(std::ceil((p.extent_m[1] - p.extent_m[0]) / p.grid_m)) + 1;
+}
+int TerrainRows(const TerrainParams& p) {
+  return static_cast<int>(std::ceil((p.extent_m[3] - p.extent_m[2]) / p.grid_m)) + 1;
+}
+
+void AddTerrainMjcf(const Scenario& s, MjcfAdditions* add) {
+  if (!s.scene.terrain) return;
+  const TerrainParams& t = *s.scene.terrain;
+  const int nc = TerrainColumns(t), nr = TerrainRows(t);
+  const double hx = 0.5 * (nc - 1) * t.grid_m, hy = 0.5 * (nr - 1) * t.grid_m;
+  char buf[1024];
+  std::snprintf(buf, sizeof(buf),
+                "  <!-- climbsim terrain: rms_m %.17g correlation_m %.17g hurst %.17g seed %d "
+                "grid_m %.17g; start pose %.17g %.17g %.17g yaw %.17g. Heights are written "
+                "after compile (MuJoCo 2.2.2 MJCF has no elevation): flat in this file. A pad\n"
+                "       on rock makes up to 50 contacts (MuJoCo's most per pair): room for them. -->\n"
+                "  <size nconmax=\"%d\" njmax=\"%d\"/>\n"
+                "  <asset>\n    <hfield name=\"%s\" nrow=\"%d\" ncol=\"%d\" size=\"%.17g %.17g %.17g %.17g\"/>\n"
+                "  </asset>\n",
+                t.rms_m, t.correlation_m, t.hurst, t.seed, t.grid_m, s.initial.offset_m[0],
+                s.initial.offset_m[1], s.initial.offset_m[2], s.initial.yaw_deg, kMaxContacts,
+                3 * kMaxContacts + 500, kTerrainName, nr,
+                nc, hx, hy, kTopRms * t.rms_m, kBaseM);
+  add->top += buf;
+  std::snprintf(buf, sizeof(buf),
+                "    <geom name=\"%s\" type=\"hfield\" hfield=\"%s\" pos=\"%.17g %.17g 0\" "
+                "contype=\"1\" conaffinity=\"2\" condim=\"3\" rgba=\"0.55 0.5 0.45 1\"/>\n",
+                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy);
+  add->worldbody += buf;
+}
+
+void FillTerrain(const Scenario& s, const RobotInfo& r, mjModel* m) {
+  const int g = TerrainGeom(m);
+  if (!s.scene.terrain || g < 0) return;
+  const TerrainParams& t = *s.scene.terrain;
+  const int hf = m->geom_dataid[g];
+  const int nr = m->hfield_nrow[hf], nc = m->hfield_ncol[hf];
+  const int nx = PowerOfTwoAtLeast(nc), ny = PowerOfTwoAtLeast(nr);
+  const std::vector<double> field = RockField(t, nx, ny);
+  double half_diagonal = 0.0;
+  const std::vector<std::array<double, 2>> pads = StartPads(s, r, m, &half_diagonal);
+  std::vector<double> h(static_cast<size_t>(nr) * nc);
+  double low = 0.0, high = 0.0;
+  for (int j = 0; j < nr; ++j) {
+    for (int i = 0; i < nc; ++i) {
+      const double x = t.extent_m[0] + i * t.grid_m, y = t.extent_m[2] + j * t.grid_m;
+      double w = 1.0;
+      for (const auto& p : pads) {
+        const double d = std::hypot(x - p[0], y - p[1]) - half_diagonal - kPadClearM;
+        w = std::min(w, Blend(d / kBlendM));
+      }
+      const double v = w * field[static_cast<size_t>(j) * nx + i];
+      h[static_cast<size_t>(j) * nc + i] = v;
+      low = std::min(low, v);
+      high = std::max(high, v);
+    }
+  }
+  const double top = std::min(high - low, kTopRms * t.rms_m);
+  float* data = m->hfield_data + m->hfield_adr[hf];
+  for (size_t k = 0; k < h.size(); ++k) {
+    data[k] = static_cast<float>(std::min(1.0, (h[k] - low) / top));
+  }
+  m->hfield_size[4 * hf + 2] = top;
+  CopySurfaceContact(m, g);
+  // The rock's mean plane is −low above the scene's plane: the robot starts that much higher.
+  m->qpos0[r.root_qpos_adr + 2] -= low;
+}
+
+int TerrainGeom(const mjModel* m) {
+  const int g = mj_name2id(m, mjOBJ_GEOM, kTerrainName);
+  return g >= 0 && m->geom_type[g] == mjGEOM_HFIELD ? g : -1;
+}
+
+}  // namespace climbsim::sim
