@@ -44,12 +44,12 @@ py::object YamlToPy(const YAML::Node& n) {
   if (n.IsMap()) {
     py::dict d;
     for (const auto& kv : n) d[py::str(kv.first.Scalar())] = YamlToPy(kv.second);
-    return std::move(d);
+    return d;
   }
   if (n.IsSequence()) {
     py::list l;
     for (const auto& item : n) l.append(YamlToPy(item));
-    return std::move(l);
+    return l;
   }
   if (!n.IsDefined() || n.IsNull()) return py::none();
   return ScalarToPy(n.Scalar());
