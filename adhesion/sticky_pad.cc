@@ -202,6 +202,18 @@ void StickyPad::SetUnweldedLoad() {
   load_.fn_n = -sense_.preload_n;
 }
 
+void StickyPad::WhileAttached(mjModel* m, mjData* d, double time_s, PadEventSink* sink) {
+  if (params_.model == AdhesionModel::kBonds) {
+    // Build-up while the pad is not pulled off (known from the weld's first step on).
+    if (load_known_ && load_.fn_n <= 0.0 && buildup_ < 1.0) {
+      buildup_ = 1.0 - (1.0 - buildup_) * grow_decay_;
+      grid_.Grow(buildup_);
+    }
+  } else if (sense_.contacts + sense_.contacts_in_gap == 0) {
+    Detach(m, d, time_s, PadCause::kContactLost, sink);
+  }
+}
+
 void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_current,
                        PadEventSink* sink) {
   if (contact_off_steps_ > 0 && --contact_off_steps_ == 0) {
@@ -209,15 +221,7 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
     m->geom_conaffinity[geometry_.geom] = conaffinity_;
   }
   if (attached_) {
-    if (params_.model == AdhesionModel::kBonds) {
-      // Build-up while the pad is not pulled off (known from the weld's first step on).
-      if (load_known_ && load_.fn_n <= 0.0 && buildup_ < 1.0) {
-        buildup_ = 1.0 - (1.0 - buildup_) * grow_decay_;
-        grid_.Grow(buildup_);
-      }
-    } else if (sense_.contacts + sense_.contacts_in_gap == 0) {
-      Detach(m, d, time_s, PadCause::kContactLost, sink);
-    }
+    WhileAttached(m, d, time_s, sink);
     return;
   }
 

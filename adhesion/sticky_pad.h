@@ -333,6 +333,8 @@ class StickyPad {
               PadCause cause, bool* kinematics_current, PadEventSink* sink, Seating seating);
   // kBonds with partial contact: the grid's touching set from the current poses.
   void MeasureTouching(const mjModel* m, const mjData* d, const Seating& seating);
+  // Decide for an attached pad: the build-up (kBonds), or contact lost (kMujoco).
+  void WhileAttached(mjModel* m, mjData* d, double time_s, PadEventSink* sink);
   // Condition 5 for a landing pad: measures touching_ (seated) and returns the share of the
   // face that touches; 1 without partial contact or for kMujoco.
   double LandingContactShare(const mjModel* m, mjData* d, bool* kinematics_current);
