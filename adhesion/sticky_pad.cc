@@ -274,7 +274,6 @@ bool StickyPad::ForceAttach(mjModel* m, mjData* d, double time_s, int surface_ge
                             PadCause cause, bool* kinematics_current, PadEventSink* sink,
                             double standoff_m, const ContactSense* seat) {
   if (attached_) return false;
-  if (seat != nullptr) sense_ = *seat;
   sense_.surface_geom = surface_geom;
   ++counts_.touchdown;
   Emit(sink, time_s, PadEventKind::kTouchdown, PadCause::kNone, 0.0, false);
