@@ -208,7 +208,7 @@ TEST(SeriesSpring, PushDownTheWallLoadsThePadsLessWithSprings) {
 
 // examples/gecko_compliant.yaml with a 10 ms push of 0.0284 N·s down the wall at 3.75 s (the
 // case that ends it, seed 0), 10 s, a fall ends the run; as it ships, or with the default tail
-// and tail reflex of gecko_tail.yaml added.
+// and tail reflex of gecko_tail_peel.yaml added.
 RunResult CompliantPushCase(bool tail) {
   Scenario s = LoadScenario(Source("examples/gecko_compliant.yaml"));
   s.duration_s = 10;

@@ -1,6 +1,6 @@
 // The tail (robot/tail.h) on a generated gecko: ReadRobot's ids, the tip on the surface in
 // qpos0, the mass added = its parts; and the tail reflex (reflex.tail) on versus off on the
-// same pad-failure case of examples/gecko_tail.yaml.
+// same pad-failure cases of examples/gecko_tail_peel.yaml and examples/gecko_tail.yaml.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
@@ -142,11 +142,11 @@ struct Outcome {
   std::string events;
 };
 
-// examples/gecko_tail.yaml as `bench robustness` runs its pad_failure case of seed 0 at
+// examples/gecko_tail_peel.yaml as `bench robustness` runs its pad_failure case of seed 0 at
 // probability 0.035 (10 s, a fall ends the run), with the tail held `rest_rad` off the wall,
 // and pressed or not.
 Outcome PadFailureCase(double rest_rad, bool press) {
-  Scenario s = LoadScenario(Source("examples/gecko_tail.yaml"));
+  Scenario s = LoadScenario(Source("examples/gecko_tail_peel.yaml"));
   s.duration_s = 10;
   s.fall.stop = true;
   s.outputs.trajectory_rate_hz = 0;
@@ -189,6 +189,61 @@ TEST(TailReflex, PressOnPadFailureSavesWhatAClearTailCannot) {
   }
   EXPECT_EQ(presses, on.summary["reflex"]["tail"]["presses"]);
   EXPECT_GE(releases, presses - 1);
+}
+
+// examples/gecko_tail.yaml, the tail on the active-release gecko, as `bench robustness` runs its
+// pad_failure case of seed 0 at probability 0.1 (10 s, a fall ends the run): LF fails in stance
+// at 1.44 s, again at 3.58 s, and RF at 9.75 s. `tail` false takes the tail off the robot and
+// its reflex off (gecko_wall_active.yaml); `press` false leaves the tail resting on the wall.
+Outcome ActiveTailCase(bool tail, bool press) {
+  Scenario s = LoadScenario(Source("examples/gecko_tail.yaml"));
+  s.duration_s = 10;
+  s.fall.stop = true;
+  s.outputs.trajectory_rate_hz = 0;
+  s.adhesion->pad_failure_probability = 0.1;
+  if (!tail) {
+    s.robot_design->tail.reset();
+    s.reflex->tail.reset();
+  } else if (!press) {
+    s.reflex->tail->on_front_pad_loss = false;
+    s.reflex->tail->pitch_threshold_rad = 1.0;
+  }
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  Outcome o;
+  o.result = sim.Run();
+  o.summary = sim.Summary();
+  o.events = sim.EventsCsv();
+  return o;
+}
+
+double FirstFailureS(const std::string& events) {
+  for (const auto& e : climbsim::testing::ParseEvents(events)) {
+    if (e.event == "detach" && e.cause == "failure") return e.t;
+  }
+  return -1.0;
+}
+
+// The same front pad fails at the same time with and without the tail; without it the two
+// pads of the other side are twisted off and the gecko falls, with it the gecko climbs on.
+// Pressed, the tail keeps the nose's turn off the wall under half the resting tail's and the
+// climb longer (docs/climbing.md, "Tail").
+TEST(TailReflex, ActiveGeckoWithTheTailSurvivesThePadLossThatDropsItWithout) {
+  const Outcome none = ActiveTailCase(false, false);
+  const Outcome resting = ActiveTailCase(true, false);
+  const Outcome pressed = ActiveTailCase(true, true);
+  ASSERT_TRUE(none.result.stable && resting.result.stable && pressed.result.stable);
+  EXPECT_NEAR(FirstFailureS(none.events), 1.44, 1e-9);
+  EXPECT_EQ(FirstFailureS(pressed.events), FirstFailureS(none.events));
+  EXPECT_TRUE(none.result.fell);
+  EXPECT_FALSE(pressed.result.fell) << "fell at " << pressed.result.fall_time_s;
+  EXPECT_GT(pressed.result.distance_m, 0.15);
+  EXPECT_EQ(resting.summary["reflex"]["tail"]["presses"], 0);
+  EXPECT_GE(pressed.summary["reflex"]["tail"]["presses"], 2);
+  const double pitch_pressed = pressed.summary["reflex"]["tail"]["max_pitch_rad"];
+  const double pitch_resting = resting.summary["reflex"]["tail"]["max_pitch_rad"];
+  EXPECT_LT(pitch_pressed, 0.5 * pitch_resting) << pitch_pressed << " vs " << pitch_resting;
+  EXPECT_GT(pressed.result.distance_m, resting.result.distance_m + 0.03);
 }
 
 // Held 0.1 rad clear (tip ~14 mm off the wall), the unpressed tail catches the body too, later:
@@ -241,7 +296,7 @@ TEST(Tail, AdhesiveTipIsAPadOnASleeve) {
 // after the start (where it lets go at once).
 TEST(TailReflex, AdhesiveTipBondsOnlyWhilePressed) {
   for (bool press : {true, false}) {
-    Scenario s = LoadScenario(Source("examples/gecko_tail.yaml"));
+    Scenario s = LoadScenario(Source("examples/gecko_tail_peel.yaml"));
     s.robot_design->tail->tip = "adhesive";
     s.duration_s = 5;
     s.outputs.trajectory_rate_hz = 0;
@@ -285,11 +340,11 @@ TEST(TailReflex, AdhesiveTipBondsOnlyWhilePressed) {
   }
 }
 
-// examples/gecko_tail.yaml designs the robot these tests check: the gecko preset with the
+// examples/gecko_tail_peel.yaml designs the robot these tests check: the gecko preset with the
 // default tail and nothing else changed.
 TEST(Tail, ExampleDesignsTheTestedRobot) {
-  const Scenario s = ParseScenario(YAML::LoadFile(Source("examples/gecko_tail.yaml")),
-                                   Source("examples/gecko_tail.yaml"));
+  const Scenario s = ParseScenario(YAML::LoadFile(Source("examples/gecko_tail_peel.yaml")),
+                                   Source("examples/gecko_tail_peel.yaml"));
   ASSERT_TRUE(s.robot_design.has_value());
   EXPECT_EQ(GenerateRobotMjcf(*s.robot_design), GenerateRobotMjcf(GeckoWithTail(TailDesign{})));
 }
