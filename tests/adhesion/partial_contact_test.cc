@@ -401,5 +401,80 @@ TEST(PartialContactPulloff, FlatPadIsBitForBitUnchanged) {
   }
 }
 
+// Attach condition 5 on a landing: a pad on a vertical slide (it cannot tip) is let down onto a
+// step edge under gravity. Over the upper level it touches (edge + b/2)/b of its face and bonds
+// exactly those cells; with its centre over the lower level it bridges the edge and the far
+// side (a seated pad, "SeatedPadOverTheLowerSideOfAStepBridgesEdgeAndFarSide"), touches less
+// than min_contact_share and is rejected with cause contact_share, once, at the end of the
+// attach window; without the condition it attaches with that share bonded. Conditions 1-4
+// hold in each: 0.1 m/s, square, 4 contacts, its own weight.
+struct Landing {
+  std::vector<PadEvent> events;
+  double bonded_fraction = 0.0;
+  bool attached = false;
+};
+Landing LandOnStep(double edge_m, double min_contact_share = 0.5) {
+  struct Sink : PadEventSink {
+    void OnPadEvent(int, const PadEvent& e) override { events.push_back(e); }
+    std::vector<PadEvent> events;
+  } sink;
+  PadSpec spec;
+  spec.body = "pad";
+  spec.params.bonds.grid_x = spec.params.bonds.grid_y = kGrid;
+  spec.params.attach.initial_fraction = 1.0;
+  spec.params.contact.min_contact_share = min_contact_share;
+  const AdhesionMjcfText weld = AdhesionMjcf({spec}, kDefaultWeldSolref);
+  std::ostringstream x;
+  x << "<mujoco>\n  <option timestep=\"0.001\"/>\n  <worldbody>\n    <body name=\"surface\">\n"
+    << Step(edge_m) << "    </body>\n    <body name=\"pad\" pos=\"0 0 0.0015\">\n"
+    << "      <joint name=\"drop\" type=\"slide\" axis=\"0 0 1\"/>\n"
+    << "      <geom type=\"box\" size=\"" << 0.5 * kPad << " " << 0.5 * kPad
+    << " 0.001\" mass=\"0.005\"/>\n    </body>\n  </worldbody>\n  <equality>\n"
+    << weld.equality << "  </equality>\n  <actuator>\n" << weld.actuator
+    << "  </actuator>\n</mujoco>\n";
+  std::string error;
+  mjModel* m = common::CompileMjcfString(x.str(), &error);
+  if (m == nullptr) throw std::runtime_error(error);
+  mjData* d = mj_makeData(m);
+  AdhesionSystemParams params;
+  params.pads = {spec};
+  params.surfaces = {"surface"};
+  AdhesionSystem system(m, params);
+  system.Reset(m, d, &sink);
+  for (int k = 0; k < 300; ++k) {  // 0.3 s: the fall (~20 ms) and the attach window (0.1 s)
+    system.BeforeStep(m, d, &sink);
+    mj_step(m, d);
+    system.AfterStep(m, d, &sink);
+  }
+  Landing l{sink.events, system.pad(0).bonded_fraction(), system.pad(0).attached()};
+  mj_deleteData(d);
+  mj_deleteModel(m);
+  return l;
+}
+
+TEST(PartialContactLanding, PadLandingOnTooLittleOfAStepIsRejectedByItsContactShare) {
+  const double cell = kPad / kGrid;
+  const Landing over = LandOnStep(4 * cell);  // 12 of 16 columns on the upper level
+  ASSERT_TRUE(over.attached);
+  ASSERT_EQ(over.events.size(), 2u);
+  EXPECT_EQ(over.events[0].kind, PadEventKind::kTouchdown);
+  EXPECT_EQ(over.events[1].kind, PadEventKind::kAttach);
+  EXPECT_NEAR(over.bonded_fraction, 12.0 / kGrid, 1e-12);
+
+  const Landing off = LandOnStep(-4 * cell);  // the centre over the lower level
+  EXPECT_FALSE(off.attached);
+  ASSERT_EQ(off.events.size(), 2u);
+  EXPECT_EQ(off.events[0].kind, PadEventKind::kTouchdown);
+  EXPECT_EQ(off.events[1].kind, PadEventKind::kAttachRejected);
+  EXPECT_EQ(off.events[1].cause, PadCause::kContactShare);
+  EXPECT_LT(off.events[1].cause_value, 0.5);
+  EXPECT_NEAR(off.events[1].time_s - off.events[0].time_s, 0.1, 0.0015) << "the window";
+
+  // Without condition 5 the same landing attaches, bonding only the share it touches.
+  const Landing any = LandOnStep(-4 * cell, 0.0);
+  ASSERT_TRUE(any.attached);
+  EXPECT_NEAR(any.bonded_fraction, off.events[1].cause_value, 1e-12);
+}
+
 }  // namespace
 }  // namespace climbsim::adhesion
