@@ -109,6 +109,151 @@ void CopySurfaceContact(mjModel* m, int g) {
   }
 }
 
+
+// MuJoCo's own collider of a convex geom with a heightfield (mjc_ConvexHField in 2.2.2), for
+// the pairs TerrainBoxContacts does not take.
+mjfCollision g_hfield_box_builtin = nullptr;
+
+// The terrain's heights and their triangulation (hfield frame): MuJoCo's, each grid cell
+// split along its diagonal from (c, r) to (c + 1, r + 1), as its collider and mj_rayHfield
+// split it.
+struct HfieldGrid {
+  const float* data;
+  int nrow, ncol;
+  double sx, sy, sz, dx, dy;
+
+  HfieldGrid(const mjModel* m, int g) {
+    const int hf = m->geom_dataid[g];
+    data = m->hfield_data + m->hfield_adr[hf];
+    nrow = m->hfield_nrow[hf];
+    ncol = m->hfield_ncol[hf];
+    sx = m->hfield_size[4 * hf];
+    sy = m->hfield_size[4 * hf + 1];
+    sz = m->hfield_size[4 * hf + 2];
+    dx = 2.0 * sx / (ncol - 1);
+    dy = 2.0 * sy / (nrow - 1);
+  }
+  double At(int r, int c) const { return data[r * ncol + c] * sz; }
+  double X(int c) const { return dx * c - sx; }
+  double Y(int r) const { return dy * r - sy; }
+  bool Inside(double x, double y) const { return std::abs(x) <= sx && std::abs(y) <= sy; }
+
+  // Height at (x, y) inside the grid and the triangle's upward unit normal.
+  double Surface(double x, double y, double normal[3]) const {
+    const double u = (x + sx) / dx, v = (y + sy) / dy;
+    const int c = std::clamp(static_cast<int>(std::floor(u)), 0, ncol - 2);
+    const int r = std::clamp(static_cast<int>(std::floor(v)), 0, nrow - 2);
+    const double fu = u - c, fv = v - r;
+    const double h00 = At(r, c), h10 = At(r, c + 1), h01 = At(r + 1, c), h11 = At(r + 1, c + 1);
+    const bool lower = fu >= fv;  // the triangle (c, r), (c + 1, r), (c + 1, r + 1)
+    const double sx_slope = lower ? (h10 - h00) / dx : (h11 - h01) / dx;
+    const double sy_slope = lower ? (h11 - h10) / dy : (h01 - h00) / dy;
+    const double inv = 1.0 / std::sqrt(1.0 + sx_slope * sx_slope + sy_slope * sy_slope);
+    normal[0] = -sx_slope * inv;
+    normal[1] = -sy_slope * inv;
+    normal[2] = inv;
+    return lower ? h00 + fu * (h10 - h00) + fv * (h11 - h10)
+                 : h00 + fv * (h01 - h00) + fu * (h11 - h01);
+  }
+};
+
+// Adds one contact (hfield frame: point, normal from the rock to the box, distance) to con,
+// keeping the mjMAXCONPAIR deepest.
+void AddContact(const double* pos1, const double* mat1, const double p[3], const double n[3],
+                double dist, mjContact* con, int* count) {
+  int slot = *count;
+  if (slot == mjMAXCONPAIR) {
+    slot = 0;
+    for (int i = 1; i < mjMAXCONPAIR; ++i) {
+      if (con[i].dist > con[slot].dist) slot = i;
+    }
+    if (con[slot].dist <= dist) return;
+  } else {
+    ++*count;
+  }
+  mjContact& c = con[slot];
+  c.dist = dist;
+  mju_rotVecMat(c.pos, p, mat1);
+  mju_addTo3(c.pos, pos1);
+  mju_rotVecMat(c.frame, n, mat1);
+  mju_zero3(c.frame + 3);
+}
+
+// The box's corners under the rock: normal the rock's, at the point under the corner.
+void CornerContacts(const HfieldGrid& grid, const double* pos1, const double* mat1,
+                    const double box_pos[3], const double box_rot[9], const double* size,
+                    double margin, mjContact* con, int* count) {
+  for (int k = 0; k < 8; ++k) {
+    const double local[3] = {(k & 1 ? 1 : -1) * size[0], (k & 2 ? 1 : -1) * size[1],
+                             (k & 4 ? 1 : -1) * size[2]};
+    double p[3];
+    mju_rotVecMat(p, local, box_rot);
+    mju_addTo3(p, box_pos);
+    if (!grid.Inside(p[0], p[1])) continue;
+    double n[3];
+    const double dist = (p[2] - grid.Surface(p[0], p[1], n)) * n[2];
+    if (dist >= margin) continue;
+    const double mid[3] = {p[0] - 0.5 * dist * n[0], p[1] - 0.5 * dist * n[1],
+                           p[2] - 0.5 * dist * n[2]};
+    AddContact(pos1, mat1, mid, n, dist, con, count);
+  }
+}
+
+// The rock's grid points inside the box, pushed out through its face towards the rock: normal
+// that face's. box_rot's columns are the box axes in the hfield frame.
+void VertexContacts(const HfieldGrid& grid, const double* pos1, const double* mat1,
+                    const double box_pos[3], const double box_rot[9], const double* size,
+                    double margin, mjContact* con, int* count) {
+  int axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(box_rot[6 + k]) > std::abs(box_rot[6 + axis])) axis = k;
+  }
+  const double sign = box_rot[6 + axis] > 0 ? -1.0 : 1.0;  // the face whose normal points down
+  const double n[3] = {-sign * box_rot[axis], -sign * box_rot[3 + axis], -sign * box_rot[6 + axis]};
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (int i = 0; i < 2; ++i) {
+    const double half = std::abs(box_rot[3 * i]) * size[0] + std::abs(box_rot[3 * i + 1]) * size[1] +
+                        std::abs(box_rot[3 * i + 2]) * size[2];
+    lo[i] = box_pos[i] - half;
+    hi[i] = box_pos[i] + half;
+  }
+  const int c0 = std::max(0, static_cast<int>(std::ceil((lo[0] + grid.sx) / grid.dx)));
+  const int c1 = std::min(grid.ncol - 1, static_cast<int>(std::floor((hi[0] + grid.sx) / grid.dx)));
+  const int r0 = std::max(0, static_cast<int>(std::ceil((lo[1] + grid.sy) / grid.dy)));
+  const int r1 = std::min(grid.nrow - 1, static_cast<int>(std::floor((hi[1] + grid.sy) / grid.dy)));
+  for (int r = r0; r <= r1; ++r) {
+    for (int c = c0; c <= c1; ++c) {
+      const double v[3] = {grid.X(c), grid.Y(r), grid.At(r, c)};
+      double rel[3], q[3];
+      mju_sub3(rel, v, box_pos);
+      mju_rotVecMatT(q, rel, box_rot);  // the point in the box frame
+      const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+      if (std::abs(q[a1]) > size[a1] || std::abs(q[a2]) > size[a2]) continue;
+      const double dist = sign * q[axis] - size[axis];  // beyond the face: > 0
+      if (dist >= margin || dist < -2.0 * size[axis]) continue;
+      const double mid[3] = {v[0] + 0.5 * dist * n[0], v[1] + 0.5 * dist * n[1],
+                             v[2] + 0.5 * dist * n[2]};
+      AddContact(pos1, mat1, mid, n, dist, con, count);
+    }
+  }
+}
+
+// mjCOLLISIONFUNC[HFIELD][BOX]: the terrain against a box (TerrainBoxContacts); every other
+// heightfield as MuJoCo collides it.
+int HfieldBox(const mjModel* m, const mjData* d, mjContact* con, int g1, int g2, mjtNum margin) {
+  if (std::strcmp(m->names + m->name_geomadr[g1], kTerrainName) != 0) {
+    return g_hfield_box_builtin(m, d, con, g1, g2, margin);
+  }
+  return TerrainBoxContacts(m, d, con, g1, g2, margin);
+}
+
+// Installed before main, while no thread steps a model: the table is MuJoCo's global.
+const bool g_hfield_box_installed = [] {
+  g_hfield_box_builtin = mjCOLLISIONFUNC[mjGEOM_HFIELD][mjGEOM_BOX];
+  mjCOLLISIONFUNC[mjGEOM_HFIELD][mjGEOM_BOX] = HfieldBox;
+  return true;
+}();
+
 }  // namespace
 
 std::vector<double> RockField(const TerrainParams& p, int nx, int ny) {
@@ -210,4 +355,27 @@ int TerrainGeom(const mjModel* m) {
   return g >= 0 && m->geom_type[g] == mjGEOM_HFIELD ? g : -1;
 }
 
+int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_hfield,
+                       int g_box, mjtNum margin) {
+  const double* pos1 = d->geom_xpos + 3 * g_hfield;
+  const double* mat1 = d->geom_xmat + 9 * g_hfield;
+  // The box in the hfield frame: its centre and its axes (columns).
+  double rel[3], box_pos[3], box_rot[9];
+  mju_sub3(rel, d->geom_xpos + 3 * g_box, pos1);
+  mju_rotVecMatT(box_pos, rel, mat1);
+  mju_mulMatTMat(box_rot, mat1, d->geom_xmat + 9 * g_box, 3, 3, 3);
+  const HfieldGrid grid(m, g_hfield);
+  const double* size = m->geom_size + 3 * g_box;
+  const double rbound = m->geom_rbound[g_box];
+  if (box_pos[2] - rbound > grid.sz + margin || std::abs(box_pos[0]) - rbound > grid.sx ||
+      std::abs(box_pos[1]) - rbound > grid.sy) {
+    return 0;
+  }
+  int count = 0;
+  CornerContacts(grid, pos1, mat1, box_pos, box_rot, size, margin, con, &count);
+  VertexContacts(grid, pos1, mat1, box_pos, box_rot, size, margin, con, &count);
+  return count;
+}
+
 }  // namespace climbsim::sim
+

@@ -51,6 +51,25 @@ void FillTerrain(const Scenario& scenario, const RobotInfo& robot, mjModel* mode
 // The terrain's geom id in a model; −1 when it has none.
 int TerrainGeom(const mjModel* model);
 
+// CONTACTS OF A BOX ON THE TERRAIN (a pad, a body box). MuJoCo 2.2.2 collides a convex geom with
+// a heightfield prism by prism (mjc_ConvexHField, the libccd MPR penetration of each triangular
+// prism): where a box's edge overlaps a prism by less than it is pressed in, the least
+// penetration is sideways, so a flat pad pressed 0.2 mm onto a flat heightfield gets contacts
+// with normals tilted up to 90° (measured: 1 to 7 of 17 on a 12.5 mm grid, 3 to 18 of 50 on a
+// 5 mm grid), and at most 50 contacts, cut to one side of the pad on a fine grid. A pad sliding
+// off the rock snags on them. This collider takes the terrain's box pairs instead
+// (mjCOLLISIONFUNC[HFIELD][BOX], installed before main; other heightfields keep MuJoCo's):
+//   - each box corner below the rock's surface: a contact along the surface's normal there, at
+//     the distance from the corner to that triangle's plane;
+//   - each grid point of the rock inside the box: a contact along the normal of the box face
+//     that faces the rock, at the point's depth behind that face;
+// the deepest mjMAXCONPAIR of them, each at the midpoint of its penetration, normal from the
+// rock to the box. The surface is MuJoCo's (the cells split along the diagonal (c, r)-(c + 1,
+// r + 1), as mj_rayHfield and the renderer split them): on a flat heightfield a box gets the
+// plane's contacts. Allocation-free. Returns the number of contacts written to con.
+int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_hfield, int g_box,
+                       mjtNum margin);
+
 }  // namespace climbsim::sim
 
 #endif  // CLIMBSIM_SIM_TERRAIN_H_
