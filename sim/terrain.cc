@@ -16,6 +16,9 @@ namespace {
 constexpr char kTerrainName[] = "climbsim_terrain";
 constexpr double kTopRms = 12.0;      // the declared top: 12 σ (a Gaussian's range over 1e6 points ≈ 10 σ)
 constexpr double kBaseM = 0.01;       // the rock's thickness below its lowest point
+// The rock's lowest point this far above the scene's plane: a pad pressed into a hollow of the
+// rock never touches the plane as well (two surfaces' contacts on one pad press it twice).
+constexpr double kPlaneClearM = 0.002;
 constexpr double kPadClearM = 0.005;  // flat beyond a starting pad's half-diagonal...
 constexpr double kBlendM = 0.02;      // ...then blended back to rock over this
 constexpr int kMaxContacts = 1000;    // the model's contact buffer (MuJoCo's default: 100)
@@ -199,38 +202,80 @@ void CornerContacts(const HfieldGrid& grid, const double* pos1, const double* ma
   }
 }
 
-// The rock's grid points inside the box, pushed out through its face towards the rock: normal
-// that face's. box_rot's columns are the box axes in the hfield frame.
-void VertexContacts(const HfieldGrid& grid, const double* pos1, const double* mat1,
-                    const double box_pos[3], const double box_rot[9], const double* size,
-                    double margin, mjContact* con, int* count) {
+// The box's face towards the rock (the one whose outward normal points most down the hfield's
+// z), in the hfield frame.
+struct BoxFace {
+  const double* box_pos;
+  const double* box_rot;  // columns: the box axes in the hfield frame
+  const double* size;
   int axis = 0;
-  for (int k = 1; k < 3; ++k) {
-    if (std::abs(box_rot[6 + k]) > std::abs(box_rot[6 + axis])) axis = k;
+  double sign = 1.0;  // outward normal = sign · box axis `axis`
+
+  BoxFace(const double box_pos_in[3], const double box_rot_in[9], const double* size_in)
+      : box_pos(box_pos_in), box_rot(box_rot_in), size(size_in) {
+    for (int k = 1; k < 3; ++k) {
+      if (std::abs(box_rot[6 + k]) > std::abs(box_rot[6 + axis])) axis = k;
+    }
+    sign = box_rot[6 + axis] > 0 ? -1.0 : 1.0;
   }
-  const double sign = box_rot[6 + axis] > 0 ? -1.0 : 1.0;  // the face whose normal points down
-  const double n[3] = {-sign * box_rot[axis], -sign * box_rot[3 + axis], -sign * box_rot[6 + axis]};
-  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  // Signed distance of hfield point v beyond the face (< 0: behind it, inside the box).
+  double Beyond(const double v[3]) const {
+    double along = 0.0;
+    for (int i = 0; i < 3; ++i) along += box_rot[3 * i + axis] * (v[i] - box_pos[i]);
+    return sign * along - size[axis];
+  }
+  // Whether v lies within the face's outline (the box's other two axes).
+  bool Over(const double v[3]) const {
+    for (int k : {(axis + 1) % 3, (axis + 2) % 3}) {
+      double along = 0.0;
+      for (int i = 0; i < 3; ++i) along += box_rot[3 * i + k] * (v[i] - box_pos[i]);
+      if (std::abs(along) > size[k]) return false;
+    }
+    return true;
+  }
+};
+
+// Whether grid point (r, c) is a peak of the rock seen from the face: no neighbour reaches
+// further into the box, and some neighbour less far (beyond rounding). A flat or evenly
+// sloping patch has none, so a face on it gets its corners' contacts only, as on a plane.
+bool FacePeak(const HfieldGrid& grid, const BoxFace& face, int r, int c, double beyond) {
+  constexpr double kTieM = 1e-9;
+  bool lower = false;
+  for (int dr = -1; dr <= 1; ++dr) {
+    for (int dc = -1; dc <= 1; ++dc) {
+      const int rr = r + dr, cc = c + dc;
+      if ((dr == 0 && dc == 0) || rr < 0 || cc < 0 || rr >= grid.nrow || cc >= grid.ncol) continue;
+      const double w[3] = {grid.X(cc), grid.Y(rr), grid.At(rr, cc)};
+      const double b = face.Beyond(w);
+      if (b < beyond - kTieM) return false;
+      lower |= b > beyond + kTieM;
+    }
+  }
+  return lower;
+}
+
+// The rock's peaks inside the box, pushed out through the face towards the rock: normal that
+// face's.
+void PeakContacts(const HfieldGrid& grid, const double* pos1, const double* mat1,
+                  const BoxFace& face, double margin, mjContact* con, int* count) {
+  const double n[3] = {-face.sign * face.box_rot[face.axis], -face.sign * face.box_rot[3 + face.axis],
+                       -face.sign * face.box_rot[6 + face.axis]};
+  int lo[2], hi[2];
   for (int i = 0; i < 2; ++i) {
-    const double half = std::abs(box_rot[3 * i]) * size[0] + std::abs(box_rot[3 * i + 1]) * size[1] +
-                        std::abs(box_rot[3 * i + 2]) * size[2];
-    lo[i] = box_pos[i] - half;
-    hi[i] = box_pos[i] + half;
+    const double half = std::abs(face.box_rot[3 * i]) * face.size[0] +
+                        std::abs(face.box_rot[3 * i + 1]) * face.size[1] +
+                        std::abs(face.box_rot[3 * i + 2]) * face.size[2];
+    const double origin = i == 0 ? grid.sx : grid.sy, step = i == 0 ? grid.dx : grid.dy;
+    const int last = i == 0 ? grid.ncol - 1 : grid.nrow - 1;
+    lo[i] = std::max(0, static_cast<int>(std::ceil((face.box_pos[i] - half + origin) / step)));
+    hi[i] = std::min(last, static_cast<int>(std::floor((face.box_pos[i] + half + origin) / step)));
   }
-  const int c0 = std::max(0, static_cast<int>(std::ceil((lo[0] + grid.sx) / grid.dx)));
-  const int c1 = std::min(grid.ncol - 1, static_cast<int>(std::floor((hi[0] + grid.sx) / grid.dx)));
-  const int r0 = std::max(0, static_cast<int>(std::ceil((lo[1] + grid.sy) / grid.dy)));
-  const int r1 = std::min(grid.nrow - 1, static_cast<int>(std::floor((hi[1] + grid.sy) / grid.dy)));
-  for (int r = r0; r <= r1; ++r) {
-    for (int c = c0; c <= c1; ++c) {
+  for (int r = lo[1]; r <= hi[1]; ++r) {
+    for (int c = lo[0]; c <= hi[0]; ++c) {
       const double v[3] = {grid.X(c), grid.Y(r), grid.At(r, c)};
-      double rel[3], q[3];
-      mju_sub3(rel, v, box_pos);
-      mju_rotVecMatT(q, rel, box_rot);  // the point in the box frame
-      const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-      if (std::abs(q[a1]) > size[a1] || std::abs(q[a2]) > size[a2]) continue;
-      const double dist = sign * q[axis] - size[axis];  // beyond the face: > 0
-      if (dist >= margin || dist < -2.0 * size[axis]) continue;
+      const double dist = face.Beyond(v);
+      if (dist >= margin || dist < -2.0 * face.size[face.axis] || !face.Over(v)) continue;
+      if (!FacePeak(grid, face, r, c, dist)) continue;
       const double mid[3] = {v[0] + 0.5 * dist * n[0], v[1] + 0.5 * dist * n[1],
                              v[2] + 0.5 * dist * n[2]};
       AddContact(pos1, mat1, mid, n, dist, con, count);
@@ -307,9 +352,9 @@ void AddTerrainMjcf(const Scenario& s, MjcfAdditions* add) {
                 nc, hx, hy, kTopRms * t.rms_m, kBaseM);
   add->top += buf;
   std::snprintf(buf, sizeof(buf),
-                "    <geom name=\"%s\" type=\"hfield\" hfield=\"%s\" pos=\"%.17g %.17g 0\" "
+                "    <geom name=\"%s\" type=\"hfield\" hfield=\"%s\" pos=\"%.17g %.17g %.17g\" "
                 "contype=\"1\" conaffinity=\"2\" condim=\"3\" rgba=\"0.55 0.5 0.45 1\"/>\n",
-                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy);
+                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy, kPlaneClearM);
   add->worldbody += buf;
 }
 
@@ -346,8 +391,9 @@ void FillTerrain(const Scenario& s, const RobotInfo& r, mjModel* m) {
   }
   m->hfield_size[4 * hf + 2] = top;
   CopySurfaceContact(m, g);
-  // The rock's mean plane is −low above the scene's plane: the robot starts that much higher.
-  m->qpos0[r.root_qpos_adr + 2] -= low;
+  // The rock's mean plane is kPlaneClearM − low above the scene's plane: the robot starts that
+  // much higher.
+  m->qpos0[r.root_qpos_adr + 2] += kPlaneClearM - low;
 }
 
 int TerrainGeom(const mjModel* m) {
@@ -373,7 +419,7 @@ int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_
   }
   int count = 0;
   CornerContacts(grid, pos1, mat1, box_pos, box_rot, size, margin, con, &count);
-  VertexContacts(grid, pos1, mat1, box_pos, box_rot, size, margin, con, &count);
+  PeakContacts(grid, pos1, mat1, BoxFace(box_pos, box_rot, size), margin, con, &count);
   return count;
 }
 
