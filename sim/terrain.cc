@@ -16,9 +16,6 @@ namespace {
 constexpr char kTerrainName[] = "climbsim_terrain";
 constexpr double kTopRms = 12.0;      // the declared top: 12 σ (a Gaussian's range over 1e6 points ≈ 10 σ)
 constexpr double kBaseM = 0.01;       // the rock's thickness below its lowest point
-// The rock's lowest point this far above the scene's plane: a pad pressed into a hollow of the
-// rock never touches the plane as well (two surfaces' contacts on one pad press it twice).
-constexpr double kPlaneClearM = 0.002;
 constexpr double kPadClearM = 0.005;  // flat beyond a starting pad's half-diagonal...
 constexpr double kBlendM = 0.02;      // ...then blended back to rock over this
 constexpr int kMaxContacts = 1000;    // the model's contact buffer (MuJoCo's default: 100)
@@ -354,7 +351,7 @@ void AddTerrainMjcf(const Scenario& s, MjcfAdditions* add) {
   std::snprintf(buf, sizeof(buf),
                 "    <geom name=\"%s\" type=\"hfield\" hfield=\"%s\" pos=\"%.17g %.17g %.17g\" "
                 "contype=\"1\" conaffinity=\"2\" condim=\"3\" rgba=\"0.55 0.5 0.45 1\"/>\n",
-                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy, kPlaneClearM);
+                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy, kTerrainPlaneClearM);
   add->worldbody += buf;
 }
 
@@ -391,9 +388,9 @@ void FillTerrain(const Scenario& s, const RobotInfo& r, mjModel* m) {
   }
   m->hfield_size[4 * hf + 2] = top;
   CopySurfaceContact(m, g);
-  // The rock's mean plane is kPlaneClearM − low above the scene's plane: the robot starts that
+  // The rock's mean plane is kTerrainPlaneClearM − low above the scene's plane: the robot starts that
   // much higher.
-  m->qpos0[r.root_qpos_adr + 2] += kPlaneClearM - low;
+  m->qpos0[r.root_qpos_adr + 2] += kTerrainPlaneClearM - low;
 }
 
 int TerrainGeom(const mjModel* m) {
