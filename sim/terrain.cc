@@ -109,7 +109,6 @@ void CopySurfaceContact(mjModel* m, int g) {
   }
 }
 
-
 // MuJoCo's own collider of a convex geom with a heightfield (mjc_ConvexHField in 2.2.2), for
 // the pairs TerrainBoxContacts does not take.
 mjfCollision g_hfield_box_builtin = nullptr;
@@ -255,7 +254,8 @@ bool FacePeak(const HfieldGrid& grid, const BoxFace& face, int r, int c, double 
 // face's.
 void PeakContacts(const HfieldGrid& grid, const double* pos1, const double* mat1,
                   const BoxFace& face, double margin, mjContact* con, int* count) {
-  const double n[3] = {-face.sign * face.box_rot[face.axis], -face.sign * face.box_rot[3 + face.axis],
+  const double n[3] = {-face.sign * face.box_rot[face.axis],
+                       -face.sign * face.box_rot[3 + face.axis],
                        -face.sign * face.box_rot[6 + face.axis]};
   int lo[2], hi[2];
   for (int i = 0; i < 2; ++i) {
@@ -351,7 +351,8 @@ void AddTerrainMjcf(const Scenario& s, MjcfAdditions* add) {
   std::snprintf(buf, sizeof(buf),
                 "    <geom name=\"%s\" type=\"hfield\" hfield=\"%s\" pos=\"%.17g %.17g %.17g\" "
                 "contype=\"1\" conaffinity=\"2\" condim=\"3\" rgba=\"0.55 0.5 0.45 1\"/>\n",
-                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy, kTerrainPlaneClearM);
+                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy,
+                kTerrainPlaneClearM);
   add->worldbody += buf;
 }
 
@@ -388,8 +389,8 @@ void FillTerrain(const Scenario& s, const RobotInfo& r, mjModel* m) {
   }
   m->hfield_size[4 * hf + 2] = top;
   CopySurfaceContact(m, g);
-  // The rock's mean plane is kTerrainPlaneClearM − low above the scene's plane: the robot starts that
-  // much higher.
+  // The rock's mean plane is kTerrainPlaneClearM − low above the scene's plane: the robot
+  // starts that much higher.
   m->qpos0[r.root_qpos_adr + 2] += kTerrainPlaneClearM - low;
 }
 
@@ -398,8 +399,8 @@ int TerrainGeom(const mjModel* m) {
   return g >= 0 && m->geom_type[g] == mjGEOM_HFIELD ? g : -1;
 }
 
-int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_hfield,
-                       int g_box, mjtNum margin) {
+int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_hfield, int g_box,
+                       mjtNum margin) {
   const double* pos1 = d->geom_xpos + 3 * g_hfield;
   const double* mat1 = d->geom_xmat + 9 * g_hfield;
   // The box in the hfield frame: its centre and its axes (columns).
@@ -421,4 +422,3 @@ int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_
 }
 
 }  // namespace climbsim::sim
-

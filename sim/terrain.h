@@ -12,11 +12,12 @@
 // so the composed MJCF declares the heightfield (its grid and size) and the geom, and
 // FillTerrain writes the heights into hfield_data after compile. The rock's lowest point lies
 // kTerrainPlaneClearM above the scene's plane (z = 0, still there, beneath the rock), so the
-// robot is lifted by that and the depth of that point below the mean; under each pad's starting place the rock is flattened to
-// its mean (a disc of the pad's half-diagonal plus 5 mm, blended back over 20 mm), so a robot
-// that starts attached starts on flat patches and steps onto rock with its first step. The
-// heightfield copies the friction and contact softness of the scene's plane. A run folder's
-// model.xml holds the heightfield's grid but not its heights (flat there).
+// robot is lifted by that and the depth of that point below the mean; under each pad's
+// starting place the rock is flattened to its mean (a disc of the pad's half-diagonal plus
+// 5 mm, blended back over 20 mm), so a robot that starts attached starts on flat patches and
+// steps onto rock with its first step. The heightfield copies the friction and contact
+// softness of the scene's plane; boxes touch it through TerrainBoxContacts (below). A run
+// folder's model.xml holds the heightfield's grid but not its heights (flat there).
 #ifndef CLIMBSIM_SIM_TERRAIN_H_
 #define CLIMBSIM_SIM_TERRAIN_H_
 

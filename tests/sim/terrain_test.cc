@@ -199,8 +199,8 @@ TEST(TerrainContacts, APadOnAFlatHeightfieldGetsThePlanesContacts) {
       for (const mjContact& c : rock) {
         EXPECT_NEAR(c.frame[2], 1.0, 1e-12);
         const auto same = std::find_if(plane.begin(), plane.end(), [&](const mjContact& p) {
-          return std::abs(p.dist - c.dist) < 1e-12 && std::hypot(p.pos[0] - c.pos[0],
-                                                                  p.pos[1] - c.pos[1]) < 1e-12;
+          return std::abs(p.dist - c.dist) < 1e-12 &&
+                 std::hypot(p.pos[0] - c.pos[0], p.pos[1] - c.pos[1]) < 1e-12;
         });
         EXPECT_NE(same, plane.end()) << "contact at " << c.pos[0] << " " << c.pos[1];
       }
@@ -236,7 +236,8 @@ TEST(Terrain, AFlatHeightfieldClimbsAsThePlane) {
   // heights): the same landings and bonds, and the climb within 1 % (the start 2 mm higher,
   // kTerrainPlaneClearM, is the only difference; before the terrain's collider a flat field
   // halved the climb).
-  std::string text = climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
+  std::string text =
+      climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
   text.replace(text.find("duration_s: 20"), 14, "duration_s: 4");
   std::string rock = text;
   rock.replace(rock.find("scene: wall\n"), 12,
@@ -269,8 +270,8 @@ void ExpectClimbsSeeds1To3(const std::string& example, double least_m) {
   for (int seed : {1, 2, 3}) {
     std::string text = climbsim::testing::ReadFile(climbsim::testing::Source(example));
     text.replace(text.find("seed: 1,"), 8, "seed: " + std::to_string(seed) + ",");
-    const Scenario s = LoadScenario(WriteFile("rock_example.yaml",
-                                              text + "outputs: {trajectory_rate_hz: 0}\n"));
+    const Scenario s =
+        LoadScenario(WriteFile("rock_example.yaml", text + "outputs: {trajectory_rate_hz: 0}\n"));
     ASSERT_EQ(s.scene.terrain->seed, seed);
     const auto model = CompileScenario(s);
     Simulation run(s, *model);
