@@ -417,7 +417,10 @@ reflex::LegSensing ReflexEffect::SenseLeg(const World& world, std::vector<LegSig
   in.phase_progress = s.progress;
   in.touching = s.touching;
   in.attached = s.attached;
-  in.bonded_fraction = s.bonded_fraction;
+  // The bonded share of what touches (as cpg.support_bond_fraction counts it): a pad on rock
+  // that has bonded all it touches is not pressed further. Exactly 1 on a flat surface.
+  in.bonded_fraction =
+      s.touched_fraction > 0.0 ? s.bonded_fraction / s.touched_fraction : s.bonded_fraction;
   in.normal_load_n = s.normal_load_n;
   in.preload_n = s.preload_n;
   in.load_n = s.load_n;

@@ -109,6 +109,193 @@ void CopySurfaceContact(mjModel* m, int g) {
   }
 }
 
+// MuJoCo's own collider of a convex geom with a heightfield (mjc_ConvexHField in 2.2.2), for
+// the pairs TerrainBoxContacts does not take.
+mjfCollision g_hfield_box_builtin = nullptr;
+
+// The terrain's heights and their triangulation (hfield frame): MuJoCo's, each grid cell
+// split along its diagonal from (c, r) to (c + 1, r + 1), as its collider and mj_rayHfield
+// split it.
+struct HfieldGrid {
+  const float* data;
+  int nrow, ncol;
+  double sx, sy, sz, dx, dy;
+
+  HfieldGrid(const mjModel* m, int g) {
+    const int hf = m->geom_dataid[g];
+    data = m->hfield_data + m->hfield_adr[hf];
+    nrow = m->hfield_nrow[hf];
+    ncol = m->hfield_ncol[hf];
+    sx = m->hfield_size[4 * hf];
+    sy = m->hfield_size[4 * hf + 1];
+    sz = m->hfield_size[4 * hf + 2];
+    dx = 2.0 * sx / (ncol - 1);
+    dy = 2.0 * sy / (nrow - 1);
+  }
+  double At(int r, int c) const { return data[r * ncol + c] * sz; }
+  double X(int c) const { return dx * c - sx; }
+  double Y(int r) const { return dy * r - sy; }
+  bool Inside(double x, double y) const { return std::abs(x) <= sx && std::abs(y) <= sy; }
+
+  // Height at (x, y) inside the grid and the triangle's upward unit normal.
+  double Surface(double x, double y, double normal[3]) const {
+    const double u = (x + sx) / dx, v = (y + sy) / dy;
+    const int c = std::clamp(static_cast<int>(std::floor(u)), 0, ncol - 2);
+    const int r = std::clamp(static_cast<int>(std::floor(v)), 0, nrow - 2);
+    const double fu = u - c, fv = v - r;
+    const double h00 = At(r, c), h10 = At(r, c + 1), h01 = At(r + 1, c), h11 = At(r + 1, c + 1);
+    const bool lower = fu >= fv;  // the triangle (c, r), (c + 1, r), (c + 1, r + 1)
+    const double sx_slope = lower ? (h10 - h00) / dx : (h11 - h01) / dx;
+    const double sy_slope = lower ? (h11 - h10) / dy : (h01 - h00) / dy;
+    const double inv = 1.0 / std::sqrt(1.0 + sx_slope * sx_slope + sy_slope * sy_slope);
+    normal[0] = -sx_slope * inv;
+    normal[1] = -sy_slope * inv;
+    normal[2] = inv;
+    return lower ? h00 + fu * (h10 - h00) + fv * (h11 - h10)
+                 : h00 + fv * (h01 - h00) + fu * (h11 - h01);
+  }
+};
+
+// Adds one contact (hfield frame: point, normal from the rock to the box, distance) to con,
+// keeping the mjMAXCONPAIR deepest.
+void AddContact(const double* pos1, const double* mat1, const double p[3], const double n[3],
+                double dist, mjContact* con, int* count) {
+  int slot = *count;
+  if (slot == mjMAXCONPAIR) {
+    slot = 0;
+    for (int i = 1; i < mjMAXCONPAIR; ++i) {
+      if (con[i].dist > con[slot].dist) slot = i;
+    }
+    if (con[slot].dist <= dist) return;
+  } else {
+    ++*count;
+  }
+  mjContact& c = con[slot];
+  c.dist = dist;
+  mju_rotVecMat(c.pos, p, mat1);
+  mju_addTo3(c.pos, pos1);
+  mju_rotVecMat(c.frame, n, mat1);
+  mju_zero3(c.frame + 3);
+}
+
+// The box's corners under the rock: normal the rock's, at the point under the corner.
+void CornerContacts(const HfieldGrid& grid, const double* pos1, const double* mat1,
+                    const double box_pos[3], const double box_rot[9], const double* size,
+                    double margin, mjContact* con, int* count) {
+  for (int k = 0; k < 8; ++k) {
+    const double local[3] = {(k & 1 ? 1 : -1) * size[0], (k & 2 ? 1 : -1) * size[1],
+                             (k & 4 ? 1 : -1) * size[2]};
+    double p[3];
+    mju_rotVecMat(p, local, box_rot);
+    mju_addTo3(p, box_pos);
+    if (!grid.Inside(p[0], p[1])) continue;
+    double n[3];
+    const double dist = (p[2] - grid.Surface(p[0], p[1], n)) * n[2];
+    if (dist >= margin) continue;
+    const double mid[3] = {p[0] - 0.5 * dist * n[0], p[1] - 0.5 * dist * n[1],
+                           p[2] - 0.5 * dist * n[2]};
+    AddContact(pos1, mat1, mid, n, dist, con, count);
+  }
+}
+
+// The box's face towards the rock (the one whose outward normal points most down the hfield's
+// z), in the hfield frame.
+struct BoxFace {
+  const double* box_pos;
+  const double* box_rot;  // columns: the box axes in the hfield frame
+  const double* size;
+  int axis = 0;
+  double sign = 1.0;  // outward normal = sign · box axis `axis`
+
+  BoxFace(const double box_pos_in[3], const double box_rot_in[9], const double* size_in)
+      : box_pos(box_pos_in), box_rot(box_rot_in), size(size_in) {
+    for (int k = 1; k < 3; ++k) {
+      if (std::abs(box_rot[6 + k]) > std::abs(box_rot[6 + axis])) axis = k;
+    }
+    sign = box_rot[6 + axis] > 0 ? -1.0 : 1.0;
+  }
+  // Signed distance of hfield point v beyond the face (< 0: behind it, inside the box).
+  double Beyond(const double v[3]) const {
+    double along = 0.0;
+    for (int i = 0; i < 3; ++i) along += box_rot[3 * i + axis] * (v[i] - box_pos[i]);
+    return sign * along - size[axis];
+  }
+  // Whether v lies within the face's outline (the box's other two axes).
+  bool Over(const double v[3]) const {
+    for (int k : {(axis + 1) % 3, (axis + 2) % 3}) {
+      double along = 0.0;
+      for (int i = 0; i < 3; ++i) along += box_rot[3 * i + k] * (v[i] - box_pos[i]);
+      if (std::abs(along) > size[k]) return false;
+    }
+    return true;
+  }
+};
+
+// Whether grid point (r, c) is a peak of the rock seen from the face: no neighbour reaches
+// further into the box, and some neighbour less far (beyond rounding). A flat or evenly
+// sloping patch has none, so a face on it gets its corners' contacts only, as on a plane.
+bool FacePeak(const HfieldGrid& grid, const BoxFace& face, int r, int c, double beyond) {
+  constexpr double kTieM = 1e-9;
+  bool lower = false;
+  for (int dr = -1; dr <= 1; ++dr) {
+    for (int dc = -1; dc <= 1; ++dc) {
+      const int rr = r + dr, cc = c + dc;
+      if ((dr == 0 && dc == 0) || rr < 0 || cc < 0 || rr >= grid.nrow || cc >= grid.ncol) continue;
+      const double w[3] = {grid.X(cc), grid.Y(rr), grid.At(rr, cc)};
+      const double b = face.Beyond(w);
+      if (b < beyond - kTieM) return false;
+      lower |= b > beyond + kTieM;
+    }
+  }
+  return lower;
+}
+
+// The rock's peaks inside the box, pushed out through the face towards the rock: normal that
+// face's.
+void PeakContacts(const HfieldGrid& grid, const double* pos1, const double* mat1,
+                  const BoxFace& face, double margin, mjContact* con, int* count) {
+  const double n[3] = {-face.sign * face.box_rot[face.axis],
+                       -face.sign * face.box_rot[3 + face.axis],
+                       -face.sign * face.box_rot[6 + face.axis]};
+  int lo[2], hi[2];
+  for (int i = 0; i < 2; ++i) {
+    const double half = std::abs(face.box_rot[3 * i]) * face.size[0] +
+                        std::abs(face.box_rot[3 * i + 1]) * face.size[1] +
+                        std::abs(face.box_rot[3 * i + 2]) * face.size[2];
+    const double origin = i == 0 ? grid.sx : grid.sy, step = i == 0 ? grid.dx : grid.dy;
+    const int last = i == 0 ? grid.ncol - 1 : grid.nrow - 1;
+    lo[i] = std::max(0, static_cast<int>(std::ceil((face.box_pos[i] - half + origin) / step)));
+    hi[i] = std::min(last, static_cast<int>(std::floor((face.box_pos[i] + half + origin) / step)));
+  }
+  for (int r = lo[1]; r <= hi[1]; ++r) {
+    for (int c = lo[0]; c <= hi[0]; ++c) {
+      const double v[3] = {grid.X(c), grid.Y(r), grid.At(r, c)};
+      const double dist = face.Beyond(v);
+      if (dist >= margin || dist < -2.0 * face.size[face.axis] || !face.Over(v)) continue;
+      if (!FacePeak(grid, face, r, c, dist)) continue;
+      const double mid[3] = {v[0] + 0.5 * dist * n[0], v[1] + 0.5 * dist * n[1],
+                             v[2] + 0.5 * dist * n[2]};
+      AddContact(pos1, mat1, mid, n, dist, con, count);
+    }
+  }
+}
+
+// mjCOLLISIONFUNC[HFIELD][BOX]: the terrain against a box (TerrainBoxContacts); every other
+// heightfield as MuJoCo collides it.
+int HfieldBox(const mjModel* m, const mjData* d, mjContact* con, int g1, int g2, mjtNum margin) {
+  if (std::strcmp(m->names + m->name_geomadr[g1], kTerrainName) != 0) {
+    return g_hfield_box_builtin(m, d, con, g1, g2, margin);
+  }
+  return TerrainBoxContacts(m, d, con, g1, g2, margin);
+}
+
+// Installed before main, while no thread steps a model: the table is MuJoCo's global.
+const bool g_hfield_box_installed = [] {
+  g_hfield_box_builtin = mjCOLLISIONFUNC[mjGEOM_HFIELD][mjGEOM_BOX];
+  mjCOLLISIONFUNC[mjGEOM_HFIELD][mjGEOM_BOX] = HfieldBox;
+  return true;
+}();
+
 }  // namespace
 
 std::vector<double> RockField(const TerrainParams& p, int nx, int ny) {
@@ -162,9 +349,10 @@ void AddTerrainMjcf(const Scenario& s, MjcfAdditions* add) {
                 nc, hx, hy, kTopRms * t.rms_m, kBaseM);
   add->top += buf;
   std::snprintf(buf, sizeof(buf),
-                "    <geom name=\"%s\" type=\"hfield\" hfield=\"%s\" pos=\"%.17g %.17g 0\" "
+                "    <geom name=\"%s\" type=\"hfield\" hfield=\"%s\" pos=\"%.17g %.17g %.17g\" "
                 "contype=\"1\" conaffinity=\"2\" condim=\"3\" rgba=\"0.55 0.5 0.45 1\"/>\n",
-                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy);
+                kTerrainName, kTerrainName, t.extent_m[0] + hx, t.extent_m[2] + hy,
+                kTerrainPlaneClearM);
   add->worldbody += buf;
 }
 
@@ -201,13 +389,36 @@ void FillTerrain(const Scenario& s, const RobotInfo& r, mjModel* m) {
   }
   m->hfield_size[4 * hf + 2] = top;
   CopySurfaceContact(m, g);
-  // The rock's mean plane is −low above the scene's plane: the robot starts that much higher.
-  m->qpos0[r.root_qpos_adr + 2] -= low;
+  // The rock's mean plane is kTerrainPlaneClearM − low above the scene's plane: the robot
+  // starts that much higher.
+  m->qpos0[r.root_qpos_adr + 2] += kTerrainPlaneClearM - low;
 }
 
 int TerrainGeom(const mjModel* m) {
   const int g = mj_name2id(m, mjOBJ_GEOM, kTerrainName);
   return g >= 0 && m->geom_type[g] == mjGEOM_HFIELD ? g : -1;
+}
+
+int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_hfield, int g_box,
+                       mjtNum margin) {
+  const double* pos1 = d->geom_xpos + 3 * g_hfield;
+  const double* mat1 = d->geom_xmat + 9 * g_hfield;
+  // The box in the hfield frame: its centre and its axes (columns).
+  double rel[3], box_pos[3], box_rot[9];
+  mju_sub3(rel, d->geom_xpos + 3 * g_box, pos1);
+  mju_rotVecMatT(box_pos, rel, mat1);
+  mju_mulMatTMat(box_rot, mat1, d->geom_xmat + 9 * g_box, 3, 3, 3);
+  const HfieldGrid grid(m, g_hfield);
+  const double* size = m->geom_size + 3 * g_box;
+  const double rbound = m->geom_rbound[g_box];
+  if (box_pos[2] - rbound > grid.sz + margin || std::abs(box_pos[0]) - rbound > grid.sx ||
+      std::abs(box_pos[1]) - rbound > grid.sy) {
+    return 0;
+  }
+  int count = 0;
+  CornerContacts(grid, pos1, mat1, box_pos, box_rot, size, margin, con, &count);
+  PeakContacts(grid, pos1, mat1, BoxFace(box_pos, box_rot, size), margin, con, &count);
+  return count;
 }
 
 }  // namespace climbsim::sim

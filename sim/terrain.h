@@ -10,13 +10,14 @@
 //
 // IN THE MODEL. MuJoCo 2.2.2's MJCF has no `elevation` on <hfield> (its schema rejects it),
 // so the composed MJCF declares the heightfield (its grid and size) and the geom, and
-// FillTerrain writes the heights into hfield_data after compile. The rock's lowest point rests
-// on the scene's plane (z = 0, still there, beneath the rock), so the robot is lifted by the
-// depth of that point below the mean; under each pad's starting place the rock is flattened to
-// its mean (a disc of the pad's half-diagonal plus 5 mm, blended back over 20 mm), so a robot
-// that starts attached starts on flat patches and steps onto rock with its first step. The
-// heightfield copies the friction and contact softness of the scene's plane. A run folder's
-// model.xml holds the heightfield's grid but not its heights (flat there).
+// FillTerrain writes the heights into hfield_data after compile. The rock's lowest point lies
+// kTerrainPlaneClearM above the scene's plane (z = 0, still there, beneath the rock), so the
+// robot is lifted by that and the depth of that point below the mean; under each pad's
+// starting place the rock is flattened to its mean (a disc of the pad's half-diagonal plus
+// 5 mm, blended back over 20 mm), so a robot that starts attached starts on flat patches and
+// steps onto rock with its first step. The heightfield copies the friction and contact
+// softness of the scene's plane; boxes touch it through TerrainBoxContacts (below). A run
+// folder's model.xml holds the heightfield's grid but not its heights (flat there).
 #ifndef CLIMBSIM_SIM_TERRAIN_H_
 #define CLIMBSIM_SIM_TERRAIN_H_
 
@@ -28,6 +29,11 @@
 #include "sim/world.h"
 
 namespace climbsim::sim {
+
+// The rock's lowest point lies this far above the scene's plane (m): a pad pressed into a
+// hollow of the rock never touches the plane as well (two surfaces' contacts on one pad press
+// it twice, and a flat heightfield would lie in the plane).
+inline constexpr double kTerrainPlaneClearM = 0.002;
 
 // The periodic rock on an nx × ny grid of pitch params.grid_m (nx, ny powers of two),
 // h[j·nx + i] at (i·grid_m, j·grid_m): mean 0, RMS params.rms_m.
@@ -50,6 +56,29 @@ void FillTerrain(const Scenario& scenario, const RobotInfo& robot, mjModel* mode
 
 // The terrain's geom id in a model; −1 when it has none.
 int TerrainGeom(const mjModel* model);
+
+// CONTACTS OF A BOX ON THE TERRAIN (a pad, a body box). MuJoCo 2.2.2 collides a convex geom with
+// a heightfield prism by prism (mjc_ConvexHField, the libccd MPR penetration of each triangular
+// prism): where a box's edge overlaps a prism by less than it is pressed in, the least
+// penetration is sideways, so a flat pad pressed 0.2-0.5 mm onto a flat heightfield gets
+// contacts with normals tilted up to 90° (measured: up to 7 of 17 on a 12.5 mm grid, up to 18
+// of 50 on a 5 mm grid), and at most 50 contacts, cut to one side of the pad on a fine grid. A
+// pad leaving the rock snags on them, and every prism under a face presses it: a flat
+// heightfield held the walls' climbs to half the plane's. This collider takes the terrain's box
+// pairs instead (mjCOLLISIONFUNC[HFIELD][BOX], installed before main; other heightfields keep
+// MuJoCo's):
+//   - each box corner below the rock's surface: a contact along the surface's normal there, at
+//     the distance from the corner to that triangle's plane;
+//   - each grid point of the rock inside the box that is a peak seen from the box's face
+//     towards the rock (no neighbour reaches further into the box, some less far): a contact
+//     along that face's normal, at the point's depth behind it;
+// the deepest mjMAXCONPAIR of them, each at the midpoint of its penetration, normal from the
+// rock to the box. A flat or evenly sloping patch has no peaks, so a box on a flat heightfield
+// gets exactly the plane's corner contacts. The surface is MuJoCo's (each cell split along its
+// diagonal (c, r)-(c + 1, r + 1), as mj_rayHfield and the renderer split it). Allocation-free.
+// Returns the number of contacts written to con.
+int TerrainBoxContacts(const mjModel* m, const mjData* d, mjContact* con, int g_hfield, int g_box,
+                       mjtNum margin);
 
 }  // namespace climbsim::sim
 

@@ -1,7 +1,8 @@
 // scene.terrain: the rock's statistics against the spectrum's closed forms (RMS exactly, the
 // autocorrelation within sampling error), the same bytes for a seed, the heightfield where the
-// model expects it, and partial contact seeing it (rays hit it; a pad landing on rock bonds a
-// part of its face).
+// model expects it, partial contact seeing it (rays hit it; a pad landing on rock bonds a
+// part of its face), and the terrain's box collider (a flat heightfield gives the plane's
+// contacts and climbs as the plane; a rock peak under a face pushes along the face's normal).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -110,8 +111,8 @@ TEST(Terrain, HeightfieldInTheModelAndTheRobotOnItsMeanPlane) {
   EXPECT_EQ(flat_model->model()->nhfield, 0);
   const int z = model->robot().root_qpos_adr + 2;
   const double lift = m->qpos0[z] - flat_model->model()->qpos0[z];
-  EXPECT_GT(lift, 2 * t.rms_m);
-  EXPECT_LT(lift, 8 * t.rms_m);
+  EXPECT_GT(lift - kTerrainPlaneClearM, 2 * t.rms_m);
+  EXPECT_LT(lift - kTerrainPlaneClearM, 8 * t.rms_m);
   // mj_ray (what partial contact casts) meets the rock at the flattened patch under a pad,
   // at the lift (the mean plane): the pad's start place. The ray starts between the pad's face
   // (0.5 mm up) and the rock.
@@ -148,6 +149,147 @@ TEST(Terrain, PadsLandingOnRockBondPartOfTheirFace) {
   ASSERT_GE(smooth.size(), 2u);
   EXPECT_LT(*std::min_element(rock.begin(), rock.end()), 0.85);
   for (double f : smooth) EXPECT_GT(f, 0.85);
+}
+
+// A 25 mm pad (a 2 mm thick box) over a 0.2 m square surface: a plane, or a flat heightfield
+// on a 12.5 mm grid (17 × 17 points, top 1 mm) named `field` (TerrainBoxContacts takes the one
+// named as the terrain, MuJoCo the others). The pad's face centre at (x, y, face_z), tilted
+// tilt_deg about y; `peak_m` raises the field's centre point. Returns the contacts.
+std::vector<mjContact> PadContacts(const std::string& field, double x, double y, double face_z,
+                                   double tilt_deg, double peak_m = 0.0) {
+  const double tilt = tilt_deg * M_PI / 180.0;
+  // The box centre 1 mm (its half thickness) above the face centre, along the pad's normal.
+  const double cx = x + 1e-3 * std::sin(tilt), cz = face_z + 1e-3 * std::cos(tilt);
+  char xml[1024];
+  std::snprintf(
+      xml, sizeof(xml),
+      "<mujoco><size nconmax=\"200\" njmax=\"800\"/><asset><hfield name=\"h\" nrow=\"17\" "
+      "ncol=\"17\" size=\"0.1 0.1 0.001 0.01\"/></asset><worldbody>%s<body pos=\"%.17g %.17g "
+      "%.17g\" euler=\"0 %.17g 0\"><freejoint/><geom type=\"box\" size=\"0.0125 0.0125 0.001\" "
+      "contype=\"2\" conaffinity=\"1\"/></body></worldbody></mujoco>",
+      field == "plane" ? "<geom type=\"plane\" size=\"1 1 0.1\" contype=\"1\" conaffinity=\"2\"/>"
+                       : ("<geom name=\"" + field +
+                          "\" type=\"hfield\" hfield=\"h\" contype=\"1\" conaffinity=\"2\"/>")
+                             .c_str(),
+      cx, y, cz, tilt_deg);
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(climbsim::testing::WriteFile("pad_field.xml", xml).c_str(), nullptr,
+                          error, sizeof(error));
+  EXPECT_NE(m, nullptr) << error;
+  if (m == nullptr) return {};
+  if (m->nhfield > 0) m->hfield_data[8 * 17 + 8] = static_cast<float>(peak_m / 1e-3);
+  mjData* d = mj_makeData(m);
+  mj_forward(m, d);
+  std::vector<mjContact> contacts(d->contact, d->contact + d->ncon);
+  mj_deleteData(d);
+  mj_deleteModel(m);
+  return contacts;
+}
+
+TEST(TerrainContacts, APadOnAFlatHeightfieldGetsThePlanesContacts) {
+  // Pressed 0.2 and 0.5 mm in, flat and tilted 3°, off the grid's lines: the terrain's collider
+  // writes the plane's contacts (its corners below the surface), to rounding.
+  for (double depth_m : {2e-4, 5e-4}) {
+    for (double tilt_deg : {0.0, 3.0}) {
+      const std::vector<mjContact> plane = PadContacts("plane", 0.003, 0.002, -depth_m, tilt_deg);
+      const std::vector<mjContact> rock =
+          PadContacts("climbsim_terrain", 0.003, 0.002, -depth_m, tilt_deg);
+      ASSERT_EQ(rock.size(), plane.size()) << depth_m << " " << tilt_deg;
+      ASSERT_GE(rock.size(), 2u);
+      for (const mjContact& c : rock) {
+        EXPECT_NEAR(c.frame[2], 1.0, 1e-12);
+        const auto same = std::find_if(plane.begin(), plane.end(), [&](const mjContact& p) {
+          return std::abs(p.dist - c.dist) < 1e-12 &&
+                 std::hypot(p.pos[0] - c.pos[0], p.pos[1] - c.pos[1]) < 1e-12;
+        });
+        EXPECT_NE(same, plane.end()) << "contact at " << c.pos[0] << " " << c.pos[1];
+      }
+    }
+  }
+  // What it replaces: MuJoCo 2.2.2's prism-by-prism collider tilts some normals sideways on the
+  // same flat field (a pad leaving the rock snagged on them).
+  const std::vector<mjContact> mujoco = PadContacts("other_field", 0.003, 0.002, -5e-4, 0.0);
+  EXPECT_GT(mujoco.size(), 4u);
+  EXPECT_TRUE(std::any_of(mujoco.begin(), mujoco.end(),
+                          [](const mjContact& c) { return c.frame[2] < 0.99; }));
+}
+
+TEST(TerrainContacts, ARockPeakUnderTheFacePushesAlongTheFaceNormalAtItsDepth) {
+  // The field's centre point raised 1 mm (its neighbours 12.5 mm away at 0); the face tilted
+  // 1° with its centre 0.7 mm up, over the peak: its corners clear the flat rock (0.7 mm ∓
+  // 12.5 mm·sin 1°, > 0.48 mm), and the peak stands 0.3 mm·cos 1° into the box along the
+  // face's normal: one contact there, along that normal.
+  const double tilt = M_PI / 180.0;
+  const std::vector<mjContact> c = PadContacts("climbsim_terrain", 0.0, 0.0, 7e-4, 1.0, 1e-3);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NEAR(c[0].dist, -3e-4 * std::cos(tilt), 1e-12);
+  EXPECT_NEAR(c[0].frame[0], std::sin(tilt), 1e-12);
+  EXPECT_NEAR(c[0].frame[1], 0.0, 1e-12);
+  EXPECT_NEAR(c[0].frame[2], std::cos(tilt), 1e-12);
+  // At the midpoint of the penetration: the peak less half the depth along the normal.
+  EXPECT_NEAR(c[0].pos[0], 0.5 * c[0].dist * std::sin(tilt), 1e-12);
+  EXPECT_NEAR(c[0].pos[2], 1e-3 + 0.5 * c[0].dist * std::cos(tilt), 1e-12);
+}
+
+TEST(Terrain, AFlatHeightfieldClimbsAsThePlane) {
+  // gecko_wall.yaml for 4 s on the plane and on a heightfield of 1 nm RMS (flat to the float
+  // heights): the same landings and bonds, and the climb within 1 % (the start 2 mm higher,
+  // kTerrainPlaneClearM, is the only difference; before the terrain's collider a flat field
+  // halved the climb).
+  std::string text =
+      climbsim::testing::ReadFile(climbsim::testing::Source("examples/gecko_wall.yaml"));
+  text.replace(text.find("duration_s: 20"), 14, "duration_s: 4");
+  std::string rock = text;
+  rock.replace(rock.find("scene: wall\n"), 12,
+               "scene:\n  name: wall\n  terrain: {rms_m: 1.0e-9, grid_m: 0.0125}\n");
+  auto run = [](const std::string& name, const std::string& yaml) {
+    const Scenario s = LoadScenario(climbsim::testing::WriteFile(name, yaml));
+    const auto model = CompileScenario(s);
+    Simulation sim(s, *model);
+    const RunResult r = sim.Run();
+    std::vector<double> attach;
+    for (const Event& e : sim.events().rows()) {
+      if (std::string_view(e.kind) == "attach") attach.push_back(e.bonded_fraction);
+    }
+    return std::make_pair(r, attach);
+  };
+  const auto [plane, plane_attach] = run("flat_plane.yaml", text);
+  const auto [field, field_attach] = run("flat_field.yaml", rock);
+  EXPECT_FALSE(field.fell);
+  EXPECT_GT(plane.distance_m, 0.05);
+  EXPECT_NEAR(field.distance_m, plane.distance_m, 0.01 * plane.distance_m);
+  ASSERT_EQ(field_attach.size(), plane_attach.size());
+  for (size_t i = 0; i < field_attach.size(); ++i) EXPECT_EQ(field_attach[i], plane_attach[i]);
+}
+
+// The rock examples, 20 s on rock seeds 1-3: no fall, no stall, and most of the flat wall's
+// climb (0.352 m gecko, 0.467 m spider; measured 0.317-0.350 and 0.385-0.456 m). Before the
+// terrain's collider and the examples' search and attach-window keys the gecko stalled on every
+// seed by 11.3 s and the spider fell on two (docs/climbing.md, "Rough rock").
+void ExpectClimbsSeeds1To3(const std::string& example, double least_m) {
+  for (int seed : {1, 2, 3}) {
+    std::string text = climbsim::testing::ReadFile(climbsim::testing::Source(example));
+    text.replace(text.find("seed: 1,"), 8, "seed: " + std::to_string(seed) + ",");
+    const Scenario s =
+        LoadScenario(WriteFile("rock_example.yaml", text + "outputs: {trajectory_rate_hz: 0}\n"));
+    ASSERT_EQ(s.scene.terrain->seed, seed);
+    const auto model = CompileScenario(s);
+    Simulation run(s, *model);
+    const RunResult r = run.Run();
+    const nlohmann::json summary = run.Summary();
+    EXPECT_FALSE(r.fell) << example << " seed " << seed << " fell at " << r.fall_time_s;
+    EXPECT_FALSE(summary["stalled"].get<bool>())
+        << example << " seed " << seed << " stalled at " << summary["stall_time_s"];
+    EXPECT_GT(r.distance_m, least_m) << example << " seed " << seed;
+  }
+}
+
+TEST(Terrain, GeckoRockWallClimbsRockSeeds1To3) {
+  ExpectClimbsSeeds1To3("examples/gecko_rock_wall.yaml", 0.25);
+}
+
+TEST(Terrain, SpiderRockWallClimbsRockSeeds1To3) {
+  ExpectClimbsSeeds1To3("examples/spider_rock_wall.yaml", 0.3);
 }
 
 TEST(Terrain, RefusedOffThePlaneScenesAndBesideRoughness) {
