@@ -697,7 +697,8 @@ bool BondGrid::Influence(int index, bool uniform_shear, Eigen::Matrix<double, 3,
   if (index < 0 || index >= size() || !bonded(index)) return false;
   const int n = bonded_count_;
   const double da = cell_area_m2_;
-  const Bending bend = BendingOfBondedSet();
+  // The set's geometry and shear sums as the last field kept them (the same computation).
+  const Bending bend = set_cached_ ? set_bend_ : BendingOfBondedSet();
   const double rx = bond_x_m(index) - bend.x_c;
   const double ry = bond_y_m(index) - bend.y_c;
   // σ_i = F_n/A_B + (g_x, g_y)·(rx, ry) with g = S·(p, q), p = −(M_y + x_c F_n),
@@ -725,10 +726,12 @@ bool BondGrid::Influence(int index, bool uniform_shear, Eigen::Matrix<double, 3,
   if (uniform_shear) {
     (*a)(1, 1) = (*a)(2, 2) = 1.0 / (n * da);
   } else {
-    double sum_v = 0.0;
-    for (int ix = 0; ix < params_.grid_x; ++ix) sum_v += col_count_[ix] * col_v_[ix];
-    double sum_w = 0.0;
-    for (int iy = 0; iy < params_.grid_y; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+    double sum_v = set_sum_v_, sum_w = set_sum_w_;
+    if (!set_cached_) {
+      sum_v = sum_w = 0.0;
+      for (int ix = 0; ix < params_.grid_x; ++ix) sum_v += col_count_[ix] * col_v_[ix];
+      for (int iy = 0; iy < params_.grid_y; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+    }
     if (sum_w > 0.0) (*a)(1, 1) = row_w_[iy_of(index)] / (sum_w * da);
     if (sum_v > 0.0) (*a)(2, 2) = col_v_[ix_of(index)] / (sum_v * da);
   }
