@@ -125,24 +125,18 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
   for (int i = 0; i < n; ++i) {
     const int64_t kx = 2 * ix_of(i) + 1 - nx;
     const int64_t ky = 2 * iy_of(i) + 1 - ny;
-    full_sums_.n += 1;
-    full_sums_.kx += kx;
-    full_sums_.ky += ky;
-    full_sums_.kxx += kx * kx;
-    full_sums_.kyy += ky * ky;
-    full_sums_.kxy += kx * ky;
+    full_sums_.n += 1, full_sums_.kx += kx, full_sums_.ky += ky;
+    full_sums_.kxx += kx * kx, full_sums_.kyy += ky * ky, full_sums_.kxy += kx * ky;
   }
   state_.assign(n, static_cast<uint8_t>(BondState::kUnbonded));
   TouchAll();
   col_count_.assign(nx, 0);
   row_count_.assign(ny, 0);
-  col_sigma_.assign(nx, 0.0);
-  row_sigma_.assign(ny, 0.0);
-  col_tau3_.assign(nx, 0.0);
-  row_tau3_.assign(ny, 0.0);
+  col_sigma_.assign(nx, 0.0), col_tau3_.assign(nx, 0.0);
+  row_sigma_.assign(ny, 0.0), row_tau3_.assign(ny, 0.0);
+  // PeakUtilisation's scratch: per row, and per block of ⌈√N_x⌉ columns.
   row_bound_u2_.assign(ny, 0.0);
-  row_order_.assign(ny, 0);
-  row_blocks_.assign(ny, 0);
+  row_order_.assign(ny, 0), row_blocks_.assign(ny, 0);
   while (block_cols_ * block_cols_ < nx) ++block_cols_;
   block_sigma_max_.assign((nx + block_cols_ - 1) / block_cols_, 0.0);
   block_tau3_max_.assign(block_sigma_max_.size(), 0.0);
