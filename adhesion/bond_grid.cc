@@ -246,8 +246,7 @@ void BondGrid::ClearField() {
   std::fill(row_tau3_.begin(), row_tau3_.end(), 0.0);
   tau_x_per_w_ = 0.0;
   tau_y_per_v_ = 0.0;
-  col_sigma_max_ = 0.0;
-  col_tau3_max_ = 0.0;
+  col_sigma_max_ = col_tau3_max_ = row_sigma_max_ = row_tau3_max_ = 0.0;
   unsupported_ = false;
 }
 
@@ -322,10 +321,14 @@ void BondGrid::ComputeField(const PadLoad& load) {
     col_sigma_max_ = std::max(col_sigma_max_, col_sigma_[ix]);
     col_tau3_max_ = std::max(col_tau3_max_, col_tau3_[ix]);
   }
+  row_sigma_max_ = -std::numeric_limits<double>::infinity();
+  row_tau3_max_ = 0.0;
   for (int iy = 0; iy < ny; ++iy) {
     row_sigma_[iy] = g_y * (row_y_m_[iy] - y_c);
     const double tau_x = tau_x_per_w_ * row_w_[iy];
     row_tau3_[iy] = 3.0 * tau_x * tau_x;
+    row_sigma_max_ = std::max(row_sigma_max_, row_sigma_[iy]);
+    row_tau3_max_ = std::max(row_tau3_max_, row_tau3_[iy]);
   }
 }
 
@@ -382,6 +385,12 @@ int BondGrid::BreakOverThreshold(int round) {
   const int ny = params_.grid_y;
   const double sigma_t = params_.sigma_t_pa;
   const double mu = params_.mu;
+  // The rows' bounds below, all at once: each is at most this one (additions, max and squares
+  // of nonnegative numbers are monotone), so below σ_T² no row is scanned.
+  const double sigma_all = std::max(col_sigma_max_ + row_sigma_max_, 0.0);
+  if (!unsupported_ && sigma_all * sigma_all + (col_tau3_max_ + row_tau3_max_) < sigma_t_sq_) {
+    return 0;
+  }
   int broken = 0;
   for (int iy = 0; iy < ny; ++iy) {
     if (row_count_[iy] == 0) continue;

@@ -380,10 +380,10 @@ class BondGrid {
   std::vector<double> row_sigma_;
   std::vector<double> col_tau3_;
   std::vector<double> row_tau3_;
-  double tau_x_per_w_ = 0.0;  // τ_x = tau_x_per_w_·w
-  double tau_y_per_v_ = 0.0;  // τ_y = tau_y_per_v_·v
+  double tau_x_per_w_ = 0.0, tau_y_per_v_ = 0.0;  // τ_x = tau_x_per_w_·w, τ_y = tau_y_per_v_·v
   double col_sigma_max_ = 0.0;  // max over columns of col_sigma_
   double col_tau3_max_ = 0.0;   // max over columns of col_tau3_
+  double row_sigma_max_ = 0.0, row_tau3_max_ = 0.0;  // max over rows of row_sigma_, row_tau3_
   bool unsupported_ = false;
   // PeakUtilisation's scratch: row bounds, candidate rows, each column block's max σ, max 3τ².
   mutable std::vector<double> row_bound_u2_, block_sigma_max_, block_tau3_max_;
