@@ -1,6 +1,7 @@
 #include "adhesion/bond_grid.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -36,6 +37,27 @@ double PressedRowBound(double s_max, double tau3_max, double sigma_t, double mu,
   if (!(s_max < 0.0)) return bound;
   const double threshold = sigma_t - mu * s_max;
   return tau3_max / (threshold * threshold);
+}
+
+// u² of a bond: (σ² + 3τ²)/σ_T² in tension, 3τ²/(σ_T + μ|σ|)² in compression (the scans').
+double BondU2(double sigma, double tau3, double sigma_t, double mu, double sigma_t_sq) {
+  if (sigma >= 0.0) return (sigma * sigma + tau3) / sigma_t_sq;
+  const double threshold = sigma_t - mu * sigma;
+  return tau3 / (threshold * threshold);
+}
+
+// Whether no bond with σ ≤ s_max and 3τ² ≤ t_max can reach u² ≥ floor_u2, decided without a
+// division: a bond's u² is at most fl(num/den) (rounding is monotone), num/den the bound of
+// PeakUtilisationByRowBound (tension) or PressedRowBound (σ ≤ s_max < 0), and
+// num < fl(fl(floor·den)·(1 − 2⁻⁵⁰)) keeps fl(num/den) below the floor despite the roundings.
+bool BelowFloor(double s_max, double t_max, double sigma_t, double mu, double sigma_t_sq,
+                double floor_u2) {
+  constexpr double kShrink = 1.0 - 0x1p-50;
+  if (s_max < 0.0) {
+    const double threshold = sigma_t - mu * s_max;
+    return t_max < floor_u2 * (threshold * threshold) * kShrink;
+  }
+  return s_max * s_max + t_max < floor_u2 * sigma_t_sq * kShrink;
 }
 
 }  // namespace
@@ -103,22 +125,21 @@ BondGrid::BondGrid(const PadParams& params) : params_(params) {
   for (int i = 0; i < n; ++i) {
     const int64_t kx = 2 * ix_of(i) + 1 - nx;
     const int64_t ky = 2 * iy_of(i) + 1 - ny;
-    full_sums_.n += 1;
-    full_sums_.kx += kx;
-    full_sums_.ky += ky;
-    full_sums_.kxx += kx * kx;
-    full_sums_.kyy += ky * ky;
-    full_sums_.kxy += kx * ky;
+    full_sums_.n += 1, full_sums_.kx += kx, full_sums_.ky += ky;
+    full_sums_.kxx += kx * kx, full_sums_.kyy += ky * ky, full_sums_.kxy += kx * ky;
   }
   state_.assign(n, static_cast<uint8_t>(BondState::kUnbonded));
   TouchAll();
   col_count_.assign(nx, 0);
   row_count_.assign(ny, 0);
-  col_sigma_.assign(nx, 0.0);
-  row_sigma_.assign(ny, 0.0);
-  col_tau3_.assign(nx, 0.0);
-  row_tau3_.assign(ny, 0.0);
+  col_sigma_.assign(nx, 0.0), col_tau3_.assign(nx, 0.0);
+  row_sigma_.assign(ny, 0.0), row_tau3_.assign(ny, 0.0);
+  // PeakUtilisation's scratch: per row, and per block of ⌈√N_x⌉ columns.
   row_bound_u2_.assign(ny, 0.0);
+  row_order_.assign(ny, 0), row_blocks_.assign(ny, 0);
+  while (block_cols_ * block_cols_ < nx) ++block_cols_;
+  block_sigma_max_.assign((nx + block_cols_ - 1) / block_cols_, 0.0);
+  block_tau3_max_.assign(block_sigma_max_.size(), 0.0);
   broken_log_.resize(n);
 }
 
@@ -225,8 +246,7 @@ void BondGrid::ClearField() {
   std::fill(row_tau3_.begin(), row_tau3_.end(), 0.0);
   tau_x_per_w_ = 0.0;
   tau_y_per_v_ = 0.0;
-  col_sigma_max_ = 0.0;
-  col_tau3_max_ = 0.0;
+  col_sigma_max_ = col_tau3_max_ = row_sigma_max_ = row_tau3_max_ = 0.0;
   unsupported_ = false;
 }
 
@@ -301,10 +321,14 @@ void BondGrid::ComputeField(const PadLoad& load) {
     col_sigma_max_ = std::max(col_sigma_max_, col_sigma_[ix]);
     col_tau3_max_ = std::max(col_tau3_max_, col_tau3_[ix]);
   }
+  row_sigma_max_ = -std::numeric_limits<double>::infinity();
+  row_tau3_max_ = 0.0;
   for (int iy = 0; iy < ny; ++iy) {
     row_sigma_[iy] = g_y * (row_y_m_[iy] - y_c);
     const double tau_x = tau_x_per_w_ * row_w_[iy];
     row_tau3_[iy] = 3.0 * tau_x * tau_x;
+    row_sigma_max_ = std::max(row_sigma_max_, row_sigma_[iy]);
+    row_tau3_max_ = std::max(row_tau3_max_, row_tau3_[iy]);
   }
 }
 
@@ -361,6 +385,12 @@ int BondGrid::BreakOverThreshold(int round) {
   const int ny = params_.grid_y;
   const double sigma_t = params_.sigma_t_pa;
   const double mu = params_.mu;
+  // The rows' bounds below, all at once: each is at most this one (additions, max and squares
+  // of nonnegative numbers are monotone), so below σ_T² no row is scanned.
+  const double sigma_all = std::max(col_sigma_max_ + row_sigma_max_, 0.0);
+  if (!unsupported_ && sigma_all * sigma_all + (col_tau3_max_ + row_tau3_max_) < sigma_t_sq_) {
+    return 0;
+  }
   int broken = 0;
   for (int iy = 0; iy < ny; ++iy) {
     if (row_count_[iy] == 0) continue;
@@ -440,7 +470,7 @@ StressSummary BondGrid::Summary() const {
 
 double BondGrid::PeakUtilisation() const { return PeakUtilisation(nullptr); }
 
-double BondGrid::PeakUtilisation(int* peak_bond) const {
+double BondGrid::PeakUtilisationByRowBound(int* peak_bond) const {
   if (peak_bond != nullptr) *peak_bond = -1;
   if (bonded_count_ == 0) return 0.0;
   if (unsupported_) return std::numeric_limits<double>::infinity();
@@ -493,6 +523,106 @@ double BondGrid::PeakUtilisation(int* peak_bond) const {
         if (peak_bond != nullptr) *peak_bond = row * nx + ix;
       }
       if (sigma >= 0.0) skip_d = std::max(skip_d, d);  // d/σ_T² = u2 ≤ peak_u2 now
+    }
+  }
+  return std::sqrt(peak_u2);
+}
+
+double BondGrid::PeakUtilisation(int* peak_bond, int hint) const {
+  if (peak_bond != nullptr) *peak_bond = -1;
+  if (bonded_count_ == 0) return 0.0;
+  if (unsupported_) return std::numeric_limits<double>::infinity();
+  const int nx = params_.grid_x, ny = params_.grid_y;
+  // Each column block's largest σ and 3τ²; `nan` turns NaN if any part is not finite (x·0),
+  // and such a field takes the row scan.
+  double nan = 0.0;
+  const int blocks = static_cast<int>(block_sigma_max_.size());
+  for (int k = 0; k < blocks; ++k) {
+    double s = -std::numeric_limits<double>::infinity(), t = 0.0;
+    for (int ix = k * block_cols_; ix < std::min(nx, (k + 1) * block_cols_); ++ix) {
+      s = std::max(s, col_sigma_[ix]);
+      t = std::max(t, col_tau3_[ix]);
+      nan += col_sigma_[ix] * 0.0 + col_tau3_[ix] * 0.0;
+    }
+    block_sigma_max_[k] = s, block_tau3_max_[k] = t;
+  }
+  for (int iy = 0; iy < ny; ++iy) nan += row_sigma_[iy] * 0.0 + row_tau3_[iy] * 0.0;
+  if (nan != 0.0) return PeakUtilisationByRowBound(peak_bond);
+  // The floor: the hint's u², a bonded bond's, so at most the peak. A row or block whose bound
+  // stays below it holds neither the peak nor a bond that ties it: left out.
+  double floor_u2 = 0.0;
+  if (hint >= 0 && hint < size() && bonded(hint)) {
+    floor_u2 = BondU2(col_sigma_[ix_of(hint)] + row_sigma_[iy_of(hint)],
+                      col_tau3_[ix_of(hint)] + row_tau3_[iy_of(hint)], params_.sigma_t_pa,
+                      params_.mu, sigma_t_sq_);
+  }
+  // The rows left, in the row scan's order (its bound descending, then index), each with the
+  // mask of its blocks that reach the floor.
+  int rows = 0;
+  for (int iy = 0; iy < ny; ++iy) {
+    if (row_count_[iy] == 0) continue;
+    const double sigma_bound = std::max(col_sigma_max_ + row_sigma_[iy], 0.0);
+    const double bound = sigma_bound * sigma_bound + (col_tau3_max_ + row_tau3_[iy]);
+    if (BelowFloor(sigma_bound, col_tau3_max_ + row_tau3_[iy], 0.0, 0.0, sigma_t_sq_, floor_u2)) {
+      continue;
+    }
+    row_blocks_[iy] = BlocksOverFloor(iy, floor_u2);
+    if (row_blocks_[iy] == 0) continue;
+    row_bound_u2_[iy] = bound / sigma_t_sq_;
+    int k = rows++;
+    for (; k > 0 && row_bound_u2_[row_order_[k - 1]] < row_bound_u2_[iy]; --k) {
+      row_order_[k] = row_order_[k - 1];
+    }
+    row_order_[k] = iy;
+  }
+  return ScanRows(rows, floor_u2, peak_bond);
+}
+
+// The mask of row iy's blocks whose bound reaches floor_u2 (bit k: block k).
+uint32_t BondGrid::BlocksOverFloor(int iy, double floor_u2) const {
+  uint32_t mask = 0;
+  const int blocks = static_cast<int>(block_sigma_max_.size());
+  for (int k = 0; k < blocks; ++k) {
+    if (!BelowFloor(block_sigma_max_[k] + row_sigma_[iy], block_tau3_max_[k] + row_tau3_[iy],
+                    params_.sigma_t_pa, params_.mu, sigma_t_sq_, floor_u2)) {
+      mask |= 1u << k;
+    }
+  }
+  return mask;
+}
+
+// PeakUtilisationByRowBound's scan over the rows row_order_[0, rows) and their blocks
+// (row_blocks_), blocks below the peak found skipped too: the bonds it skips cannot carry the
+// peak, nor an earlier bond of the same u².
+double BondGrid::ScanRows(int rows, double floor_u2, int* peak_bond) const {
+  const int nx = params_.grid_x;
+  const double sigma_t = params_.sigma_t_pa, mu = params_.mu;
+  double peak_u2 = 0.0, skip_d = -1.0;
+  for (int r = 0; r < rows; ++r) {
+    const int row = row_order_[r];
+    if (row_bound_u2_[row] < peak_u2) break;
+    const double row_sigma = row_sigma_[row], row_tau3 = row_tau3_[row];
+    const uint8_t* state = state_.data() + row * nx;
+    for (uint32_t mask = row_blocks_[row]; mask != 0; mask &= mask - 1) {
+      const int k = std::countr_zero(mask);
+      if (peak_u2 > floor_u2 && BelowFloor(block_sigma_max_[k] + row_sigma,
+                                           block_tau3_max_[k] + row_tau3, sigma_t, mu,
+                                           sigma_t_sq_, peak_u2)) {
+        continue;
+      }
+      for (int ix = k * block_cols_; ix < std::min(nx, (k + 1) * block_cols_); ++ix) {
+        if (state[ix] != static_cast<uint8_t>(BondState::kBonded)) continue;
+        const double sigma = col_sigma_[ix] + row_sigma;
+        const double tau3 = col_tau3_[ix] + row_tau3;
+        const double d = sigma * sigma + tau3;
+        if (d <= skip_d) continue;
+        const double u2 = BondU2(sigma, tau3, sigma_t, mu, sigma_t_sq_);
+        if (u2 > peak_u2 || (peak_bond != nullptr && *peak_bond < 0)) {
+          peak_u2 = std::max(peak_u2, u2);
+          if (peak_bond != nullptr) *peak_bond = row * nx + ix;
+        }
+        if (sigma >= 0.0) skip_d = std::max(skip_d, d);
+      }
     }
   }
   return std::sqrt(peak_u2);
@@ -570,7 +700,8 @@ bool BondGrid::Influence(int index, bool uniform_shear, Eigen::Matrix<double, 3,
   if (index < 0 || index >= size() || !bonded(index)) return false;
   const int n = bonded_count_;
   const double da = cell_area_m2_;
-  const Bending bend = BendingOfBondedSet();
+  // The set's geometry and shear sums as the last field kept them (the same computation).
+  const Bending bend = set_cached_ ? set_bend_ : BendingOfBondedSet();
   const double rx = bond_x_m(index) - bend.x_c;
   const double ry = bond_y_m(index) - bend.y_c;
   // σ_i = F_n/A_B + (g_x, g_y)·(rx, ry) with g = S·(p, q), p = −(M_y + x_c F_n),
@@ -598,10 +729,12 @@ bool BondGrid::Influence(int index, bool uniform_shear, Eigen::Matrix<double, 3,
   if (uniform_shear) {
     (*a)(1, 1) = (*a)(2, 2) = 1.0 / (n * da);
   } else {
-    double sum_v = 0.0;
-    for (int ix = 0; ix < params_.grid_x; ++ix) sum_v += col_count_[ix] * col_v_[ix];
-    double sum_w = 0.0;
-    for (int iy = 0; iy < params_.grid_y; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+    double sum_v = set_sum_v_, sum_w = set_sum_w_;
+    if (!set_cached_) {
+      sum_v = sum_w = 0.0;
+      for (int ix = 0; ix < params_.grid_x; ++ix) sum_v += col_count_[ix] * col_v_[ix];
+      for (int iy = 0; iy < params_.grid_y; ++iy) sum_w += row_count_[iy] * row_w_[iy];
+    }
     if (sum_w > 0.0) (*a)(1, 1) = row_w_[iy_of(index)] / (sum_w * da);
     if (sum_v > 0.0) (*a)(2, 2) = col_v_[ix_of(index)] / (sum_v * da);
   }

@@ -86,7 +86,7 @@
 // is the caller's choice, e.g. Release()).
 //
 // ALLOCATION. The constructor sizes everything; nothing else allocates (tests count it).
-// Threads: one BondGrid per pad per rollout; const member functions may run concurrently.
+// Threads: one BondGrid per pad per rollout; const members but PeakUtilisation may run together.
 #ifndef CLIMBSIM_ADHESION_BOND_GRID_H_
 #define CLIMBSIM_ADHESION_BOND_GRID_H_
 
@@ -157,8 +157,7 @@ struct PadParams {
 // "adhesion.sigma_t_pa must be > 0, got -3"; min_bonds <= grid_x·grid_y).
 void ValidatePadParams(const PadParams& params);
 
-// The load the bond layer carries, pad frame, moments about the pad centroid (see the file
-// comment for the signs).
+// The load the bond layer carries: pad frame, moments about the pad centroid (signs: above).
 struct PadLoad {
   double fn_n = 0.0;   // normal force, > 0 pulls off
   double fx_n = 0.0;   // shear along x
@@ -173,8 +172,7 @@ struct PadLoad {
 PadLoad PadLoadFromSurfaceWrench(const Eigen::Vector3d& force_on_pad_pad_n,
                                  const Eigen::Vector3d& torque_on_pad_pad_nm);
 
-// Per-bond state. Broken bonds stay broken until the pad attaches again (BondAll,
-// BondFraction or Release); Grow never re-bonds them.
+// Per-bond state. Broken stays broken until BondAll, BondFraction or Release; Grow never re-bonds.
 enum class BondState : uint8_t { kUnbonded = 0, kBonded = 1, kBroken = 2 };
 
 // Stresses of one bond in the last evaluated field; all zero for a bond not bonded.
@@ -203,8 +201,7 @@ struct BrokenBond {
 
 class BondGrid {
  public:
-  // Validates params (throws std::invalid_argument) and sizes every buffer. All bonds
-  // start unbonded.
+  // Validates params (throws std::invalid_argument), sizes every buffer; all bonds unbonded.
   explicit BondGrid(const PadParams& params);
 
   // --- Attachment state (no allocation) ---
@@ -222,17 +219,14 @@ class BondGrid {
   void BondAll();
   // A fresh attachment with round(fraction·|T|) bonds bonded, chosen centre-out among the
   // touching cells: bonds in order of (2x/b)² + (2y/h)² (the patch keeps the pad's aspect),
-  // ties by index. All other bonds become unbonded (not broken). fraction is clamped to
-  // [0, 1]; NaN counts as 0.
+  // ties by index. All others unbonded (not broken). fraction clamped to [0, 1]; NaN is 0.
   void BondFraction(double fraction);
   // Grows the bonded set, centre-out, until round(fraction·|T|) bonds are bonded, skipping
-  // bonds broken since the last attachment and cells that do not touch. Never unbonds.
-  // Returns how many it added.
+  // bonds broken since the last attachment and cells that do not touch; returns how many.
   int Grow(double fraction);
   // Sets one bond bonded or unbonded (tests, custom patterns). Throws std::out_of_range.
   void SetBonded(int index, bool bonded);
-  // Every bond unbonded: the pad released.
-  void Release();
+  void Release();  // every bond unbonded: the pad released
 
   // --- Loading (no allocation) ---
   struct UpdateResult {
@@ -259,8 +253,11 @@ class BondGrid {
   // utilisation signal); a pad far from its limit costs a row or two instead of N_x·N_y bonds.
   double PeakUtilisation() const;
   // The same, and the index of a bond that carries it (the first in row-bound order; −1 when
-  // none is bonded or the load is unsupported).
-  double PeakUtilisation(int* peak_bond) const;
+  // none is bonded or the load is unsupported). `hint`, e.g. the last step's peak bond: rows
+  // and blocks of ⌈√N_x⌉ columns whose bound cannot reach its utilisation are not scanned;
+  // number and bond are PeakUtilisationByRowBound's whatever the hint (tests pin it).
+  double PeakUtilisation(int* peak_bond, int hint = -1) const;
+  double PeakUtilisationByRowBound(int* peak_bond) const;  // the reference; non-finite fields
   // Index of a bonded bond with the largest σ in the current field (the frictional law's most
   // loaded bond: its utilisation grows with σ at a uniform shear); −1 when none is bonded.
   int PeakSigmaBond() const;
@@ -325,9 +322,7 @@ class BondGrid {
  private:
   // Exact sums over the bonded set in grid units: a bond at column ix and row iy sits at
   // x = kx·b/(2N_x), y = ky·h/(2N_y) with the integers kx = 2·ix + 1 − N_x, ky = 2·iy + 1 − N_y.
-  struct MomentSums {
-    int64_t n = 0, kx = 0, ky = 0, kxx = 0, kyy = 0, kxy = 0;
-  };
+  struct MomentSums { int64_t n = 0, kx = 0, ky = 0, kxx = 0, kyy = 0, kxy = 0; };
 
   // The linear-plus-parabolic field of one round, separable into per-row and per-column
   // parts: σ_i = col_sigma_[ix] + row_sigma_[iy], 3τ² = col_tau3_[ix] + row_tau3_[iy].
@@ -346,6 +341,9 @@ class BondGrid {
   // Breaks (and logs, with round) every bonded bond over its threshold in the current
   // field; returns how many.
   int BreakOverThreshold(int round);
+  // PeakUtilisation's: a mask of row iy's blocks that reach floor_u2; the scan of rows kept.
+  uint32_t BlocksOverFloor(int iy, double floor_u2) const;
+  double ScanRows(int rows, double floor_u2, int* peak_bond) const;
   void SetState(int index, BondState new_state);
 
   PadParams params_;
@@ -382,12 +380,15 @@ class BondGrid {
   std::vector<double> row_sigma_;
   std::vector<double> col_tau3_;
   std::vector<double> row_tau3_;
-  double tau_x_per_w_ = 0.0;  // τ_x = tau_x_per_w_·w
-  double tau_y_per_v_ = 0.0;  // τ_y = tau_y_per_v_·v
+  double tau_x_per_w_ = 0.0, tau_y_per_v_ = 0.0;  // τ_x = tau_x_per_w_·w, τ_y = tau_y_per_v_·v
   double col_sigma_max_ = 0.0;  // max over columns of col_sigma_
   double col_tau3_max_ = 0.0;   // max over columns of col_tau3_
+  double row_sigma_max_ = 0.0, row_tau3_max_ = 0.0;  // max over rows of row_sigma_, row_tau3_
   bool unsupported_ = false;
-  mutable std::vector<double> row_bound_u2_;  // PeakUtilisation's scratch, one per row
+  // PeakUtilisation's scratch: row bounds, candidate rows, each column block's max σ, max 3τ².
+  mutable std::vector<double> row_bound_u2_, block_sigma_max_, block_tau3_max_;
+  mutable std::vector<uint32_t> row_order_, row_blocks_;
+  int block_cols_ = 1;  // ⌈√N_x⌉ (so at most 32 blocks)
 
   // The log of the last Update.
   std::vector<BrokenBond> broken_log_;

@@ -13,7 +13,9 @@
 //   BondAll:  the re-bonding alone, to subtract from Cascade.
 //   Evaluate: the stress field and summary without the rupture bookkeeping.
 //   PullOff:  the whole quasi-static search (about 25 cascades), for the CLI's pulloff verb.
-//   PeakUtilisation: the reflexes' signal after a Holding update (rows by their bound).
+//   PeakUtilisation: the reflexes' signal after a Holding update (rows by their bound);
+//             Hinted: with the last call's peak bond as hint (the adhesion effect's call);
+//             Scan, ScanHinted: the same after the HoldingScan load (the loose row bound).
 //   FrictionalHolding: FrictionalUpdate of a pad that holds (a gripping pull at 60 % of the
 //             shear limit, with a lever): the bond of largest σ decides, no scan.
 #include <benchmark/benchmark.h>
@@ -63,12 +65,17 @@ void Holding(benchmark::State& state, double fraction) {
   state.counters["utilisation"] = grid.Summary().peak_utilisation;
 }
 
-void BM_UpdateHoldingScan(benchmark::State& state) {
-  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+// The row bound's worst case (HoldingScan): σ from M_y at the ±x edges, τ_y in the centre.
+PadLoad ScanLoad(const PadParams& pad) {
   const double b = pad.width_m, area = pad.width_m * pad.length_m;
   const double i_y = pad.length_m * b * b * b / 12.0;
-  const PadLoad load{.fy_n = 0.8 * pad.sigma_t_pa * area / (1.5 * std::sqrt(3.0)),
-                     .my_nm = 0.8 * pad.sigma_t_pa * i_y / (b / 2)};
+  return PadLoad{.fy_n = 0.8 * pad.sigma_t_pa * area / (1.5 * std::sqrt(3.0)),
+                 .my_nm = 0.8 * pad.sigma_t_pa * i_y / (b / 2)};
+}
+
+void BM_UpdateHoldingScan(benchmark::State& state) {
+  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+  const PadLoad load = ScanLoad(pad);
   BondGrid grid(pad);
   grid.BondAll();
   for (auto _ : state) {
@@ -119,17 +126,42 @@ void BM_Evaluate(benchmark::State& state) {
   }
 }
 
-void BM_PeakUtilisation(benchmark::State& state) {
-  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+// PeakUtilisation after an update under `load`; `hinted`: with the last call's peak bond as
+// the hint, as the adhesion effect calls it each step.
+void Peak(benchmark::State& state, const PadParams& pad, const PadLoad& load, bool hinted) {
   BondGrid grid(pad);
   grid.BondAll();
-  grid.Update(PullLoad(0.6 * PullOff(pad, kHoldingPull).force_n, kHoldingPull));
+  grid.Update(load);
   int bond = -1;
+  grid.PeakUtilisation(&bond);
   for (auto _ : state) {
-    const double u = grid.PeakUtilisation(&bond);
+    const int hint = hinted ? bond : -1;
+    const double u = grid.PeakUtilisation(&bond, hint);
     benchmark::DoNotOptimize(u);
   }
+  if (grid.bonded_count() != grid.size()) state.SkipWithError("the load broke bonds");
   state.counters["utilisation"] = grid.PeakUtilisation();
+}
+
+PadLoad HoldingLoad(const PadParams& pad) {
+  return PullLoad(0.6 * PullOff(pad, kHoldingPull).force_n, kHoldingPull);
+}
+
+void BM_PeakUtilisation(benchmark::State& state) {
+  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+  Peak(state, pad, HoldingLoad(pad), false);
+}
+void BM_PeakUtilisationHinted(benchmark::State& state) {
+  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+  Peak(state, pad, HoldingLoad(pad), true);
+}
+void BM_PeakUtilisationScan(benchmark::State& state) {
+  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+  Peak(state, pad, ScanLoad(pad), false);
+}
+void BM_PeakUtilisationScanHinted(benchmark::State& state) {
+  const PadParams pad = Pad(static_cast<int>(state.range(0)));
+  Peak(state, pad, ScanLoad(pad), true);
 }
 
 void BM_FrictionalHolding(benchmark::State& state) {
@@ -166,6 +198,9 @@ BENCHMARK(BM_UpdateCascade)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_BondAll)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_Evaluate)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_PeakUtilisation)->RangeMultiplier(2)->Range(4, 64);
+BENCHMARK(BM_PeakUtilisationHinted)->RangeMultiplier(2)->Range(4, 64);
+BENCHMARK(BM_PeakUtilisationScan)->RangeMultiplier(2)->Range(4, 64);
+BENCHMARK(BM_PeakUtilisationScanHinted)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_FrictionalHolding)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_PullOff)->Arg(16)->Arg(32)->Unit(benchmark::kMicrosecond);
 

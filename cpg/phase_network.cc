@@ -1,4 +1,6 @@
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -42,7 +44,8 @@ PhaseNetwork::PhaseNetwork(const PhaseNetworkParams& params)
       cos_bias_(n_ * n_),
       sin_bias_(n_ * n_),
       sin_theta_(n_),
-      cos_theta_(n_),
+      cos_theta_(n_, 1.0),  // cos(+0); sin_theta_ holds sin(+0) = +0
+      trig_theta_bits_(n_, std::bit_cast<std::uint64_t>(0.0)),
       inputs_(n_),
       theta_before_rad_(n_),
       unwrapped_rad_(n_),
@@ -90,10 +93,14 @@ void PhaseNetwork::Derivative(const double* x, double* dxdt) {
   ++rhs_evaluations_;
   const double* theta = x;
   const double* r = x + n_;
-  // sin(θ_j − θ_i − φ_ij) from sin/cos of each θ and of each φ: 2n trig calls, not n².
+  // sin(θ_j − θ_i − φ_ij) from sin/cos of each θ and of each φ: n sincos calls, not n² trig
+  // calls; none for a θ_j whose bits have not changed. glibc's sincos gives sin's and cos's
+  // own bits (cpg_test PhaseNetwork.SincosIsSinAndCosBitForBit).
   for (int j = 0; j < n_; ++j) {
-    sin_theta_[j] = std::sin(theta[j]);
-    cos_theta_[j] = std::cos(theta[j]);
+    const std::uint64_t bits = std::bit_cast<std::uint64_t>(theta[j]);
+    if (bits == trig_theta_bits_[j]) continue;
+    ::sincos(theta[j], &sin_theta_[j], &cos_theta_[j]);
+    trig_theta_bits_[j] = bits;
   }
   for (int i = 0; i < n_; ++i) {
     double coupling = 0.0;

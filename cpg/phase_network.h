@@ -83,9 +83,12 @@ class PhaseNetwork final : public OscillatorNetwork {
   std::vector<double> weight_per_s_;
   std::vector<double> cos_bias_;
   std::vector<double> sin_bias_;
-  // Scratch and state: all sized in the constructor.
+  // Scratch and state: all sized in the constructor. sin and cos of θ_j with the bits of the θ_j
+  // they were taken of: a phase that has not moved (a held leg, in every stage of a step)
+  // reuses them (a pure function of those bits: no reset ever stales them).
   std::vector<double> sin_theta_;
   std::vector<double> cos_theta_;
+  std::vector<std::uint64_t> trig_theta_bits_;
   internal::StepInputs inputs_;
   std::vector<double> theta_before_rad_;
   std::vector<double> unwrapped_rad_;

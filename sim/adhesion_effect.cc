@@ -208,12 +208,13 @@ void AdhesionEffect::UpdateUtilisation() {
   for (int i = 0; i < system_->size(); ++i) {
     const adhesion::StickyPad& p = system_->pad(i);
     double u = 0.0;
+    const int last_peak = peak_bond_[i];  // the peak rarely moves: the scan's hint
     peak_bond_[i] = -1;
     const bool bonds = p.attached() && p.params().model == adhesion::AdhesionModel::kBonds;
     if (bonds) {
       u = std::min(p.params().law != adhesion::PadLaw::kVonMises
                        ? p.frictional_utilisation()
-                       : p.grid().PeakUtilisation(&peak_bond_[i]),
+                       : p.grid().PeakUtilisation(&peak_bond_[i], last_peak),
                    kUtilisationCap);
       if (!(u >= 0.0)) u = kUtilisationCap;  // NaN: no field the bonds could carry
     }

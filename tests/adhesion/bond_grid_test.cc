@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -691,6 +692,48 @@ TEST(PadStress, PeakUtilisationEqualsTheFullScanBitForBit) {
     rows_only += g.bonded_count() > 0 && !std::isinf(full) ? 1 : 0;
   }
   EXPECT_GT(rows_only, 200);  // most trials compare finite peaks, not two infinities
+}
+
+// The hinted scan leaves out rows and column blocks below the hint's utilisation: number and
+// bond must be the row scan's bit for bit whatever the hint (the true peak bond, a random
+// bond, an unbonded one, none), on random sets and loads, wide and narrow grids, tension,
+// compression and cascades.
+TEST(PadStress, PeakUtilisationWithAHintEqualsTheRowScanBitForBit) {
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::bernoulli_distribution keep(0.85);
+  int compared = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    PadParams p = Pad(0.025, 0.02, 1 + trial % 37, 1 + trial % 23);
+    p.sigma_t_pa = 1.0e4;
+    p.mu = 0.5 * (trial % 3);
+    p.min_bonds = 1;
+    BondGrid g(p);
+    g.BondAll();
+    if (trial % 2 == 1) {
+      for (int i = 0; i < g.size(); ++i) g.SetBonded(i, keep(rng));
+    }
+    const double scale = trial % 5 == 0 ? 20.0 : 2.0;  // every fifth load breaks bonds
+    PadLoad load{.fn_n = scale * unit(rng), .fx_n = scale * unit(rng),
+                 .fy_n = scale * unit(rng), .mx_nm = 0.002 * scale * unit(rng),
+                 .my_nm = 0.002 * scale * unit(rng)};
+    if (trial % 7 == 0) load.fn_n = -std::abs(load.fn_n) - 1.0;  // pressed: the μ branch
+    if (trial % 11 == 0) load.fy_n = load.my_nm = 0.0;             // ties along every row
+    g.Update(load);
+    int want_bond = -1;
+    const double want = g.PeakUtilisationByRowBound(&want_bond);
+    std::uniform_int_distribution<int> any(-1, g.size() - 1);
+    for (const int hint : {-1, want_bond, any(rng), any(rng), g.size() + 3}) {
+      int bond = -2;
+      const double got = g.PeakUtilisation(&bond, hint);
+      EXPECT_EQ(std::memcmp(&got, &want, sizeof got), 0)
+          << "trial " << trial << " hint " << hint << ": " << got << " vs " << want;
+      EXPECT_EQ(bond, want_bond) << "trial " << trial << " hint " << hint;
+      EXPECT_EQ(g.PeakUtilisation(nullptr, hint), want) << "trial " << trial;
+    }
+    compared += want_bond >= 0 && want > 0.0 ? 1 : 0;
+  }
+  EXPECT_GT(compared, 250);  // most trials have a finite peak on a bond (not unsupported)
 }
 
 // A released grid carries no stress: bonded again, it reads the utilisation of no load (0), as

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 
@@ -100,6 +101,26 @@ TEST(BondInfluence, MatchesTheFieldOfEvaluateAtEveryBond) {
     }
   }
   EXPECT_GT(checked, 8000);
+}
+
+// Influence reads the bonded set's geometry and shear sums that the last field kept; a grid
+// whose set was never loaded computes them afresh: the two must agree bit for bit.
+TEST(BondInfluence, KeptSetGeometryGivesTheFreshInfluenceBitForBit) {
+  std::mt19937 rng(20261127);
+  for (int trial = 0; trial < 60; ++trial) {
+    Case c = RandomCase(&rng, trial);
+    BondGrid fresh = c.grid;  // the same set, no field computed on it yet
+    c.grid.Evaluate(c.load);  // keeps the set's geometry
+    for (const bool uniform : {false, true}) {
+      for (int i = 0; i < c.grid.size(); ++i) {
+        Eigen::Matrix<double, 3, 5> kept, again;
+        kept.setConstant(7.0), again.setConstant(7.0);
+        ASSERT_EQ(c.grid.Influence(i, uniform, &kept), fresh.Influence(i, uniform, &again));
+        EXPECT_EQ(std::memcmp(kept.data(), again.data(), sizeof(double) * 15), 0)
+            << "trial " << trial << " bond " << i;
+      }
+    }
+  }
 }
 
 TEST(BondInfluence, PeakBondCarriesThePeakUtilisationBitForBit) {

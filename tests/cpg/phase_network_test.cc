@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -74,6 +75,28 @@ TEST(CpgPhaseNetwork, TwoCoupledOscillatorsFollowClosedFormAndLockToBias) {
       EXPECT_NEAR(WrapPi(psi - phi), 0.0, 1e-6) << "phi " << phi << " seed " << seed;
     }
   }
+}
+
+// The right-hand side takes sin and cos of each phase with one sincos call: glibc's sincos
+// must give sin's and cos's own bits over the phases' range (wrapped [0, 2π) plus a stage's
+// step either side), or every gait would change. Called through pointers so that the compiler
+// cannot merge the reference calls into a sincos of its own.
+TEST(CpgPhaseNetwork, SincosIsSinAndCosBitForBit) {
+  double (*volatile sin_fn)(double) = std::sin;
+  double (*volatile cos_fn)(double) = std::cos;
+  std::mt19937_64 rng(20261127);
+  std::uniform_real_distribution<double> phase(-1.0, 8.0);
+  std::vector<double> x = {0.0, -0.0, 1e-300, 0.855469, 2.426265, M_PI / 2, M_PI, kTwoPi,
+                           std::nextafter(kTwoPi, 0.0)};
+  for (int i = 0; i < 2000000; ++i) x.push_back(phase(rng));
+  long mismatches = 0;
+  for (double v : x) {
+    double s = 0.0, c = 0.0;
+    ::sincos(v, &s, &c);
+    const double want_s = sin_fn(v), want_c = cos_fn(v);
+    mismatches += std::memcmp(&s, &want_s, sizeof s) != 0 || std::memcmp(&c, &want_c, sizeof c);
+  }
+  EXPECT_EQ(mismatches, 0);
 }
 
 TEST(CpgPhaseNetwork, AmplitudeConvergesToTargetAtRateA) {
