@@ -646,29 +646,38 @@ void ExpectRejected(const PadParams& p, const std::string& fragment) {
   }
 }
 
+// Trial `trial` of the peak tests: a grid of nx × ny bonds (every other trial a random set,
+// each bond kept with probability `keep_p`), μ 0, 0.5 or 1, under a random load: every fifth
+// breaks bonds, every seventh presses; with `ties`, every eleventh has no fy and no my, so
+// every row ties.
+BondGrid RandomlyLoaded(int trial, int nx, int ny, double keep_p, bool ties, std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::bernoulli_distribution keep(keep_p);
+  PadParams p = Pad(0.025, 0.02, nx, ny);
+  p.sigma_t_pa = 1.0e4;
+  p.mu = 0.5 * (trial % 3);
+  p.min_bonds = 1;
+  BondGrid g(p);
+  g.BondAll();
+  if (trial % 2 == 1) {
+    for (int i = 0; i < g.size(); ++i) g.SetBonded(i, keep(rng));
+  }
+  const double scale = trial % 5 == 0 ? 20.0 : 2.0;
+  PadLoad load{.fn_n = scale * unit(rng), .fx_n = scale * unit(rng), .fy_n = scale * unit(rng),
+               .mx_nm = 0.002 * scale * unit(rng), .my_nm = 0.002 * scale * unit(rng)};
+  if (trial % 7 == 0) load.fn_n = -std::abs(load.fn_n) - 1.0;  // pressed: the μ branch
+  if (ties && trial % 11 == 0) load.fy_n = load.my_nm = 0.0;
+  g.Update(load);
+  return g;
+}
+
 // PeakUtilisation skips rows by a bound; it must give Summary()'s number bit for bit on
 // random bonded sets and loads, in tension, compression, shear and after a cascade.
 TEST(PadStress, PeakUtilisationEqualsTheFullScanBitForBit) {
   std::mt19937 rng(20261123);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::bernoulli_distribution keep(0.8);
   int rows_only = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    PadParams p = Pad(0.025, 0.02, 3 + trial % 14, 2 + trial % 11);
-    p.sigma_t_pa = 1.0e4;
-    p.mu = 0.5 * (trial % 3);
-    p.min_bonds = 1;
-    BondGrid g(p);
-    g.BondAll();
-    if (trial % 2 == 1) {
-      for (int i = 0; i < g.size(); ++i) g.SetBonded(i, keep(rng));
-    }
-    const double scale = trial % 5 == 0 ? 20.0 : 2.0;  // every fifth load breaks bonds
-    PadLoad load{.fn_n = scale * unit(rng), .fx_n = scale * unit(rng),
-                 .fy_n = scale * unit(rng), .mx_nm = 0.002 * scale * unit(rng),
-                 .my_nm = 0.002 * scale * unit(rng)};
-    if (trial % 7 == 0) load.fn_n = -std::abs(load.fn_n) - 1.0;  // pressed: the μ branch
-    g.Update(load);
+    const BondGrid g = RandomlyLoaded(trial, 3 + trial % 14, 2 + trial % 11, 0.8, false, rng);
     const double full = g.Summary().peak_utilisation;
     int bond = -1;
     const double peak = g.PeakUtilisation(&bond);
@@ -700,26 +709,9 @@ TEST(PadStress, PeakUtilisationEqualsTheFullScanBitForBit) {
 // compression and cascades.
 TEST(PadStress, PeakUtilisationWithAHintEqualsTheRowScanBitForBit) {
   std::mt19937 rng(20261127);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::bernoulli_distribution keep(0.85);
   int compared = 0;
   for (int trial = 0; trial < 600; ++trial) {
-    PadParams p = Pad(0.025, 0.02, 1 + trial % 37, 1 + trial % 23);
-    p.sigma_t_pa = 1.0e4;
-    p.mu = 0.5 * (trial % 3);
-    p.min_bonds = 1;
-    BondGrid g(p);
-    g.BondAll();
-    if (trial % 2 == 1) {
-      for (int i = 0; i < g.size(); ++i) g.SetBonded(i, keep(rng));
-    }
-    const double scale = trial % 5 == 0 ? 20.0 : 2.0;  // every fifth load breaks bonds
-    PadLoad load{.fn_n = scale * unit(rng), .fx_n = scale * unit(rng),
-                 .fy_n = scale * unit(rng), .mx_nm = 0.002 * scale * unit(rng),
-                 .my_nm = 0.002 * scale * unit(rng)};
-    if (trial % 7 == 0) load.fn_n = -std::abs(load.fn_n) - 1.0;  // pressed: the μ branch
-    if (trial % 11 == 0) load.fy_n = load.my_nm = 0.0;             // ties along every row
-    g.Update(load);
+    const BondGrid g = RandomlyLoaded(trial, 1 + trial % 37, 1 + trial % 23, 0.85, true, rng);
     int want_bond = -1;
     const double want = g.PeakUtilisationByRowBound(&want_bond);
     std::uniform_int_distribution<int> any(-1, g.size() - 1);

@@ -142,21 +142,24 @@ struct Outcome {
   std::string events;
 };
 
-// examples/gecko_tail_peel.yaml as `bench robustness` runs its pad_failure case of seed 0 at
-// probability 0.035 (10 s, a fall ends the run), with the tail held `rest_rad` off the wall,
-// and pressed or not.
-Outcome PadFailureCase(double rest_rad, bool press) {
-  Scenario s = LoadScenario(Source("examples/gecko_tail_peel.yaml"));
+// An example as `bench robustness` runs its pad_failure case of seed 0 at `probability`
+// (10 s, a fall ends the run).
+Scenario PadFailureScenario(const char* example, double probability) {
+  Scenario s = LoadScenario(Source(example));
   s.duration_s = 10;
   s.fall.stop = true;
   s.outputs.trajectory_rate_hz = 0;
-  s.adhesion->pad_failure_probability = 0.035;
-  reflex::TailReflexParams& tail = *s.reflex->tail;
-  tail.rest_rad = rest_rad;
-  if (!press) {
-    tail.on_front_pad_loss = false;
-    tail.pitch_threshold_rad = 1.0;  // never reached: the tail stays at rest
-  }
+  s.adhesion->pad_failure_probability = probability;
+  return s;
+}
+
+// The tail stays at rest: no trigger presses it.
+void NeverPress(reflex::TailReflexParams* tail) {
+  tail->on_front_pad_loss = false;
+  tail->pitch_threshold_rad = 1.0;  // never reached
+}
+
+Outcome RunCase(const Scenario& s) {
   auto model = CompileScenario(s);
   Simulation sim(s, *model);
   Outcome o;
@@ -164,6 +167,15 @@ Outcome PadFailureCase(double rest_rad, bool press) {
   o.summary = sim.Summary();
   o.events = sim.EventsCsv();
   return o;
+}
+
+// examples/gecko_tail_peel.yaml's case at probability 0.035, with the tail held `rest_rad` off
+// the wall, and pressed or not.
+Outcome PadFailureCase(double rest_rad, bool press) {
+  Scenario s = PadFailureScenario("examples/gecko_tail_peel.yaml", 0.035);
+  s.reflex->tail->rest_rad = rest_rad;
+  if (!press) NeverPress(&*s.reflex->tail);
+  return RunCase(s);
 }
 
 // The same failing front pad (LF, at 1.62 s and again at 4.21 s) with the tail held
@@ -191,30 +203,18 @@ TEST(TailReflex, PressOnPadFailureSavesWhatAClearTailCannot) {
   EXPECT_GE(releases, presses - 1);
 }
 
-// examples/gecko_tail.yaml, the tail on the active-release gecko, as `bench robustness` runs its
-// pad_failure case of seed 0 at probability 0.1 (10 s, a fall ends the run): LF fails in stance
+// examples/gecko_tail.yaml, the tail on the active-release gecko, at probability 0.1: LF fails in stance
 // at 1.44 s, again at 3.58 s, and RF at 9.75 s. `tail` false takes the tail off the robot and
 // its reflex off (gecko_wall_active.yaml); `press` false leaves the tail resting on the wall.
 Outcome ActiveTailCase(bool tail, bool press) {
-  Scenario s = LoadScenario(Source("examples/gecko_tail.yaml"));
-  s.duration_s = 10;
-  s.fall.stop = true;
-  s.outputs.trajectory_rate_hz = 0;
-  s.adhesion->pad_failure_probability = 0.1;
+  Scenario s = PadFailureScenario("examples/gecko_tail.yaml", 0.1);
   if (!tail) {
     s.robot_design->tail.reset();
     s.reflex->tail.reset();
   } else if (!press) {
-    s.reflex->tail->on_front_pad_loss = false;
-    s.reflex->tail->pitch_threshold_rad = 1.0;
+    NeverPress(&*s.reflex->tail);
   }
-  auto model = CompileScenario(s);
-  Simulation sim(s, *model);
-  Outcome o;
-  o.result = sim.Run();
-  o.summary = sim.Summary();
-  o.events = sim.EventsCsv();
-  return o;
+  return RunCase(s);
 }
 
 double FirstFailureS(const std::string& events) {
@@ -302,10 +302,7 @@ TEST(TailReflex, AdhesiveTipBondsOnlyWhilePressed) {
     s.outputs.trajectory_rate_hz = 0;
     s.adhesion->pad_failure_probability = 0.035;
     s.reflex->tail->hold_s = 0.3;  // a shorter press (docs/climbing.md, "Tail")
-    if (!press) {
-      s.reflex->tail->on_front_pad_loss = false;
-      s.reflex->tail->pitch_threshold_rad = 1.0;
-    }
+    if (!press) NeverPress(&*s.reflex->tail);
     auto model = CompileScenario(s);
     Simulation sim(s, *model);
     const RunResult result = sim.Run();
