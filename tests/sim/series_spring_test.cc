@@ -220,7 +220,7 @@ RunResult CompliantPushCase(bool tail) {
   s.perturbations.push_back(push);
   if (tail) {
     s.robot_design->tail = TailDesign{};
-    s.reflex->tail = reflex::TailReflexParams{};  // rest_rad 0, press_rad 0.3, as gecko_tail
+    s.reflex->tail = reflex::TailReflexParams{};  // rest_rad 0, press_rad 0.3, as gecko_tail_peel
   }
   const auto model = CompileScenario(s);
   Simulation run(s, *model);
