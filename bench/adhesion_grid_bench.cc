@@ -13,9 +13,10 @@
 //   BondAll:  the re-bonding alone, to subtract from Cascade.
 //   Evaluate: the stress field and summary without the rupture bookkeeping.
 //   PullOff:  the whole quasi-static search (about 25 cascades), for the CLI's pulloff verb.
-//   PeakUtilisation: the reflexes' signal after a Holding update (rows by their bound);
-//             Hinted: with the last call's peak bond as hint (the adhesion effect's call);
-//             Scan, ScanHinted: the same after the HoldingScan load (the loose row bound).
+//   PeakUtilisation/holding: the reflexes' signal after a Holding update (rows by their
+//             bound); holding_hinted: with the last call's peak bond as hint (the adhesion
+//             effect's call); scan, scan_hinted: the same after the HoldingScan load (the
+//             loose row bound).
 //   FrictionalHolding: FrictionalUpdate of a pad that holds (a gripping pull at 60 % of the
 //             shear limit, with a lever): the bond of largest σ decides, no scan.
 #include <benchmark/benchmark.h>
@@ -147,21 +148,11 @@ PadLoad HoldingLoad(const PadParams& pad) {
   return PullLoad(0.6 * PullOff(pad, kHoldingPull).force_n, kHoldingPull);
 }
 
-void BM_PeakUtilisation(benchmark::State& state) {
+// `load_of`: HoldingLoad (rows by their bound) or ScanLoad (every row read).
+void BM_PeakUtilisation(benchmark::State& state, PadLoad (*load_of)(const PadParams&),
+                        bool hinted) {
   const PadParams pad = Pad(static_cast<int>(state.range(0)));
-  Peak(state, pad, HoldingLoad(pad), false);
-}
-void BM_PeakUtilisationHinted(benchmark::State& state) {
-  const PadParams pad = Pad(static_cast<int>(state.range(0)));
-  Peak(state, pad, HoldingLoad(pad), true);
-}
-void BM_PeakUtilisationScan(benchmark::State& state) {
-  const PadParams pad = Pad(static_cast<int>(state.range(0)));
-  Peak(state, pad, ScanLoad(pad), false);
-}
-void BM_PeakUtilisationScanHinted(benchmark::State& state) {
-  const PadParams pad = Pad(static_cast<int>(state.range(0)));
-  Peak(state, pad, ScanLoad(pad), true);
+  Peak(state, pad, load_of(pad), hinted);
 }
 
 void BM_FrictionalHolding(benchmark::State& state) {
@@ -197,10 +188,18 @@ BENCHMARK(BM_UpdateHoldingScan)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_UpdateCascade)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_BondAll)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_Evaluate)->RangeMultiplier(2)->Range(4, 64);
-BENCHMARK(BM_PeakUtilisation)->RangeMultiplier(2)->Range(4, 64);
-BENCHMARK(BM_PeakUtilisationHinted)->RangeMultiplier(2)->Range(4, 64);
-BENCHMARK(BM_PeakUtilisationScan)->RangeMultiplier(2)->Range(4, 64);
-BENCHMARK(BM_PeakUtilisationScanHinted)->RangeMultiplier(2)->Range(4, 64);
+BENCHMARK_CAPTURE(BM_PeakUtilisation, holding, HoldingLoad, false)
+    ->RangeMultiplier(2)
+    ->Range(4, 64);
+BENCHMARK_CAPTURE(BM_PeakUtilisation, holding_hinted, HoldingLoad, true)
+    ->RangeMultiplier(2)
+    ->Range(4, 64);
+BENCHMARK_CAPTURE(BM_PeakUtilisation, scan, ScanLoad, false)
+    ->RangeMultiplier(2)
+    ->Range(4, 64);
+BENCHMARK_CAPTURE(BM_PeakUtilisation, scan_hinted, ScanLoad, true)
+    ->RangeMultiplier(2)
+    ->Range(4, 64);
 BENCHMARK(BM_FrictionalHolding)->RangeMultiplier(2)->Range(4, 64);
 BENCHMARK(BM_PullOff)->Arg(16)->Arg(32)->Unit(benchmark::kMicrosecond);
 

@@ -203,10 +203,11 @@ TEST(TailReflex, PressOnPadFailureSavesWhatAClearTailCannot) {
   EXPECT_GE(releases, presses - 1);
 }
 
-// examples/gecko_tail.yaml, the tail on the active-release gecko, at probability 0.1: LF fails in stance
-// at 1.445 s, again at 3.588 s, and RF at 9.538 s (without the tail LF at 1.440 s: the tail's
-// light press at rest moves the gait by a few ms). `tail` false takes the tail off the robot and
-// its reflex off (gecko_wall_active.yaml); `press` false leaves the tail resting on the wall.
+// examples/gecko_tail.yaml, the tail on the active-release gecko, at probability 0.1: LF fails
+// in stance at 1.445 s, again at 3.588 s, and RF at 9.538 s (without the tail LF at 1.440 s:
+// the tail's light press at rest moves the gait by a few ms). `tail` false takes the tail off
+// the robot and its reflex off (gecko_wall_active.yaml); `press` false leaves the tail resting
+// on the wall.
 Outcome ActiveTailCase(bool tail, bool press) {
   Scenario s = PadFailureScenario("examples/gecko_tail.yaml", 0.1);
   if (!tail) {
