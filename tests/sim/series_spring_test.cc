@@ -29,9 +29,12 @@ using climbsim::testing::WriteFile;
 ComplianceDesign ExampleDesign() {
   ComplianceDesign d;
   d.hip_yaw = {.stiffness_nm_per_rad = 0.2, .damping_nms_per_rad = 0.005, .travel_rad = 0.15,
-               .preload_nm = 0.045};
+               .preload_nm = 0.04};
   return d;
 }
+
+// The example's foot post (the gecko preset's is 17 mm).
+constexpr double kExamplePostM = 0.01;
 
 // A symmetric hip-yaw spring (no preload), the best of those without one.
 ComplianceDesign SymmetricDesign() {
@@ -93,7 +96,7 @@ TEST(SeriesSpring, SpringJointHasTheKeysValuesAndTheContractHolds) {
     EXPECT_EQ(m->dof_armature[m->jnt_dofadr[j]], 0.0);
     EXPECT_EQ(m->jnt_range[2 * j], 0.0);  // preloaded: one way only, from its stop at 0
     EXPECT_EQ(m->jnt_range[2 * j + 1], 0.15);
-    EXPECT_DOUBLE_EQ(m->qpos_spring[m->jnt_qposadr[j]], -0.045 / 0.2);
+    EXPECT_DOUBLE_EQ(m->qpos_spring[m->jnt_qposadr[j]], -0.04 / 0.2);
     // The servo keeps its armature and back-EMF damping; the actuator still drives it.
     EXPECT_EQ(m->dof_armature[m->jnt_dofadr[servo]], 3e-5);
     EXPECT_EQ(m->dof_damping[m->jnt_dofadr[servo]], 0.0075);
@@ -203,50 +206,77 @@ TEST(SeriesSpring, PushDownTheWallLoadsThePadsLessWithSprings) {
   std::printf("peak pad load after a 0.03 N s push: stiff %.3f N, symmetric springs %.3f N, "
               "preloaded %.3f N\n", stiff, symmetric, preloaded);
   EXPECT_LT(symmetric, 0.9 * stiff);  // measured: 1.25 N against 1.53 N
-  EXPECT_LT(preloaded, 0.9 * stiff);  // measured: 1.15 N
+  EXPECT_LT(preloaded, 0.9 * stiff);  // measured: 1.28 N
 }
 
-// examples/gecko_compliant.yaml with a 10 ms push of 0.0284 N·s down the wall at 3.75 s (the
-// case that ends it, seed 0), 10 s, a fall ends the run; as it ships, or with the default tail
-// and tail reflex of gecko_tail_peel.yaml added.
-RunResult CompliantPushCase(bool tail) {
+// A 10 ms push down the wall on examples/gecko_compliant.yaml (seed 0), 10 s, a fall ends
+// the run; `edit` changes the scenario first.
+template <class Edit>
+RunResult CompliantPushCase(double push_ns, double time_s, Edit edit) {
   Scenario s = LoadScenario(Source("examples/gecko_compliant.yaml"));
   s.duration_s = 10;
   s.fall.stop = true;
   s.outputs.trajectory_rate_hz = 0;
   PushParams push;
-  push.time_s = 3.75;
-  push.impulse_ns = {-0.0284, 0, 0};
+  push.time_s = time_s;
+  push.impulse_ns = {-push_ns, 0, 0};
   s.perturbations.push_back(push);
-  if (tail) {
-    s.robot_design->tail = TailDesign{};
-    s.reflex->tail = reflex::TailReflexParams{};  // rest_rad 0, press_rad 0.3, as gecko_tail_peel
-  }
+  edit(s);
   const auto model = CompileScenario(s);
   Simulation run(s, *model);
   return run.Run();
 }
 
-// The springs let the push through to the body, which pitches about the hind feet and tears a
-// front pad off the wall; a tail on the wall holds that pitch (measured: without the tail it
-// falls at 3.96 s, with it it climbs 0.151 m). The example does not carry it: with the tail
-// the payload, weak-patch and bump margins fall below the stiff gecko's (docs/climbing.md).
+// The example as it was before its short post: 17 mm post, 0.045 N·m preload, the default peel.
+void EarlierDesign(Scenario& s) {
+  s.robot_design->feet.post_m = 0.017;
+  s.robot_design->compliance.hip_yaw.preload_nm = 0.045;
+  s.reflex->peel = reflex::PeelParams{};
+}
+
+// The earlier design's springs let the push (0.0284 N·s at 3.75 s, the case that ended it)
+// through to the body, which pitches about the hind feet and tears a front pad off the wall; a
+// tail on the wall holds that pitch (measured: without the tail it falls at 3.96 s, with it it
+// climbs 0.151 m). With the tail the payload, weak-patch and bump margins fall below the stiff
+// gecko's (docs/climbing.md).
 TEST(SeriesSpring, TheTailHoldsThePitchTheSpringsLetThrough) {
-  const RunResult without = CompliantPushCase(false);
-  const RunResult with = CompliantPushCase(true);
+  const RunResult without = CompliantPushCase(0.0284, 3.75, EarlierDesign);
+  const RunResult with = CompliantPushCase(0.0284, 3.75, [](Scenario& s) {
+    EarlierDesign(s);
+    s.robot_design->tail = TailDesign{};
+    s.reflex->tail = reflex::TailReflexParams{};  // rest_rad 0, press_rad 0.3, as gecko_tail_peel
+  });
   EXPECT_TRUE(without.fell);
   EXPECT_FALSE(with.fell) << "fell at " << with.fall_time_s;
   EXPECT_GT(with.distance_m, 0.12);
 }
 
+// The example's edge push (0.0508 N·s, 2.1 times the stiff gecko's) at 3.33 s, as LF has just
+// landed and RH is being peeled: the short post and the springs together carry it; without
+// either it falls (measured: 3.49 s without the springs, 3.54 s with the 17 mm post).
+TEST(SeriesSpring, TheShortPostAndTheSpringsTogetherCarryTheEdgePush) {
+  const RunResult shipped = CompliantPushCase(0.0508, 10.0 / 3, [](Scenario&) {});
+  const RunResult stiff = CompliantPushCase(0.0508, 10.0 / 3, [](Scenario& s) {
+    s.robot_design->compliance.hip_yaw.stiffness_nm_per_rad = 0;
+  });
+  const RunResult long_post = CompliantPushCase(0.0508, 10.0 / 3, [](Scenario& s) {
+    s.robot_design->feet.post_m = 0.017;
+  });
+  EXPECT_FALSE(shipped.fell) << "fell at " << shipped.fall_time_s;
+  EXPECT_GT(shipped.distance_m, 0.12);
+  EXPECT_TRUE(stiff.fell);
+  EXPECT_TRUE(long_post.fell);
+}
+
 // examples/gecko_compliant.yaml designs the robot these tests check: the gecko preset with
-// ExampleDesign's springs and nothing else changed.
+// ExampleDesign's springs and the short post, nothing else changed.
 TEST(SeriesSpring, ExampleDesignsTheTestedRobot) {
   const Scenario s = ParseScenario(YAML::LoadFile(Source("examples/gecko_compliant.yaml")),
                                    Source("examples/gecko_compliant.yaml"));
   ASSERT_TRUE(s.robot_design.has_value());
   RobotDesign expected = PresetDesign("gecko");
   expected.compliance = ExampleDesign();
+  expected.feet.post_m = kExamplePostM;
   EXPECT_EQ(GenerateRobotMjcf(*s.robot_design), GenerateRobotMjcf(expected));
 }
 
