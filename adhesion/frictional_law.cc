@@ -10,7 +10,6 @@
 namespace climbsim::adhesion {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 // A pull at exactly 90° − α* lies on the limit itself (frictional_law.h, kShearLawRoundoff).
 constexpr double kRoundoff = kShearLawRoundoff;
 

@@ -38,6 +38,7 @@
 #define CLIMBSIM_ADHESION_PULLOFF_H_
 
 #include <functional>
+#include <numbers>
 #include <vector>
 
 #include "adhesion/bond_grid.h"
@@ -93,6 +94,10 @@ PulloffResult SearchPulloff(BondGrid* grid, double capacity_n, const PulloffOpti
 // (ValidatePadParams), a non-finite angle, a negative or non-finite arm, or bad options.
 PulloffResult PullOff(const PadParams& pad, const PullSetup& setup,
                       const PulloffOptions& options = {});
+
+// Degrees to radians: the keys given in degrees (sweep angles, tabulated laws' angles, the
+// directional law's critical angle).
+inline constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 struct SweepRange {
   double from_deg = 0.0;

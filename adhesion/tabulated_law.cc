@@ -11,7 +11,6 @@
 namespace climbsim::adhesion {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 }  // namespace
 

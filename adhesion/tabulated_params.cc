@@ -7,9 +7,6 @@
 #include "adhesion/tabulated_law.h"
 
 namespace climbsim::adhesion {
-namespace {
-constexpr double kDegToRad = std::numbers::pi / 180.0;
-}  // namespace
 
 double WrapAzimuthRad(double azimuth_rad) {
   constexpr double kTwoPi = 2.0 * std::numbers::pi;

@@ -5,6 +5,8 @@
 #ifndef CLIMBSIM_REFLEX_CHECK_H_
 #define CLIMBSIM_REFLEX_CHECK_H_
 
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -28,6 +30,14 @@ std::string DelayProblem(double delay_s, double dt_s);
 // A duration as a whole number of control periods, rounded like the delays; throws
 // std::invalid_argument "<path> <DurationProblem>" unless it fits.
 int DurationToSamples(std::string_view path, double duration_s, double dt_s, bool at_least_one);
+
+// A sensor value as the laws take it: a non-finite one becomes 0 ("no stretch", "no load") and
+// is counted in *count.
+inline double Sanitize(double x, int64_t* count) {
+  if (std::isfinite(x)) return x;
+  ++*count;
+  return 0.0;
+}
 
 // A Checker whose failures are std::invalid_argument "<name>.<key> <message>" (a module's own
 // checks, as keys::Validate words a range).

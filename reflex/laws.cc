@@ -17,12 +17,7 @@ double SignedDeadZone(double x, double x0) {
   return 0.0;
 }
 
-// Non-finite sensor values become 0 (the law then sees "no stretch" or "no load").
-double Sanitize(double x, int64_t* count) {
-  if (std::isfinite(x)) return x;
-  ++*count;
-  return 0.0;
-}
+using internal::Sanitize;
 
 }  // namespace
 

@@ -11,12 +11,7 @@ namespace climbsim::reflex {
 namespace {
 
 using internal::DurationToSamples;
-
-double Sanitize(double x, int64_t* count) {
-  if (std::isfinite(x)) return x;
-  ++*count;
-  return 0.0;
-}
+using internal::Sanitize;
 
 void Emit(LegReflexOutput* out, LegEventType type, LegEventReason reason = LegEventReason::kNone) {
   // Each type is emitted at most once per Update, so this never overflows (tested).

@@ -11,7 +11,6 @@
 namespace climbsim::sim {
 namespace {
 
-constexpr double kStanceTurn = CornerPlan::kStanceTurn;
 // A foot pressed onto its surface that has not attached after this long is lifted and placed
 // again (the pad must leave the surface before it can attach again: adhesion/sticky_pad.h).
 constexpr double kAttachWait = 0.35;
@@ -93,7 +92,7 @@ void CornerManoeuvre::PeelTick(ManoeuvreIo& io, double t) {
   const double u = SmoothStep((t - step_t0_) / params_.peel_ramp_s);
   const Eigen::Vector3d pull = peel_from_ + u * (peel_dir_ - peel_from_);
   plan_.Margin(i, sag_.Apply(cmd_), f.ankle_w + pull + u * params_.peel_lift_m * f.normal_w,
-               f.normal_w, &f.q, &f.tilt, kStanceTurn);
+               f.normal_w, &f.q, &f.tilt, CornerPlan::kStanceTurn);
   // The tilt servo turns the pad the way the pull does, as far as its torque goes: the bonds
   // see that much more peel moment and the leg pulls less. The pull along d at the top of
   // the post turns the pad about n × d.
@@ -181,7 +180,7 @@ void CornerManoeuvre::AdvanceStep(ManoeuvreIo& io, double t) {
   // Through the commanded body, as the stance legs' targets and the plan's margins are: the
   // foot lands where the plan has it in the leg's joints, whatever the body's sag.
   plan_.Margin(i, cmd_, face + plan_.chains()[i].post_m() * normal, normal, &f.q, &f.tilt,
-               kStanceTurn);
+               CornerPlan::kStanceTurn);
 }
 
 bool CornerManoeuvre::PlaceTick(ManoeuvreIo& io, double t, Eigen::Vector3d* face) {
@@ -237,7 +236,7 @@ void CornerManoeuvre::Landed(const ManoeuvreIo& io) {
   f.ankle_w = stance.p + stance.r * c.Ankle(q, 0.0);
   const Eigen::Vector3d on = plan_.origin() + (c.post_m() - params_.press_m) * to_.normal;
   f.ankle_w -= (f.ankle_w - on).dot(to_.normal) * to_.normal;
-  plan_.Margin(i, sag_.Apply(cmd_), f.ankle_w, f.normal_w, &f.q, &f.tilt, kStanceTurn);
+  plan_.Margin(i, sag_.Apply(cmd_), f.ankle_w, f.normal_w, &f.q, &f.tilt, CornerPlan::kStanceTurn);
   step_leg_ = -1;
   step_ = StepPhase::kNone;
 }
