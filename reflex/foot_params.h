@@ -184,6 +184,12 @@ struct RegripParams {
                                  // (0: never)
   double shift_rad = 0.05;  // a re-placed rejected landing moves this much along hip yaw,
                             // ahead and behind in turn, >= 0 (see LegReflex::Regrip)
+  // A landing that touches less than this share of its pad's face (a pad set over a bump's
+  // edge bonds only where it touches, and tears at that share of its load) is let go at once
+  // and re-placed like a rejected one, at most partial_replaces times in a stance (then kept).
+  // 0: never; on a flat surface the whole face touches and nothing changes.
+  double min_touched_share = 0.0;  // 0..1
+  int partial_replaces = 2;        // >= 0
   template <class A>
   void Serialize(A* a) {
     a->Visit(
@@ -209,6 +215,16 @@ struct RegripParams {
               "further along hip yaw, ahead and behind in turn",
               Range::NonNegative()},
              &shift_rad);
+    a->Visit({"min_touched_share", "",
+              "a landing pad that touches less than this share of its face (over a bump's edge) "
+              "is let go at once and re-placed, shifted along hip yaw like a rejected landing; "
+              "0 = never",
+              Range::Closed(0, 1)},
+             &min_touched_share);
+    a->Visit({"partial_replaces", "",
+              "re-places of partly touching landings in one stance before one is kept",
+              Range::Closed(0, 100)},
+             &partial_replaces);
   }
 };
 

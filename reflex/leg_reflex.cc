@@ -268,20 +268,47 @@ void LegReflex::ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out) {
     return;
   }
   st.unattached_touch = 0;
+  StartReplace(out, LegEventReason::kTouchdown);
+}
+
+// A landing that attached touching less than min_touched_share of its face holds only that
+// share of the load it will be handed: let it go now, while its bonds are fresh, and place it
+// again shifted, the others holding stance meanwhile. A pad that attaches as its swing ends is
+// let go at once too, so that no support rule counts it; its re-place starts with its stance.
+// The release is the controller lifting the foot (adhesion's cause released).
+void LegReflex::ReplacePartialLanding(const Sensed& in, LegReflexOutput* out) {
+  LegReflexState& st = state_;
+  const RegripParams& p = params_.regrip;
+  if (in.swing_onset) st.partial_count = 0;
+  if (p.enabled && p.lift_rad > 0.0 && in.attach_edge &&
+      in.raw->touched_fraction < p.min_touched_share && st.partial_count < p.partial_replaces) {
+    ++st.partial_count;
+    out->release_pad = true;
+    st.partial_pending = true;
+  }
+  if (!(st.partial_pending && in.stance)) return;
+  st.partial_pending = false;
+  st.regrip_left = std::max(st.regrip_left, replace_samples_);
+  StartReplace(out, LegEventReason::kPartialContact);
+}
+
+// A re-place (lift and put down) of a foot whose landing is not kept.
+void LegReflex::StartReplace(LegReflexOutput* out, LegEventReason reason) {
+  LegReflexState& st = state_;
   st.replace_left = replace_samples_;
   st.replace_lifted = false;
   if (st.preloading) {
     st.preloading = false;
     Emit(out, LegEventType::kPreloadEnd, LegEventReason::kRegrip);
   }
-  Emit(out, LegEventType::kRegrip, LegEventReason::kTouchdown);
+  Emit(out, LegEventType::kRegrip, reason);
   // Where it was rejected it would be again (an edge stays an edge): each re-place of the
   // same stance lands the foot shift_rad further along hip yaw, ahead and behind in turn
   // (+1, −1, +2, −2 … shifts).
   ++st.replace_count;
   const int k = (st.replace_count + 1) / 2;
   st.replace_shift_from = st.replace_shift;
-  st.replace_shift = p.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
+  st.replace_shift = params_.regrip.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
 }
 
 // The re-grip's episodes start above; here the re-place's lift and shift.
@@ -290,11 +317,14 @@ Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
   const RegripParams& p = params_.regrip;
   RegripOnBondLoss(in, out);
   ReplaceRejectedLanding(in, out);
+  ReplacePartialLanding(in, out);
   if (!in.stance) {
     st.replace_count = 0;  // a new stance: the foot lands where its swing puts it
     st.replace_shift = st.replace_shift_from = 0.0;
   }
-  if (st.replace_left == 0 || !in.stance || in.raw->attached) {
+  // A pad let go this period is still attached in its sensing.
+  const bool holds = in.raw->attached && !out->release_pad;
+  if (st.replace_left == 0 || !in.stance || holds) {
     st.replace_left = 0;  // the gait took the leg, or the pad holds again
     st.replace_shift_from = st.replace_shift;
     if (st.replace_shift == 0.0) return Eigen::Vector3d::Zero();
@@ -584,6 +614,8 @@ std::string_view ReasonName(LegEventReason reason) {
       return "pushed";
     case LegEventReason::kStumble:
       return "stumble";
+    case LegEventReason::kPartialContact:
+      return "partial_contact";
   }
   return "unknown";
 }

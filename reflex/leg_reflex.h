@@ -20,6 +20,8 @@ struct LegSensing {
   bool touching = false;         // the pad touches a surface
   bool attached = false;         // the pad is attached (weld on)
   double bonded_fraction = 0.0;  // bonded share of the pad, 0..1
+  double touched_fraction = 1.0;  // share of the pad's face that touched at its last attach
+                                  // (1 on a flat surface)
   double normal_load_n = 0.0;    // pad normal force, N; + pulls the pad off (adhesive load)
   double preload_n = 0.0;        // compressive contact force pressing the pad on, N, >= 0
   double load_n = 0.0;           // size of the force on the attached pad, |F|, N
@@ -62,6 +64,7 @@ enum class LegEventReason : uint8_t {
   kSupport,            // gto_hold: the support pads' utilisation is above threshold
   kPushed,             // spindle: stretch beyond the stance band on an attached leg
   kStumble,            // spindle: stretch beyond the swing threshold on a free swing leg
+  kPartialContact,     // regrip: a landing touching too little of its face is re-placed
 };
 
 enum class Reflex : uint8_t {
@@ -145,6 +148,8 @@ struct LegReflexState {
   bool replace_lifted = false;  // the re-placed foot has left the surface
   int unattached_touch = 0;     // periods in stance without a bond since the foot touched
   int replace_count = 0;        // re-places of rejected landings in this stance
+  int partial_count = 0;        // partly touching landings let go since the swing started
+  bool partial_pending = false;  // one was let go in the swing: re-place it at the stance
   double replace_shift = 0.0;   // their hip-yaw shift (rad), held until the swing
   double replace_shift_from = 0.0;
   bool gto_holding = false;
@@ -255,6 +260,8 @@ class LegReflex {
   Eigen::Vector3d Regrip(const Sensed& in, LegReflexOutput* out);
   void RegripOnBondLoss(const Sensed& in, LegReflexOutput* out);
   void ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out);
+  void ReplacePartialLanding(const Sensed& in, LegReflexOutput* out);
+  void StartReplace(LegReflexOutput* out, LegEventReason reason);
   Eigen::Vector3d Preload(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Peel(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Gto(const Sensed& in, const Laws& laws, LegReflexOutput* out);

@@ -563,6 +563,53 @@ TEST(ReflexRegrip, ATouchThatDoesNotAttachIsRePlaced) {
   for (const auto& e : quiet.events()) EXPECT_NE(e.event.type, E::kRegrip);
 }
 
+// A landing that attaches touching less than min_touched_share of its face is let go at once
+// and re-placed, the others held; partial_replaces later a landing is kept; a whole-face one is
+// kept at once; one that attaches as the swing ends is let go there, re-placed at the stance.
+TEST(ReflexRegrip, APartlyTouchingLandingIsLetGoAndRePlaced) {
+  LegReflexParams p = RegripOnly();
+  p.regrip.lift_rad = 0.2;
+  p.regrip.replace_s = 0.08;  // 8 periods
+  p.regrip.min_touched_share = 0.9;
+  p.regrip.partial_replaces = 1;
+  LegSensing partial = Attached(Stance(), 0.7);
+  partial.touched_fraction = 0.7;
+  {
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());              // #0
+    rec.Step(Touching(Stance()));   // #1
+    const LegReflexOutput& out = rec.Step(partial);  // #2: attaches touching 70 %
+    EXPECT_TRUE(out.release_pad);
+    EXPECT_TRUE(out.hold_others);
+    EXPECT_TRUE(out.hold_stance);
+    rec.Step(Touching(Stance()));   // #3: lifting
+    EXPECT_GT(rec.output(3).target_offset_rad[kHipPitch], 0.0);
+    rec.Repeat(Stance(), 7);        // #4..#10
+    EXPECT_FALSE(rec.Step(partial).release_pad);  // #11: the second such landing is kept
+    EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip, R::kPartialContact)}));
+  }
+  {
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());
+    rec.Step(Touching(Stance()));
+    EXPECT_FALSE(rec.Step(Attached(Stance(), 0.9)).release_pad);  // touched all its face
+    EXPECT_TRUE(rec.events().empty());
+  }
+  {
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());                                 // #0
+    LegSensing late = Attached(Swing(0.95), 0.7);
+    late.touched_fraction = 0.7;
+    EXPECT_TRUE(rec.Step(late).release_pad);           // #1: let go in the swing
+    EXPECT_TRUE(rec.events().empty());
+    EXPECT_TRUE(rec.Step(Touching(Stance())).hold_others);  // #2: re-placed with the stance
+    EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip, R::kPartialContact)}));
+  }
+}
+
 TEST(ReflexRegrip, SilentInSwingWhenNotHoldingOrSwitchedOff) {
   LegSensing lost_in_swing = Attached(Swing(), 0.5);
   lost_in_swing.bonds_lost = true;

@@ -113,9 +113,10 @@ const char* kPush =
 
 TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
   const Scenario with = ExampleWith("examples/gecko_wall.yaml", "push_on.yaml", "", "", kPush);
-  const Scenario without = ExampleWith(
-      "examples/gecko_wall.yaml", "push_off.yaml", "    posture: {enabled: true}\n",
-      "    enabled: false\n    posture: {enabled: true}\n  regrip: {enabled: false}\n", kPush);
+  Scenario without = ExampleWith("examples/gecko_wall.yaml", "push_off.yaml",
+                                 "    posture: {enabled: true}\n",
+                                 "    enabled: false\n    posture: {enabled: true}\n", kPush);
+  without.reflex->regrip.enabled = false;
   std::string events;
   const RunResult on = RunScenario(with, &events);
   const RunResult off = RunScenario(without);
@@ -130,8 +131,8 @@ TEST(Climb, ReflexesSurviveAPushThatTheGaitWithoutThemDoesNot) {
 // leg yields (gto_unload) and the legs that would lift wait (gto_hold, support): the gecko
 // climbs on. With GTO off as well it falls (the test above).
 TEST(Climb, GtoUnloadAndSupportSurviveThePushWithoutRegrip) {
-  const Scenario s = ExampleWith("examples/gecko_wall.yaml", "push_gto.yaml", "  preload:",
-                                 "  regrip: {enabled: false}\n  preload:", kPush);
+  Scenario s = ExampleWith("examples/gecko_wall.yaml", "push_gto.yaml", "", "", kPush);
+  s.reflex->regrip.enabled = false;
   std::string events;
   const RunResult r = RunScenario(s, &events);
   EXPECT_FALSE(r.fell) << r.fall_time_s;

@@ -125,6 +125,8 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.regrip.replace_s", Text(leg.regrip.replace_s)},
       {"reflex.regrip.replace_after_s", Text(leg.regrip.replace_after_s)},
       {"reflex.regrip.shift_rad", Text(leg.regrip.shift_rad)},
+      {"reflex.regrip.min_touched_share", Text(leg.regrip.min_touched_share)},
+      {"reflex.regrip.partial_replaces", Text(leg.regrip.partial_replaces)},
       {"reflex.gto.enabled", Text(leg.gto.enabled)},
       {"reflex.gto.hold_gain_rad_per_n", Text(leg.gto.hold.gain)},
       {"reflex.gto.hold_threshold_n", Text(leg.gto.hold.threshold)},

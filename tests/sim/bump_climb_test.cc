@@ -1,0 +1,48 @@
+// Bumps with partial contact: a pad set over a bump's edge bonds only where it touches, and a
+// wall robot that kept such a landing fell (docs/climbing.md, "Bumps with partial contact").
+// reflex.regrip.min_touched_share lets such a landing go and places the foot again. The case
+// is `climbsim bench robustness examples/gecko_wall.yaml --families roughness`'s seed 2 at
+// its first failing height before the re-place: LF landed touching 71 % of its face, the next
+// legs lifted, and LF tore at 9.0 s.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "optimise/disturbance.h"
+#include "sim/sim.h"
+#include "tests/common/test_util.h"
+
+namespace climbsim::sim {
+namespace {
+
+using climbsim::testing::Source;
+
+RunResult RunBumpCase(double min_touched_share, std::string* events) {
+  Scenario base = LoadScenario(Source("examples/gecko_wall.yaml"));
+  base.reflex->regrip.min_touched_share = min_touched_share;
+  const optimise::DisturbanceSetup u = optimise::MakeDisturbanceSetup(base, {});
+  const Scenario s = optimise::DisturbanceCase(u, "roughness", 0.000533, 0, 2, 0);
+  auto model = CompileScenario(s);
+  Simulation sim(s, *model);
+  const RunResult r = sim.Run();
+  *events = sim.EventsCsv();
+  return r;
+}
+
+TEST(RoughClimb, GeckoReplacesAPartlyTouchingLandingAndClimbsWhereItFell) {
+  ASSERT_GT(LoadScenario(Source("examples/gecko_wall.yaml")).reflex->regrip.min_touched_share,
+            0.8);
+  std::string events;
+  const RunResult kept = RunBumpCase(0.0, &events);
+  EXPECT_TRUE(kept.fell) << "the partly touching landing kept: LF tears";
+  EXPECT_EQ(events.find("partial_contact"), std::string::npos);
+  const RunResult replaced = RunBumpCase(0.9, &events);
+  ASSERT_TRUE(replaced.stable) << replaced.failure;
+  EXPECT_FALSE(replaced.fell) << "fell at " << replaced.fall_time_s;
+  EXPECT_NE(events.find("regrip,partial_contact"), std::string::npos);
+  // The undisturbed climb is 0.176 m in 10 s; the bench counts half of it as survived.
+  EXPECT_GE(replaced.distance_m, 0.12);
+}
+
+}  // namespace
+}  // namespace climbsim::sim
