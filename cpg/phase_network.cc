@@ -102,14 +102,21 @@ void PhaseNetwork::Derivative(const double* x, double* dxdt) {
     ::sincos(theta[j], &sin_theta_[j], &cos_theta_[j]);
     trig_theta_bits_[j] = bits;
   }
+  // Local pointers: otherwise each vector's data pointer is reloaded in every coupled pair
+  // (the compiler cannot rule out that the stores to dxdt change it).
+  const double* s = sin_theta_.data();
+  const double* c = cos_theta_.data();
+  const double* weight = weight_per_s_.data();
+  const double* cos_bias = cos_bias_.data();
+  const double* sin_bias = sin_bias_.data();
   for (int i = 0; i < n_; ++i) {
     double coupling = 0.0;
     for (int j = 0; j < n_; ++j) {
-      const double w = weight_per_s_[i * n_ + j];
-      if (w == 0.0) continue;
-      const double sin_diff = sin_theta_[j] * cos_theta_[i] - cos_theta_[j] * sin_theta_[i];
-      const double cos_diff = cos_theta_[j] * cos_theta_[i] + sin_theta_[j] * sin_theta_[i];
-      coupling += w * r[j] * (sin_diff * cos_bias_[i * n_ + j] - cos_diff * sin_bias_[i * n_ + j]);
+      const int ij = i * n_ + j;
+      if (weight[ij] == 0.0) continue;
+      const double sin_diff = s[j] * c[i] - c[j] * s[i];
+      const double cos_diff = c[j] * c[i] + s[j] * s[i];
+      coupling += weight[ij] * r[j] * (sin_diff * cos_bias[ij] - cos_diff * sin_bias[ij]);
     }
     dxdt[i] = omega_rad_per_s_ + coupling + inputs_.feedback(i);
     dxdt[n_ + i] = params_.amplitude_rate_per_s * (params_.target_amplitude[i] - r[i]);
