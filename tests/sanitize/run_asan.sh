@@ -28,9 +28,12 @@ start=$(date +%s)
 mkdir -p "$build"
 echo "sanitize: configuring $build"
 # -O1 with assertions on (no NDEBUG): what the sanitizers' authors advise, it compiles faster
-# than -O3, and Eigen's and the code's own assertions check indices too.
+# than -O3, and Eigen's and the code's own assertions check indices too. A unity build of the
+# modules (each module's files compiled as one; the tests' files apart, cmake/climbsim.cmake):
+# the headers (Eigen, MuJoCo, the standard library) are parsed once a module, not once a file;
+# measured with these flags, sim 118 -> 44 s, robot 42 -> 25 s, adhesion 44 -> 37 s of one core.
 cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 \
-  -DCLIMBSIM_SANITIZE=ON >"$build/climbsim-configure.log" 2>&1 ||
+  -DCMAKE_UNITY_BUILD=ON -DCLIMBSIM_SANITIZE=ON >"$build/climbsim-configure.log" 2>&1 ||
   { cat "$build/climbsim-configure.log"; exit 1; }
 echo "sanitize: building ${targets[*]}"
 if ! cmake --build "$build" -j "$jobs" --target "${targets[@]}" >"$build/climbsim-build.log" 2>&1; then
