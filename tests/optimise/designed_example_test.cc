@@ -15,18 +15,14 @@
 #include "optimise/disturbance.h"
 #include "scenario/scenario.h"
 #include "sim/servo_margin.h"
+#include "tests/common/run_scenario.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::optimise {
 namespace {
 
+using climbsim::testing::RunScenario;
 using climbsim::testing::Source;
-
-sim::RunResult RunScenario(const sim::Scenario& s) {
-  auto model = sim::CompileScenario(s);
-  sim::Simulation sim(s, *model);
-  return sim.Run();
-}
 
 // Buildable (at most 30 % heavier, no servo over its rating) and at least `speedup` times the
 // hand design's distance in its 20 s run, without a fall.

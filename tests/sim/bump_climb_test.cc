@@ -10,23 +10,20 @@
 
 #include "optimise/disturbance.h"
 #include "sim/sim.h"
+#include "tests/common/run_scenario.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {
 
+using climbsim::testing::RunScenario;
 using climbsim::testing::Source;
 
 RunResult RunBumpCase(double min_touched_share, std::string* events) {
   Scenario base = LoadScenario(Source("examples/gecko_wall.yaml"));
   base.reflex->regrip.min_touched_share = min_touched_share;
   const optimise::DisturbanceSetup u = optimise::MakeDisturbanceSetup(base, {});
-  const Scenario s = optimise::DisturbanceCase(u, "roughness", 0.000533, 0, 2, 0);
-  auto model = CompileScenario(s);
-  Simulation sim(s, *model);
-  const RunResult r = sim.Run();
-  *events = sim.EventsCsv();
-  return r;
+  return RunScenario(optimise::DisturbanceCase(u, "roughness", 0.000533, 0, 2, 0), events);
 }
 
 TEST(RoughClimb, GeckoReplacesAPartlyTouchingLandingAndClimbsWhereItFell) {

@@ -9,21 +9,15 @@
 #include <sstream>
 
 #include "sim/sim.h"
+#include "tests/common/run_scenario.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {
 
+using climbsim::testing::RunScenario;
 using climbsim::testing::Source;
 using climbsim::testing::WriteFile;
-
-RunResult RunScenario(const Scenario& s, std::string* events = nullptr) {
-  auto model = CompileScenario(s);
-  Simulation sim(s, *model);
-  const RunResult r = sim.Run();
-  if (events != nullptr) *events = sim.EventsCsv();
-  return r;
-}
 
 // The example's text with extra YAML appended (a push, a reflex switched off).
 Scenario ExampleWith(const std::string& example, const std::string& name,

@@ -13,20 +13,16 @@
 
 #include "sim/sim.h"
 #include "tests/common/scenario_error.h"
+#include "tests/common/run_scenario.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
 namespace {
 
 using climbsim::testing::ReadFile;
+using climbsim::testing::RunScenario;
 using climbsim::testing::Source;
 using climbsim::testing::WriteFile;
-
-RunResult RunScenario(const Scenario& s) {
-  auto model = CompileScenario(s);
-  Simulation sim(s, *model);
-  return sim.Run();
-}
 
 // The example's text with `from` replaced by `to` (which must occur) and a 10 s duration.
 std::string Variant(const std::string& from, const std::string& to,
