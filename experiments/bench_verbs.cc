@@ -371,6 +371,13 @@ std::string RunBenchRobustness(const std::string& file, const RobustnessOptions&
   std::string text = RobustnessTable(r);
   Appendf(&text, "  outputs %s/{robustness.csv,robustness.png}%s%s\n", out.c_str(),
           warning.empty() ? "" : "  plot: ", warning.c_str());
+  const bool failed = std::any_of(r.rows.begin(), r.rows.end(), [](const RobustnessRow& row) {
+    return !row.failing_scenario_yaml.empty();
+  });
+  if (failed) {
+    Appendf(&text, "  failing cases %s/failing/FAMILY[_spindle_gto_off].yaml: `climbsim simulate "
+            "FILE --out DIR` replays one\n", out.c_str());
+  }
   text += BusyLine(r.worker_busy_s, r.wall_s);
   const Schedule s = RobustnessSchedule(r, true);
   int runs = 0;

@@ -218,6 +218,9 @@ struct RobustnessRow {
   double failed = 0.0;    // smallest magnitude found failing (+inf: hi survived)
   std::string failing_case;  // the first case that failed at `failed` ("seed 1 phase 2")
   std::string failing_how;   // "fell at 4.21 s", "climbed 0.012 m of 0.150 m", "unstable"
+  // That case as a scenario file (its seed, jitter, disturbance and outputs resolved), for
+  // `climbsim simulate` to replay and `inspect` to show; "" when nothing failed.
+  std::string failing_scenario_yaml;
   int evaluations = 0, runs = 0;
   bool same_as_reflexes = false;  // spindle and GTO were already off: the rows are one search
 };
@@ -269,8 +272,9 @@ RobustnessReport BenchRobustness(const std::string& scenario_file, const Robustn
                                  const std::function<void(double)>& progress = {});
 // Whether one case survives `magnitude` (what the search evaluates), with why not in `how`.
 bool RobustnessSurvives(const sim::Scenario& scenario, double baseline_m, std::string* how);
-// robustness.csv and robustness.png (one panel per family, reflexes against spindle and GTO
-// off). Returns the plot's warning ("" when drawn).
+// robustness.csv, robustness.png (one panel per family, reflexes against spindle and GTO
+// off) and failing/FAMILY[_spindle_gto_off].yaml, each row's failing case. Returns the plot's
+// warning ("" when drawn).
 std::string WriteRobustness(const std::string& dir, const RobustnessReport& report);
 // The terminal table.
 std::string RobustnessTable(const RobustnessReport& report);

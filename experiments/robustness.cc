@@ -183,13 +183,15 @@ class Search {
       row_.failed = std::numeric_limits<double>::infinity();
     } else {
       const std::string hi_case = fail_case_, hi_how = fail_how_;
+      const int hi_index = fail_index_;
       if (!Evaluate(f_.lo)) {
         row_.survived = 0.0;
         row_.failed = f_.lo;
         row_.failing_case = fail_case_;
         row_.failing_how = fail_how_;
+        row_.failing_scenario_yaml = CaseYaml(f_.lo, fail_index_, fail_case_);
       } else {
-        Bisect(hi_case, hi_how);
+        Bisect(hi_case, hi_how, hi_index);
       }
     }
     // The budget not spent still counts, so the bar ends full.
@@ -202,10 +204,12 @@ class Search {
   const std::vector<int>& steps() const { return steps_; }
 
  private:
-  // lo survives, hi fails (with hi_case, hi_how): narrows [a, b] at the geometric mean.
-  void Bisect(const std::string& hi_case, const std::string& hi_how) {
+  // lo survives, hi fails (case hi_index, named hi_case, hi_how): narrows [a, b] at the
+  // geometric mean.
+  void Bisect(const std::string& hi_case, const std::string& hi_how, int hi_index) {
     double a = f_.lo, b = f_.hi;
     std::string b_case = hi_case, b_how = hi_how;
+    int b_index = hi_index;
     while (b > a * (1.0 + u_.options.tolerance)) {
       const double c = std::sqrt(a * b);
       if (Evaluate(c)) {
@@ -214,12 +218,27 @@ class Search {
         b = c;
         b_case = fail_case_;
         b_how = fail_how_;
+        b_index = fail_index_;
       }
     }
     row_.survived = a;
     row_.failed = b;
     row_.failing_case = b_case;
     row_.failing_how = b_how;
+    row_.failing_scenario_yaml = CaseYaml(b, b_index, b_case);
+  }
+
+  // Case `index` at magnitude m as a file to replay: the base scenario's outputs (the search
+  // runs without a trajectory), what failed said in a comment.
+  std::string CaseYaml(double m, int index, const std::string& name) const {
+    sim::Scenario s = DisturbanceCase(u_, f_.name, m, mode_, index / phases_, index % phases_);
+    s.outputs = u_.base.outputs;
+    char head[256];
+    std::snprintf(head, sizeof(head),
+                  "# climbsim bench robustness: the first case that failed, %s at %.6g (%s, %s)\n"
+                  "# Replay: climbsim simulate THIS_FILE --out DIR\n",
+                  f_.name.c_str(), m, row_.mode.c_str(), name.c_str());
+    return head + sim::ScenarioToYamlText(s);
   }
 
   // Whether every case (seed by seed, phase by phase) survives magnitude m; the first that
@@ -246,6 +265,7 @@ class Search {
     fail_case_ = "seed " + std::to_string(first / phases_) +
                  (push_ ? " phase " + std::to_string(first % phases_) : "");
     fail_how_ = how;
+    fail_index_ = first;
     return false;
   }
 
@@ -259,6 +279,7 @@ class Search {
   const int phases_;
   RobustnessRow row_;
   std::string fail_case_, fail_how_;
+  int fail_index_ = 0;  // the case (seed * phases + phase) of fail_case_
   std::vector<int> steps_;
 };
 
@@ -570,6 +591,13 @@ std::string WriteRobustness(const std::string& dir, const RobustnessReport& r) {
   std::filesystem::create_directories(dir);
   common::WriteFileAtomic(dir + "/robustness.csv", RobustnessCsv(r));
   common::WriteFileAtomic(dir + "/robustness.dat", RobustnessDat(r));
+  for (const RobustnessRow& row : r.rows) {
+    if (row.failing_scenario_yaml.empty() || row.same_as_reflexes) continue;
+    std::filesystem::create_directories(dir + "/failing");
+    common::WriteFileAtomic(dir + "/failing/" + row.family +
+                                (row.mode == "reflexes" ? "" : "_" + row.mode) + ".yaml",
+                            row.failing_scenario_yaml);
+  }
   const int n = static_cast<int>(r.rows.size() / 2);
   if (n == 0) return "no family to plot";
   return common::RunGnuplot(dir, RobustnessScript(r, n), {"robustness.png"});

@@ -108,7 +108,7 @@ void AddBenchCommand(CLI::App& app) {
   rob->add_option("scenario", file, "scenario file")->required();
   AddSetOption(rob);
   rob->add_option("--out", robust_out,
-                  "folder for robustness.csv and robustness.png: new, empty, or an earlier "
+                  "folder for robustness.csv, robustness.png and failing/: new, empty, or an earlier "
                   "bench folder (docs/run-folders.md)")
       ->required();
   rob->add_option("--duration", robust.duration_s, "simulated seconds per run (0: the scenario's)")

@@ -1,6 +1,6 @@
 // `climbsim bench robustness`: the example of its --help runs; robustness.csv has its columns;
 // each reported magnitude is the edge the bisection claims (re-run: the survived magnitude
-// survives, the failing one, within 10 % above it, fails); the report does not depend on the
+// survives, the failing one, within 10 % above it, fails, and so does its failing/ file); the report does not depend on the
 // thread count; an --out that holds anything is refused before anything runs.
 #include <gtest/gtest.h>
 
@@ -100,6 +100,12 @@ TEST(Robustness, HelpExampleRunsAndEachMagnitudeIsTheBisectionsEdge) {
         RobustnessSurvives(RobustnessCase(base, o, family, failed, mode, 0, 0), baseline, &how))
         << family << " at " << failed;
     EXPECT_EQ(how, rows[i][10]) << family;  // the same failure as reported
+    // The failing case as a file replays to the same failure.
+    const std::string file =
+        out + "/failing/" + family + (mode == 0 ? "" : "_spindle_gto_off") + ".yaml";
+    ASSERT_TRUE(std::filesystem::exists(file)) << file;
+    EXPECT_FALSE(RobustnessSurvives(sim::LoadScenario(file), baseline, &how)) << file;
+    EXPECT_EQ(how, rows[i][10]) << file;
   }
 }
 
