@@ -4,9 +4,11 @@
 function(climbsim_test name)
   cmake_parse_arguments(T "" "TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${T_SOURCES})
-  # A unity build (the sanitized tree's, tests/sanitize/run_asan.sh) joins the modules' files,
-  # not a test's: test files keep file-local helpers of the same names.
-  set_target_properties(${name} PROPERTIES UNITY_BUILD OFF)
+  # The sanitized tree (tests/sanitize/run_asan.sh) joins a test's files too, to parse its
+  # headers once a batch; elsewhere each test file compiles apart, so an error names its file.
+  if(NOT CLIMBSIM_SANITIZE)
+    set_target_properties(${name} PROPERTIES UNITY_BUILD OFF)
+  endif()
   target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main)
   target_compile_definitions(${name} PRIVATE
     CLIMBSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
