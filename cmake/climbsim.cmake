@@ -4,8 +4,7 @@
 function(climbsim_test name)
   cmake_parse_arguments(T "" "TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${T_SOURCES})
-  # The sanitized tree (tests/sanitize/run_asan.sh) joins a test's files too, to parse its
-  # headers once a batch; elsewhere each test file compiles apart, so an error names its file.
+  # Unity only in the sanitized tree (run_asan.sh's build time); elsewhere an edit rebuilds a file.
   if(NOT CLIMBSIM_SANITIZE)
     set_target_properties(${name} PROPERTIES UNITY_BUILD OFF)
   endif()
