@@ -4,9 +4,10 @@
 function(climbsim_test name)
   cmake_parse_arguments(T "" "TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${T_SOURCES})
-  # A unity build (the sanitized tree's, tests/sanitize/run_asan.sh) joins the modules' files,
-  # not a test's: test files keep file-local helpers of the same names.
-  set_target_properties(${name} PROPERTIES UNITY_BUILD OFF)
+  # Unity only in the sanitized tree (run_asan.sh's build time); elsewhere an edit rebuilds a file.
+  if(NOT CLIMBSIM_SANITIZE)
+    set_target_properties(${name} PROPERTIES UNITY_BUILD OFF)
+  endif()
   target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main)
   target_compile_definitions(${name} PRIVATE
     CLIMBSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"

@@ -7,19 +7,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <vector>
 #include <stdexcept>
 
+#include "tests/adhesion/closed_forms.h"
 #include "tests/common/alloc_counter.h"
 
 namespace climbsim::adhesion {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using testing::kDeg;
 
-PadParams Pad(int n = 16) {
+PadParams LawPad(int n = 16) {
   PadParams p;
   p.width_m = 0.02;
   p.length_m = 0.03;
@@ -47,7 +47,7 @@ BondGrid::UpdateResult Load(const FrictionalParams& f, double fn,
 }
 
 TEST(FrictionalLaw, HoldsJustInsideTheCriticalAngleAndLetsGoJustOutside) {
-  const PadParams pad = Pad();
+  const PadParams pad = LawPad();
   BondGrid grid(pad);
   const double area = pad.width_m * pad.length_m;
   for (double alpha : {10.0, 25.0, 30.0, 45.0, 70.0}) {
@@ -80,7 +80,7 @@ TEST(FrictionalLaw, HoldsJustInsideTheCriticalAngleAndLetsGoJustOutside) {
 }
 
 TEST(FrictionalLaw, NoHoldWithZeroOrReversedShearWhenPulled) {
-  const PadParams pad = Pad();
+  const PadParams pad = LawPad();
   BondGrid grid(pad);
   const FrictionalParams f = Law(30.0);  // grips along −y
   const double area = pad.width_m * pad.length_m;
@@ -109,7 +109,7 @@ TEST(FrictionalLaw, NoHoldWithZeroOrReversedShearWhenPulled) {
 // holds just above it and lets go just below; pressed, it may carry reversed shear up to the
 // spent share of its friction, and the pad-level law holds there.
 TEST(FrictionalLaw, LeastGripShearIsTheEdgeOfTheHoldingCone) {
-  const PadParams pad = Pad();
+  const PadParams pad = LawPad();
   const double area = pad.width_m * pad.length_m;
   const FrictionalLaw law(Law(30.0));  // grips along −y: F_t = −fy
   const double fn = 0.2;
@@ -127,7 +127,7 @@ TEST(FrictionalLaw, LeastGripShearIsTheEdgeOfTheHoldingCone) {
 }
 
 TEST(FrictionalLaw, ShearLimitAndFrictionWhenPressed) {
-  const PadParams pad = Pad();
+  const PadParams pad = LawPad();
   BondGrid grid(pad);
   const FrictionalParams f = Law(30.0);
   const FrictionalLaw law(f);
@@ -154,7 +154,7 @@ TEST(FrictionalLaw, ShearLimitAndFrictionWhenPressed) {
 }
 
 TEST(FrictionalLaw, PulloffAgainstAngleMatchesTheClosedFormAtEveryAngle) {
-  const PadParams pad = Pad();
+  const PadParams pad = LawPad();
   const double area = pad.width_m * pad.length_m;
   PulloffOptions options;
   options.max_force_factor = 50.0;
@@ -194,7 +194,7 @@ TEST(FrictionalLaw, PulloffAgainstAngleMatchesTheClosedFormAtEveryAngle) {
 }
 
 TEST(FrictionalLaw, ALeverPeelsBondByBondFromTheTrailingEdge) {
-  PadParams pad = Pad();
+  PadParams pad = LawPad();
   pad.width_m = pad.length_m = 0.02;
   const FrictionalParams f = Law(30.0, 1.0, 0.0);  // grips along +x
   // θ = 80° along +x: held to the shear limit without a lever; with L = 0.08 b the moment
@@ -316,7 +316,7 @@ TEST(FrictionalLaw, ShortcutEqualsTheFullScanBitForBit) {
   std::bernoulli_distribution keep(0.85);
   int held = 0, broke = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    PadParams pad = Pad(2 + trial % 17);
+    PadParams pad = LawPad(2 + trial % 17);
     pad.grid_y = 3 + trial % 11;
     FrictionalParams f = Law(20.0 + trial % 40, unit(rng), unit(rng));
     f.moment_share = trial % 3 == 0 ? 0.0 : 1.0;
@@ -358,7 +358,7 @@ TEST(FrictionalLaw, ShortcutEqualsTheFullScanBitForBit) {
 
 // The frictional cascade allocates nothing (the step loop runs it on every welded pad).
 TEST(FrictionalLaw, UpdateNeverAllocates) {
-  const PadParams pad = Pad(32);
+  const PadParams pad = LawPad(32);
   BondGrid grid(pad);
   const FrictionalLaw law(Law(30.0, 1.0, 0.0));
   const double capacity = 8e3 * pad.width_m * pad.length_m;

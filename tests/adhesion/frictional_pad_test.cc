@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 
 #include "adhesion/adhesion.h"
+#include "tests/adhesion/closed_forms.h"
 #include "tests/adhesion/mujoco_rig.h"
 
 namespace climbsim::adhesion {
@@ -15,9 +15,9 @@ namespace {
 
 using testing::BlockRig;
 using testing::BlockSpec;
+using testing::kDeg;
+using testing::kG;
 
-constexpr double kG = 9.81;
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kAreaM2 = 0.025 * 0.025;
 
 // Weight 0.4·τ_max·A pulling at `theta_deg` from the normal, in the x–z plane (+x in-plane).

@@ -17,8 +17,10 @@
 
 namespace climbsim::adhesion::testing {
 
+inline constexpr double kG = 9.81;  // m/s²: the rig's gravity, straight down by default
+
 struct BlockSpec {
-  Eigen::Vector3d gravity{0, 0, -9.81};
+  Eigen::Vector3d gravity{0, 0, -kG};
   double mass_kg = 0.05;
   double half_x_m = 0.0125, half_y_m = 0.0125, half_z_m = 0.001;  // the pad box
   Eigen::Vector3d pos{0, 0, 0.001};                               // body (= box centre) position

@@ -305,7 +305,7 @@ TEST(PartialContactGrid, BondsOnlyTouchingCellsAndAllTouchingIsUnchanged) {
   }
 }
 
-PulloffRigParams Rig(const std::string& surface, double pull_x_m, bool partial = true) {
+PulloffRigParams SurfaceRig(const std::string& surface, double pull_x_m, bool partial = true) {
   PulloffRigParams p;
   p.pad.width_m = p.pad.length_m = kPad;
   p.pad.grid_x = p.pad.grid_y = kGrid;
@@ -321,12 +321,12 @@ PulloffRigParams Rig(const std::string& surface, double pull_x_m, bool partial =
 // within one column of cells (the cells whose centre lies on the step).
 TEST(PartialContactPulloff, PadOverAStepEdgeHoldsTheTouchedShare) {
   const double capacity = kSigmaT * kPad * kPad;
-  PulloffRig full(AdhesionModel::kBonds, Rig("", 0.0));
+  PulloffRig full(AdhesionModel::kBonds, SurfaceRig("", 0.0));
   const PulloffRun f = full.Run(0.0);
   ASSERT_TRUE(f.detached);
   EXPECT_NEAR(f.force_n, capacity, kRampTol * capacity);
 
-  PulloffRig half(AdhesionModel::kBonds, Rig(Step(0.0), -0.25 * kPad));
+  PulloffRig half(AdhesionModel::kBonds, SurfaceRig(Step(0.0), -0.25 * kPad));
   const PulloffRun h = half.Run(0.0);
   ASSERT_TRUE(h.detached);
   EXPECT_NEAR(h.force_n / f.force_n, 0.5, kRampTol);
@@ -340,7 +340,7 @@ TEST(PartialContactPulloff, PadOverAStepEdgeHoldsTheTouchedShare) {
       centroid += CellCentre(ix);
     }
     centroid /= columns;
-    PulloffRig cut(AdhesionModel::kBonds, Rig(Step(edge), centroid));
+    PulloffRig cut(AdhesionModel::kBonds, SurfaceRig(Step(edge), centroid));
     const PulloffRun c = cut.Run(0.0);
     ASSERT_TRUE(c.detached);
     EXPECT_NEAR(c.force_n, capacity * columns / kGrid, kRampTol * capacity) << edge;
@@ -353,7 +353,7 @@ TEST(PartialContactPulloff, PadOverAStepEdgeHoldsTheTouchedShare) {
 // most tensioned and breaks first, at F₁ = σ_T·A_B / (1 + (b/4)(b/4 − Δx/2)·A_B/I_y) (I_y of
 // the bonded cells' centres about their centroid): well below σ_T·A_B.
 TEST(PartialContactPulloff, HalfPadPulledThroughThePadCentrePeelsFromTheEdge) {
-  PulloffRig rig(AdhesionModel::kBonds, Rig(Step(0.0), 0.0));
+  PulloffRig rig(AdhesionModel::kBonds, SurfaceRig(Step(0.0), 0.0));
   const PulloffRun r = rig.Run(0.0);
   ASSERT_TRUE(r.detached);
   ASSERT_FALSE(r.sequence.empty());
@@ -375,7 +375,7 @@ TEST(PartialContactPulloff, HalfPadPulledThroughThePadCentrePeelsFromTheEdge) {
 // symmetric) lets go at k/N of σ_T·A, k the rim's cells.
 TEST(PartialContactPulloff, PadOverAHollowHoldsTheRimsShare) {
   const double side = 0.015;
-  PulloffRig rig(AdhesionModel::kBonds, Rig(Hollow(side), 0.0));
+  PulloffRig rig(AdhesionModel::kBonds, SurfaceRig(Hollow(side), 0.0));
   const PulloffRun r = rig.Run(0.0);
   ASSERT_TRUE(r.detached);
   const double share = static_cast<double>(RimCells(side)) / (kGrid * kGrid);
@@ -386,8 +386,8 @@ TEST(PartialContactPulloff, PadOverAHollowHoldsTheRimsShare) {
 // On a flat surface partial contact changes nothing: the same pull-off and the same broken
 // bonds in the same order, bit for bit, with and without it, straight off and at angles.
 TEST(PartialContactPulloff, FlatPadIsBitForBitUnchanged) {
-  PulloffRig on(AdhesionModel::kBonds, Rig("", 0.0, true));
-  PulloffRig off(AdhesionModel::kBonds, Rig("", 0.0, false));
+  PulloffRig on(AdhesionModel::kBonds, SurfaceRig("", 0.0, true));
+  PulloffRig off(AdhesionModel::kBonds, SurfaceRig("", 0.0, false));
   for (double deg : {0.0, 45.0, 90.0, 150.0}) {
     const PulloffRun a = on.Run(deg * M_PI / 180.0);
     const PulloffRun b = off.Run(deg * M_PI / 180.0);

@@ -26,7 +26,7 @@ using testing::Kappa;
 using testing::PullRatioTension;
 using testing::PushDenominator;
 
-PadParams Pad(double width_m, double length_m, int n) {
+PadParams SquareGridPad(double width_m, double length_m, int n) {
   PadParams p;
   p.width_m = width_m;
   p.length_m = length_m;
@@ -41,7 +41,7 @@ constexpr double kSearchTol = 2e-6;
 
 TEST(PullOff, StraightPullIsSigmaTTimesArea) {
   for (int n : {8, 16, 32}) {
-    const PulloffResult r = PullOff(Pad(0.02, 0.02, n), PullSetup{});
+    const PulloffResult r = PullOff(SquareGridPad(0.02, 0.02, n), PullSetup{});
     ASSERT_TRUE(r.detaches);
     // Uniform σ = F/A: every bond reaches σ_T at F = σ_T·A together (brief: within 1 %; the
     // grid makes no error here, only the search does).
@@ -61,7 +61,7 @@ TEST(PullOff, StraightPullIsSigmaTTimesArea) {
 TEST(PullOff, CentralPullAtAngleMatchesClosedForm) {
   for (const auto& [b, h] : {std::pair{0.02, 0.02}, std::pair{0.06, 0.02}, std::pair{0.02, 0.06}}) {
     for (double deg : {0.0, 10.0, 30.0, 45.0, 60.0, 80.0, 90.0}) {
-      const PulloffResult r = PullOff(Pad(b, h, 32), PullSetup{.angle_rad = deg * kDeg});
+      const PulloffResult r = PullOff(SquareGridPad(b, h, 32), PullSetup{.angle_rad = deg * kDeg});
       ASSERT_TRUE(r.detaches);
       EXPECT_NEAR(r.force_per_capacity / PullRatioTension(deg * kDeg), 1.0, 0.02) << deg;
       EXPECT_NEAR(r.force_per_capacity / PullRatioTension(deg * kDeg, Kappa(32)), 1.0, kSearchTol)
@@ -78,7 +78,8 @@ TEST(PullOff, CentralPullAtAngleMatchesClosedForm) {
     }
   }
   // The seed's figure-6 shape at 90°: 0.385·σ_T·A.
-  const PulloffResult r90 = PullOff(Pad(0.02, 0.02, 32), PullSetup{.angle_rad = 90 * kDeg});
+  const PulloffResult r90 =
+      PullOff(SquareGridPad(0.02, 0.02, 32), PullSetup{.angle_rad = 90 * kDeg});
   EXPECT_NEAR(r90.force_per_capacity, 0.385, 0.002);
 }
 
@@ -89,7 +90,7 @@ TEST(PullOff, CentralPullAtAngleMatchesClosedForm) {
 TEST(PullOff, LeverArmLowersPullOffAndPeelsFromTheTrailingEdge) {
   const int n = 32;
   const double b = 0.02, h = 0.02, area = b * h, dx = b / n;
-  const PadParams pad = Pad(b, h, n);
+  const PadParams pad = SquareGridPad(b, h, n);
   double previous = INFINITY;
   for (double arm : {0.0, 0.0025, 0.005, 0.01, 0.02, 0.04, 0.1}) {
     const PulloffResult r = PullOff(pad, PullSetup{.angle_rad = 90 * kDeg, .arm_m = arm});
@@ -125,7 +126,7 @@ TEST(PullOff, LeverArmLowersPullOffAndPeelsFromTheTrailingEdge) {
 
 // Pulled along +y (azimuth 90°) with an arm, the trailing edge is −y: M_x = −L·F_y.
 TEST(PullOff, LeverArmAlongYPeelsTheMinusYEdge) {
-  const PadParams pad = Pad(0.02, 0.02, 16);
+  const PadParams pad = SquareGridPad(0.02, 0.02, 16);
   const PulloffResult r =
       PullOff(pad, PullSetup{.angle_rad = 60 * kDeg, .azimuth_rad = 90 * kDeg, .arm_m = 0.02});
   ASSERT_TRUE(r.detaches);
@@ -155,7 +156,7 @@ TEST(PullOff, PushingNeedsMoreForceAndCanNeverDetach) {
   const int n = 32;
   int continuum_checked = 0, band = 0;
   for (double mu : {0.0, 0.1, 0.3, 0.5, 1.0, 2.0}) {
-    PadParams pad = Pad(0.02, 0.02, n);
+    PadParams pad = SquareGridPad(0.02, 0.02, n);
     pad.mu = mu;
     for (double deg = 95.0; deg <= 180.0; deg += 5.0) {
       const double theta = deg * kDeg;
@@ -186,7 +187,7 @@ TEST(PullOff, PushingNeedsMoreForceAndCanNeverDetach) {
 }
 
 TEST(PullOff, SweepCoversTheSeedRange) {
-  const auto sweep = PulloffSweep(Pad(0.02, 0.02, 16), PullSetup{});
+  const auto sweep = PulloffSweep(SquareGridPad(0.02, 0.02, 16), PullSetup{});
   ASSERT_EQ(sweep.size(), 37u);
   EXPECT_EQ(sweep.front().angle_deg, 0.0);
   EXPECT_EQ(sweep.back().angle_deg, 180.0);
@@ -201,7 +202,7 @@ TEST(PullOff, SweepCoversTheSeedRange) {
     }
   }
   EXPECT_FALSE(sweep.back().result.detaches);  // 180°: pushing straight in
-  const auto custom = PulloffSweep(Pad(0.02, 0.02, 8), PullSetup{.arm_m = 0.01},
+  const auto custom = PulloffSweep(SquareGridPad(0.02, 0.02, 8), PullSetup{.arm_m = 0.01},
                                    SweepRange{.from_deg = 30, .to_deg = 60, .step_deg = 10});
   ASSERT_EQ(custom.size(), 4u);
   EXPECT_EQ(custom[3].angle_deg, 60.0);
@@ -212,7 +213,7 @@ TEST(PullOff, OneByOneAndLargeGridsAreSensible) {
   //   F = σ_T·A/sqrt(cos²θ + 3 sin²θ), 1/sqrt(3) at 90°.
   for (double deg : {0.0, 45.0, 90.0}) {
     const double t = deg * kDeg;
-    const PulloffResult r = PullOff(Pad(0.02, 0.02, 1), PullSetup{.angle_rad = t});
+    const PulloffResult r = PullOff(SquareGridPad(0.02, 0.02, 1), PullSetup{.angle_rad = t});
     EXPECT_NEAR(
         r.force_per_capacity * std::sqrt(std::pow(std::cos(t), 2) + 3 * std::pow(std::sin(t), 2)),
         1.0, kSearchTol)
@@ -220,17 +221,18 @@ TEST(PullOff, OneByOneAndLargeGridsAreSensible) {
   }
   // With an arm, one bond is a hinge: it holds no moment, so any pull with a lever peels it.
   const PulloffResult hinge =
-      PullOff(Pad(0.02, 0.02, 1), PullSetup{.angle_rad = 90 * kDeg, .arm_m = 0.01});
+      PullOff(SquareGridPad(0.02, 0.02, 1), PullSetup{.angle_rad = 90 * kDeg, .arm_m = 0.01});
   EXPECT_TRUE(hinge.detaches);
   EXPECT_LT(hinge.force_per_capacity, 1e-6);
   // 128x128: κ(128) = 1 − 9e-5, so the continuum closed form holds to 1e-4.
-  const PulloffResult big = PullOff(Pad(0.02, 0.02, 128), PullSetup{.angle_rad = 45 * kDeg});
+  const PulloffResult big =
+      PullOff(SquareGridPad(0.02, 0.02, 128), PullSetup{.angle_rad = 45 * kDeg});
   EXPECT_NEAR(big.force_per_capacity / PullRatioTension(45 * kDeg), 1.0, 1e-4);
   EXPECT_EQ(big.sequence.size(), 128u * 128u);
 }
 
 TEST(PullOff, RejectsBadInput) {
-  const PadParams pad = Pad(0.02, 0.02, 4);
+  const PadParams pad = SquareGridPad(0.02, 0.02, 4);
   EXPECT_THROW(PullOff(pad, PullSetup{.arm_m = -1}), std::invalid_argument);
   EXPECT_THROW(PullOff(pad, PullSetup{.angle_rad = NAN}), std::invalid_argument);
   EXPECT_THROW(PullOff(pad, PullSetup{}, PulloffOptions{.rel_tol = 0}), std::invalid_argument);

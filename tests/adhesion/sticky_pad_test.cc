@@ -14,8 +14,8 @@ namespace {
 
 using testing::BlockRig;
 using testing::BlockSpec;
+using testing::kG;
 
-constexpr double kG = 9.81;
 constexpr double kCapacityN = 10e3 * 0.025 * 0.025;  // σ_T·A of the 25 mm pad: 6.25 N
 
 // A flat block whose face starts `gap_m` above the floor, at rest.

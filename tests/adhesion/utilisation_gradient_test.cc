@@ -15,7 +15,7 @@
 namespace climbsim::adhesion {
 namespace {
 
-PadParams Pad(int nx, int ny, double mu) {
+PadParams GradientPad(int nx, int ny, double mu) {
   PadParams p;
   p.width_m = 0.025;
   p.length_m = 0.02;
@@ -38,7 +38,7 @@ std::string Fmt(const Eigen::Matrix<double, 5, 1>& v) {
   return b;
 }
 
-PadLoad Load(const Eigen::Matrix<double, 5, 1>& v) { return {v[0], v[1], v[2], v[3], v[4]}; }
+PadLoad LoadOf(const Eigen::Matrix<double, 5, 1>& v) { return {v[0], v[1], v[2], v[3], v[4]}; }
 
 // Random loads of a size the pads carry (a few N, a few mN·m), on random bonded sets: the
 // full pad, a thinned one, and a line (a hinge: its moment about the line is unsupported,
@@ -51,7 +51,7 @@ struct Case {
 Case RandomCase(std::mt19937* rng, int trial) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::bernoulli_distribution keep(0.7);
-  Case c{BondGrid(Pad(4 + trial % 13, 3 + trial % 9, 0.5 * (trial % 3))), {}};
+  Case c{BondGrid(GradientPad(4 + trial % 13, 3 + trial % 9, 0.5 * (trial % 3))), {}};
   c.grid.BondAll();
   if (trial % 3 == 1) {
     for (int i = 0; i < c.grid.size(); ++i) c.grid.SetBonded(i, keep(*rng));
@@ -182,8 +182,8 @@ void CheckGradient(const FrictionalLaw* law, uint32_t seed) {
       Eigen::Matrix<double, 5, 1> up = x, down = x;
       up[k] += h;
       down[k] -= h;
-      fd[k] = (BruteUtilisation(&c.grid, law, Load(up)) -
-               BruteUtilisation(&c.grid, law, Load(down))) /
+      fd[k] = (BruteUtilisation(&c.grid, law, LoadOf(up)) -
+               BruteUtilisation(&c.grid, law, LoadOf(down))) /
               (2 * h);
     }
     c.grid.Evaluate(c.load);
@@ -212,7 +212,7 @@ TEST(PadUtilisationGradient, FrictionalMatchesCentralDifferences) {
 // so ∂U/∂F_n = 1/(F_t tan α*) and ∂U/∂F_x = −U/F_t·∂F_t/∂F_x with F_t = −F_x (grip −x).
 TEST(PadUtilisationGradient, DirectionalPadNearItsAngleAsksForGrippingShear) {
   const FrictionalLaw law(FrictionalParams{});
-  BondGrid grid(Pad(16, 16, 0.0));
+  BondGrid grid(GradientPad(16, 16, 0.0));
   grid.BondAll();
   const PadLoad load{.fn_n = 0.2, .fx_n = -0.5, .fy_n = 0.0, .mx_nm = 0.0, .my_nm = 0.0};
   grid.Evaluate(load);

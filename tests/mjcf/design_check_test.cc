@@ -12,19 +12,12 @@
 #include "keys/keys.h"
 #include "robot/design.h"
 #include "robot/mjcf_dom.h"
+#include "tests/mjcf/design_refusal.h"
 
 namespace climbsim::sim {
 namespace {
 
-// The message of the std::invalid_argument GenerateRobotMjcf throws; "" when none.
-std::string Refusal(const RobotDesign& d) {
-  try {
-    GenerateRobotMjcf(d);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using mjcf_test::Refusal;
 
 TEST(DesignCheck, PresetsAreInsideTheirKeysRanges) {
   for (const std::string& name : PresetNames())

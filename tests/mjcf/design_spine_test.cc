@@ -12,6 +12,7 @@
 
 #include "robot/design.h"
 #include "robot/servos.h"
+#include "tests/mjcf/design_refusal.h"
 
 namespace climbsim::sim {
 namespace {
@@ -41,14 +42,7 @@ RobotDesign Spined(double joint_x_m) {
   return d;
 }
 
-std::string Refusal(const RobotDesign& d) {
-  try {
-    GenerateRobotMjcf(d);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using mjcf_test::Refusal;
 
 TEST(DesignSpine, PlateSplitAtTheJointByLength) {
   const RobotDesign d = Spined(0.01);

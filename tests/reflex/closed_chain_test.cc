@@ -21,11 +21,10 @@ using testing_util::Stance;
 using testing_util::Swing;
 using testing_util::TimedEvent;
 using testing_util::Touching;
+using testing_util::kDt;
 using Events = std::vector<TimedEvent>;
 using E = LegEventType;
 using R = LegEventReason;
-
-constexpr double kDt = 0.01;
 
 // ---------------------------------------------------------------------------------------------
 // Compliance
@@ -181,7 +180,7 @@ TEST(ReflexGtoHold, LoadChannelActsOnAFreeFootNotOnAWeldedOne) {
 // Spindles on a welded foot
 // ---------------------------------------------------------------------------------------------
 
-LegReflexParams SpindleOnly() {
+LegReflexParams WeldedSpindleOnly() {
   LegReflexParams p = AllOff();
   p.spindle.enabled = true;
   p.spindle.resist = true;
@@ -200,7 +199,7 @@ LegReflexParams SpindleOnly() {
 // Attached: no offset whatever the stretch. In stance, a delayed stretch beyond the band holds
 // every leg (hold_others) while it lasts and hold_s after; one event spindle(pushed).
 TEST(ReflexLegSpindle, WeldedFootGetsNoOffsetAndAPushHoldsEveryLeg) {
-  LegReflex leg(SpindleOnly(), kDt);
+  LegReflex leg(WeldedSpindleOnly(), kDt);
   Recorder rec(&leg);
   LegSensing s = Attached(Stance());
   s.stretch_rad = {0.0, 0.25, 0.0};  // at the band: inside
@@ -220,7 +219,7 @@ TEST(ReflexLegSpindle, WeldedFootGetsNoOffsetAndAPushHoldsEveryLeg) {
 // A free swing leg stretched beyond the swing threshold lifts its foot by K_L times the
 // largest excess, on hip pitch and knee (stumbling correction); below it, nothing.
 TEST(ReflexLegSpindle, BlockedSwingLegLiftsItsFoot) {
-  LegReflexParams p = SpindleOnly();
+  LegReflexParams p = WeldedSpindleOnly();
   p.spindle.swing_threshold_rad = 0.25;
   p.spindle.joints[kKnee].length_gain = 0.25;
   LegReflex leg(p, kDt);
@@ -242,7 +241,7 @@ TEST(ReflexLegSpindle, BlockedSwingLegLiftsItsFoot) {
 // air only lifts when blocked, like a swing leg.
 TEST(ReflexLegSpindle, FootInTheAirResistsTheSameStretch) {
   {
-    LegReflexParams p = SpindleOnly();
+    LegReflexParams p = WeldedSpindleOnly();
     p.spindle.resist = false;
     p.spindle.swing_threshold_rad = 0.5;
     LegReflex leg(p, kDt);
@@ -251,12 +250,12 @@ TEST(ReflexLegSpindle, FootInTheAirResistsTheSameStretch) {
     EXPECT_EQ(Recorder(&leg).Repeat(s, 3).target_offset_rad, Eigen::Vector3d::Zero());
   }
   {
-    LegReflex leg(SpindleOnly(), kDt);
+    LegReflex leg(WeldedSpindleOnly(), kDt);
     LegSensing s = Touching(Stance());
     s.stretch_rad = {0.0, -0.3125, 0.0};
     EXPECT_EQ(Recorder(&leg).Repeat(s, 3).target_offset_rad, Eigen::Vector3d::Zero());
   }
-  LegReflex leg(SpindleOnly(), kDt);
+  LegReflex leg(WeldedSpindleOnly(), kDt);
   Recorder rec(&leg);
   LegSensing s = Stance();
   s.stretch_rad = {0.0, -0.3125, 0.0};
@@ -271,7 +270,7 @@ TEST(ReflexLegSpindle, FootInTheAirResistsTheSameStretch) {
 // stretched. (Measured from the CPG's target alone, the spindle undid the reflexes' own
 // offsets: on the wall it fought the peel.)
 TEST(ReflexLegSpindle, StretchIsMeasuredFromTheCommandedTarget) {
-  LegReflexParams p = SpindleOnly();
+  LegReflexParams p = WeldedSpindleOnly();
   p.search.enabled = true;
   p.search.attempt_duration_s = 0.1;  // 10 periods
   p.search.max_attempts = 3;

@@ -12,20 +12,20 @@
 namespace climbsim::reflex {
 namespace {
 
-constexpr double kDt = 0.001;
+constexpr double kLawDt = 0.001;
 
 SpindleParams Spindle(double kl, double l0, double kv, double v0, int delay_samples) {
   return {.length_gain = kl,
           .velocity_gain_s = kv,
           .length_threshold_rad = l0,
           .velocity_threshold_rad_per_s = v0,
-          .delay_s = delay_samples * kDt};
+          .delay_s = delay_samples * kLawDt};
 }
 
 // offset = −K_L·(q̃ − L0) appears exactly Δ after a stretch step, for several Δ/dt.
 TEST(ReflexSpindle, StretchStepAppearsAfterExactlyTheDelayScaled) {
   for (int n : {0, 1, 5, 10, 20}) {
-    SpindleReflex spindle(Spindle(2.0, 0.125, 0.0, 0.0, n), kDt);
+    SpindleReflex spindle(Spindle(2.0, 0.125, 0.0, 0.0, n), kLawDt);
     ASSERT_EQ(spindle.delay_samples(), n);
     const int k0 = 3;
     for (int k = 0; k < k0 + n + 5; ++k) {
@@ -37,7 +37,7 @@ TEST(ReflexSpindle, StretchStepAppearsAfterExactlyTheDelayScaled) {
 
 TEST(ReflexSpindle, VelocityStepAppearsAfterExactlyTheDelayScaled) {
   for (int n : {0, 2, 7}) {
-    SpindleReflex spindle(Spindle(0.0, 0.0, 0.25, 0.5, n), kDt);
+    SpindleReflex spindle(Spindle(0.0, 0.0, 0.25, 0.5, n), kLawDt);
     const int k0 = 2;
     for (int k = 0; k < k0 + n + 5; ++k) {
       const double offset = spindle.Update(0.0, k >= k0 ? 4.5 : 0.0);
@@ -48,7 +48,7 @@ TEST(ReflexSpindle, VelocityStepAppearsAfterExactlyTheDelayScaled) {
 
 // Below or at a threshold the term is exactly zero (+0.0, not −0.0).
 TEST(ReflexSpindle, BelowThresholdIsExactlyZero) {
-  SpindleReflex spindle(Spindle(3.0, 0.25, 2.0, 1.0, 0), kDt);
+  SpindleReflex spindle(Spindle(3.0, 0.25, 2.0, 1.0, 0), kLawDt);
   for (double q : {0.0, 0.1, 0.25, -0.25, -0.1}) {
     for (double v : {0.0, 0.5, 1.0, -1.0, -0.75}) {
       const double offset = spindle.Update(q, v);
@@ -61,15 +61,15 @@ TEST(ReflexSpindle, BelowThresholdIsExactlyZero) {
 
 TEST(ReflexSpindle, GainsAreLinear) {
   for (double kl : {0.5, 1.0, 2.0, 4.0}) {
-    SpindleReflex single(Spindle(kl, 0.125, 0.0, 0.0, 1), kDt);
-    SpindleReflex doubled(Spindle(2.0 * kl, 0.125, 0.0, 0.0, 1), kDt);
+    SpindleReflex single(Spindle(kl, 0.125, 0.0, 0.0, 1), kLawDt);
+    SpindleReflex doubled(Spindle(2.0 * kl, 0.125, 0.0, 0.0, 1), kLawDt);
     for (double q : {0.3, 0.7, -0.9}) {
       EXPECT_EQ(2.0 * single.Update(q, 0.0), doubled.Update(q, 0.0));
     }
   }
   for (double kv : {0.01, 0.02}) {
-    SpindleReflex single(Spindle(0.0, 0.0, kv, 0.5, 1), kDt);
-    SpindleReflex doubled(Spindle(0.0, 0.0, 2.0 * kv, 0.5, 1), kDt);
+    SpindleReflex single(Spindle(0.0, 0.0, kv, 0.5, 1), kLawDt);
+    SpindleReflex doubled(Spindle(0.0, 0.0, 2.0 * kv, 0.5, 1), kLawDt);
     for (double v : {0.8, 3.0, -2.0}) {
       EXPECT_EQ(2.0 * single.Update(0.0, v), doubled.Update(0.0, v));
     }
@@ -78,7 +78,7 @@ TEST(ReflexSpindle, GainsAreLinear) {
 
 // Each term has its own dead zone: one can act while the other is clipped.
 TEST(ReflexSpindle, VelocityTermClipsIndependentlyOfLengthTerm) {
-  SpindleReflex spindle(Spindle(2.0, 0.125, 0.5, 1.0, 0), kDt);
+  SpindleReflex spindle(Spindle(2.0, 0.125, 0.5, 1.0, 0), kLawDt);
   EXPECT_EQ(spindle.Update(0.625, 0.5), -1.0);  // length only
   EXPECT_EQ(spindle.length_term_rad(), -1.0);
   EXPECT_EQ(spindle.velocity_term_rad(), 0.0);
@@ -91,32 +91,32 @@ TEST(ReflexSpindle, VelocityTermClipsIndependentlyOfLengthTerm) {
 
 // The offset moves the target against the stretch, both ways (antagonist pair).
 TEST(ReflexSpindle, OffsetResistsTheStretchInBothDirections) {
-  SpindleReflex spindle(Spindle(2.0, 0.125, 0.5, 1.0, 0), kDt);
+  SpindleReflex spindle(Spindle(2.0, 0.125, 0.5, 1.0, 0), kLawDt);
   EXPECT_LT(spindle.Update(0.5, 2.0), 0.0);
   EXPECT_GT(spindle.Update(-0.5, -2.0), 0.0);
   EXPECT_EQ(spindle.Update(-0.625, -3.0), 2.0);
 }
 
 TEST(ReflexSpindle, NonFiniteInputsAreTreatedAsZero) {
-  SpindleReflex spindle(Spindle(2.0, 0.0, 1.0, 0.0, 0), kDt);
+  SpindleReflex spindle(Spindle(2.0, 0.0, 1.0, 0.0, 0), kLawDt);
   EXPECT_EQ(spindle.Update(std::nan(""), INFINITY), 0.0);
   EXPECT_EQ(spindle.nonfinite_inputs(), 2);
 }
 
 TEST(ReflexSpindle, ResetClearsTheDelayedSamples) {
-  SpindleReflex spindle(Spindle(2.0, 0.0, 0.0, 0.0, 3), kDt);
+  SpindleReflex spindle(Spindle(2.0, 0.0, 0.0, 0.0, 3), kLawDt);
   for (int k = 0; k < 5; ++k) spindle.Update(1.0, 0.0);
   spindle.Reset();
   EXPECT_EQ(spindle.Update(0.0, 0.0), 0.0);
 }
 
 GtoParams Gto(double gain, double threshold, int delay_samples) {
-  return {.gain = gain, .threshold = threshold, .delay_s = delay_samples * kDt};
+  return {.gain = gain, .threshold = threshold, .delay_s = delay_samples * kLawDt};
 }
 
 TEST(ReflexGto, LoadStepAppearsAfterExactlyTheDelayScaled) {
   for (int n : {0, 1, 10, 20}) {
-    GtoReflex gto(Gto(0.25, 0.5, n), kDt);
+    GtoReflex gto(Gto(0.25, 0.5, n), kLawDt);
     const int k0 = 5;
     for (int k = 0; k < k0 + n + 5; ++k) {
       const double u = gto.Update(k >= k0 ? 4.5 : 0.0);
@@ -128,7 +128,7 @@ TEST(ReflexGto, LoadStepAppearsAfterExactlyTheDelayScaled) {
 
 // F̃ = F0 exactly is unloaded with u = 0; the next double up is loaded.
 TEST(ReflexGto, ThresholdIsExact) {
-  GtoReflex gto(Gto(2.0, 0.15, 0), kDt);
+  GtoReflex gto(Gto(2.0, 0.15, 0), kLawDt);
   EXPECT_EQ(gto.Update(0.15), 0.0);
   EXPECT_FALSE(gto.loaded());
   EXPECT_EQ(gto.Update(0.149), 0.0);
@@ -142,8 +142,8 @@ TEST(ReflexGto, ThresholdIsExact) {
 
 TEST(ReflexGto, GainIsLinear) {
   for (double gain : {0.1, 0.2, 1.5}) {
-    GtoReflex single(Gto(gain, 0.25, 2), kDt);
-    GtoReflex doubled(Gto(2.0 * gain, 0.25, 2), kDt);
+    GtoReflex single(Gto(gain, 0.25, 2), kLawDt);
+    GtoReflex doubled(Gto(2.0 * gain, 0.25, 2), kLawDt);
     for (double f : {0.3, 1.0, 7.0, 0.1, 2.0}) {
       EXPECT_EQ(2.0 * single.Update(f), doubled.Update(f));
     }
@@ -151,7 +151,7 @@ TEST(ReflexGto, GainIsLinear) {
 }
 
 TEST(ReflexGto, NegativeGainIsNegativeForceFeedback) {
-  GtoReflex gto(Gto(-0.5, 1.0, 0), kDt);
+  GtoReflex gto(Gto(-0.5, 1.0, 0), kLawDt);
   EXPECT_EQ(gto.Update(3.0), -1.0);
   EXPECT_TRUE(gto.loaded());
 }

@@ -22,11 +22,10 @@ using testing_util::Stance;
 using testing_util::Swing;
 using testing_util::TimedEvent;
 using testing_util::Touching;
+using testing_util::kDt;
 using Events = std::vector<TimedEvent>;
 using E = LegEventType;
 using R = LegEventReason;
-
-constexpr double kDt = 0.01;
 
 // ---------------------------------------------------------------------------------------------
 // Preload

@@ -17,9 +17,9 @@
 namespace climbsim::reflex {
 namespace {
 
-constexpr double kDt = 0.001;
+constexpr double kSharingDt = 0.001;
 
-LoadSharingParams Params() {
+LoadSharingParams SharingParams() {
   LoadSharingParams p;
   p.gain_per_s = 20.0;
   p.threshold = 0.5;
@@ -77,7 +77,7 @@ std::vector<SharingLeg> RandomLegs(std::mt19937* rng, int n) {
 // near its limit with ∇U along +x (the line), B has margin: A's force along +x drops by what
 // B's rises, and S falls at exactly K·[S − U_S] to first order.
 TEST(ReflexLoadSharing, TwoPadsTradeLoadAlongTheLineBetweenThem) {
-  LoadSharing sharing(Params(), kDt);
+  LoadSharing sharing(SharingParams(), kSharingDt);
   std::vector<SharingLeg> legs(2);
   legs[0] = {true, {0.05, 0.02, 0.0}, 0.9, {1.0, 0.5, 0.2}};
   legs[1] = {true, {-0.05, 0.02, 0.0}, 0.2, {1.0, -0.3, 0.4}};
@@ -92,7 +92,7 @@ TEST(ReflexLoadSharing, TwoPadsTradeLoadAlongTheLineBetweenThem) {
   const double w0 = 1.0 / (1.0 + std::exp(20.0 * (0.2 - 0.9)));
   const double dS = w0 * legs[0].gradient_per_n.dot(lambda[0]) +
                     (1 - w0) * legs[1].gradient_per_n.dot(lambda[1]);
-  EXPECT_NEAR(dS, -kDt * 20.0 * (s - 0.5), 1e-10 * std::abs(dS));
+  EXPECT_NEAR(dS, -kSharingDt * 20.0 * (s - 0.5), 1e-10 * std::abs(dS));
 }
 
 TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) {
@@ -101,9 +101,9 @@ TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) 
     const int n = 2 + trial % 5;
     std::vector<SharingLeg> legs = RandomLegs(&rng, n);
     if (trial % 4 == 3) legs[0].active = false;
-    LoadSharingParams p = Params();
+    LoadSharingParams p = SharingParams();
     p.max_force_n = 1e9;  // the cap (tested below) would scale the step
-    LoadSharing sharing(p, kDt);
+    LoadSharing sharing(p, kSharingDt);
     std::array<Eigen::Vector3d, kMaxSharingLegs> before;
     for (Eigen::Vector3d& b : before) b.setZero();
     for (int k = 0; k < 5; ++k) {
@@ -122,11 +122,12 @@ TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) 
       for (int i = 0; i < n; ++i) {
         if (!legs[i].active) continue;
         const double w = std::exp(20.0 * (legs[i].utilisation - m)) / sum;
-        dS += w * legs[i].gradient_per_n.dot(lambda[i] - (1 - kDt / 0.5) * before[i]);
+        dS += w * legs[i].gradient_per_n.dot(lambda[i] - (1 - kSharingDt / 0.5) * before[i]);
       }
       const int active = n - (trial % 4 == 3 ? 1 : 0);
       if (active >= 2) {
-        EXPECT_NEAR(dS, -kDt * 20.0 * std::max(0.0, s - 0.5), 1e-8 * std::max(1.0, std::abs(dS)))
+        EXPECT_NEAR(dS, -kSharingDt * 20.0 * std::max(0.0, s - 0.5),
+                    1e-8 * std::max(1.0, std::abs(dS)))
             << trial << " " << k;
       }
       before = lambda;
@@ -136,7 +137,7 @@ TEST(ReflexLoadSharing, RequestsStayInternalAndLowerTheSoftMaximumAtTheSetRate) 
 
 // Below the threshold only the leak acts: λ shrinks by 1 − dt/τ a period.
 TEST(ReflexLoadSharing, BelowTheThresholdTheRequestLeaks) {
-  LoadSharing sharing(Params(), kDt);
+  LoadSharing sharing(SharingParams(), kSharingDt);
   std::vector<SharingLeg> legs(3);
   legs[0] = {true, {0.05, 0.05, 0.0}, 0.95, {1.0, 0.0, 0.3}};
   legs[1] = {true, {0.05, -0.05, 0.0}, 0.3, {1.0, 0.0, 0.3}};
@@ -147,7 +148,8 @@ TEST(ReflexLoadSharing, BelowTheThresholdTheRequestLeaks) {
   for (auto& l : legs) l.utilisation = 0.1;
   const auto& after = sharing.Update(legs.data(), 3);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_LT((after[i] - (1 - kDt / 0.5) * before[i]).norm(), 1e-10 * before[i].norm()) << i;
+    EXPECT_LT((after[i] - (1 - kSharingDt / 0.5) * before[i]).norm(), 1e-10 * before[i].norm())
+        << i;
   }
 }
 
@@ -156,10 +158,10 @@ TEST(ReflexLoadSharing, CapAndRateLimit) {
   std::mt19937 rng(5);
   std::vector<SharingLeg> legs = RandomLegs(&rng, 4);
   for (auto& l : legs) l.utilisation = 3.0;  // far above: large steps
-  LoadSharingParams p = Params();
+  LoadSharingParams p = SharingParams();
   p.gain_per_s = 1e4;
   p.max_force_n = 0.2;
-  LoadSharing capped(p, kDt);
+  LoadSharing capped(p, kSharingDt);
   for (int k = 0; k < 50; ++k) {
     const auto& lambda = capped.Update(legs.data(), 4);
     double largest = 0.0;
@@ -169,7 +171,7 @@ TEST(ReflexLoadSharing, CapAndRateLimit) {
   }
   p.max_force_n = 100.0;
   p.max_rate_n_per_s = 2.0;  // 2 mN a period at 1 ms
-  LoadSharing limited(p, kDt);
+  LoadSharing limited(p, kSharingDt);
   const auto first = limited.Update(legs.data(), 4);
   double largest = 0.0;
   for (int i = 0; i < 4; ++i) largest = std::max(largest, first[i].norm());
@@ -181,7 +183,7 @@ TEST(ReflexLoadSharing, CapAndRateLimit) {
 TEST(ReflexLoadSharing, NoInternalForceWithOnePadAndReprojectionWhenAPadLetsGo) {
   std::mt19937 rng(9);
   std::vector<SharingLeg> legs = RandomLegs(&rng, 4);
-  LoadSharing sharing(Params(), kDt);
+  LoadSharing sharing(SharingParams(), kSharingDt);
   for (int k = 0; k < 20; ++k) sharing.Update(legs.data(), 4);
   legs[1].active = false;
   ExpectInternal(legs, sharing.Update(legs.data(), 4), 1e-8);
@@ -192,22 +194,22 @@ TEST(ReflexLoadSharing, NoInternalForceWithOnePadAndReprojectionWhenAPadLetsGo) 
 }
 
 TEST(ReflexLoadSharing, OffAtZeroGainAndRejectsBadParams) {
-  LoadSharingParams p = Params();
+  LoadSharingParams p = SharingParams();
   p.gain_per_s = 0.0;
-  LoadSharing off(p, kDt);
+  LoadSharing off(p, kSharingDt);
   std::mt19937 rng(1);
   std::vector<SharingLeg> legs = RandomLegs(&rng, 4);
   for (int k = 0; k < 5; ++k) {
     const auto& lambda = off.Update(legs.data(), 4);
     for (int i = 0; i < 4; ++i) EXPECT_EQ(lambda[i], Eigen::Vector3d::Zero());
   }
-  p = Params();
+  p = SharingParams();
   p.leak_s = 0.0;
-  EXPECT_THROW(LoadSharing(p, kDt), std::invalid_argument);
-  p = Params();
+  EXPECT_THROW(LoadSharing(p, kSharingDt), std::invalid_argument);
+  p = SharingParams();
   p.softmax_beta = -1.0;
   try {
-    Validate(p, kDt, "reflex.gto.share");
+    Validate(p, kSharingDt, "reflex.gto.share");
     FAIL() << "no throw";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "reflex.gto.share.softmax_beta must be > 0, got -1");
@@ -219,9 +221,9 @@ TEST(ReflexLoadSharing, OffAtZeroGainAndRejectsBadParams) {
 // one period exactly (two pads on the x axis: equal and opposite x forces), a non-internal
 // one (the same force on both) not at all, and the result is internal.
 TEST(ReflexLoadSharing, ForceTrackingMeetsTheInternalPartOfTheErrorAtItsRate) {
-  LoadSharingParams p = Params();
+  LoadSharingParams p = SharingParams();
   p.mode = SharingMode::kForceTracking;
-  p.gain_per_s = 1.0 / kDt;
+  p.gain_per_s = 1.0 / kSharingDt;
   p.leak_s = 1e9;  // no leak
   std::vector<SharingLeg> legs(2);
   legs[0].position_m = Eigen::Vector3d(0.05, 0.0, 0.0);
@@ -229,7 +231,7 @@ TEST(ReflexLoadSharing, ForceTrackingMeetsTheInternalPartOfTheErrorAtItsRate) {
   for (auto& l : legs) l.active = true;
   legs[0].force_error_n = Eigen::Vector3d(0.3, 0.2, 0.0);   // internal part: (+0.3, 0, 0),
   legs[1].force_error_n = Eigen::Vector3d(-0.3, 0.2, 0.0);  // the y parts move the body
-  LoadSharing sharing(p, kDt);
+  LoadSharing sharing(p, kSharingDt);
   const auto& lambda = sharing.Update(legs.data(), 2);
   EXPECT_NEAR(lambda[0].x(), 0.3, 1e-9);
   EXPECT_NEAR(lambda[1].x(), -0.3, 1e-9);
@@ -238,8 +240,8 @@ TEST(ReflexLoadSharing, ForceTrackingMeetsTheInternalPartOfTheErrorAtItsRate) {
   ExpectInternal(legs, lambda, 1e-8);
 
   // At half the rate, half the way; errors that are met (zero) leave λ where it is.
-  p.gain_per_s = 0.5 / kDt;
-  LoadSharing half(p, kDt);
+  p.gain_per_s = 0.5 / kSharingDt;
+  LoadSharing half(p, kSharingDt);
   EXPECT_NEAR(half.Update(legs.data(), 2)[0].x(), 0.15, 1e-9);
   for (auto& l : legs) l.force_error_n.setZero();
   EXPECT_NEAR(half.Update(legs.data(), 2)[0].x(), 0.15, 1e-9);
@@ -250,9 +252,9 @@ TEST(ReflexLoadSharing, ForceTrackingMeetsTheInternalPartOfTheErrorAtItsRate) {
 // mode does re-project, and there the third pad's request changes).
 TEST(ReflexLoadSharing, ForceTrackingKeepsTheOthersRequestsWhenAPadLetsGo) {
   for (SharingMode mode : {SharingMode::kForceTracking, SharingMode::kUtilisation}) {
-    LoadSharingParams p = Params();
+    LoadSharingParams p = SharingParams();
     p.mode = mode;
-    p.gain_per_s = mode == SharingMode::kForceTracking ? 1.0 / kDt : 200.0;
+    p.gain_per_s = mode == SharingMode::kForceTracking ? 1.0 / kSharingDt : 200.0;
     p.threshold = 0.0;
     p.leak_s = 1e9;
     std::vector<SharingLeg> legs(3);
@@ -266,7 +268,7 @@ TEST(ReflexLoadSharing, ForceTrackingKeepsTheOthersRequestsWhenAPadLetsGo) {
       legs[i].utilisation = 0.5 + 0.1 * i;
       legs[i].gradient_per_n = e[i];
     }
-    LoadSharing sharing(p, kDt);
+    LoadSharing sharing(p, kSharingDt);
     const std::array<Eigen::Vector3d, kMaxSharingLegs> before = sharing.Update(legs.data(), 3);
     ASSERT_GT(before[2].norm(), 1e-3);
     legs[0].active = false;  // lets go

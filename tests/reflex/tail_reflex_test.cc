@@ -9,9 +9,9 @@
 namespace climbsim::reflex {
 namespace {
 
-constexpr double kDt = 0.01;
+constexpr double kTailDt = 0.01;
 
-TailReflexParams Params() {
+TailReflexParams TailParams() {
   TailReflexParams p;
   p.rest_rad = -0.1;
   p.press_rad = 0.3;
@@ -25,7 +25,7 @@ TailReflexParams Params() {
 // A front pad lost at tick 0: rest for the 2 delay ticks, the press (one event) from tick 2,
 // held 5 ticks, the release at tick 7, then 4 ticks of a linear ramp back to rest.
 TEST(ReflexTail, PadLossPressesAfterTheDelayHoldsAndEasesBack) {
-  TailReflex tail(Params(), kDt);
+  TailReflex tail(TailParams(), kTailDt);
   std::vector<TailOutput> out;
   for (int k = 0; k < 14; ++k) out.push_back(tail.Update({.front_pad_lost = k == 0}));
   EXPECT_EQ(out[0].command_rad, -0.1);
@@ -46,9 +46,9 @@ TEST(ReflexTail, PadLossPressesAfterTheDelayHoldsAndEasesBack) {
 // A pitch beyond the threshold presses for as long as it lasts (one press event) and hold_s
 // after; a pitch at the threshold does not; on_front_pad_loss false ignores a lost pad.
 TEST(ReflexTail, PitchHoldsThePressWhileItLasts) {
-  TailReflexParams p = Params();
+  TailReflexParams p = TailParams();
   p.on_front_pad_loss = false;
-  TailReflex tail(p, kDt);
+  TailReflex tail(p, kTailDt);
   int presses = 0, pressing_ticks = 0;
   for (int k = 0; k < 40; ++k) {
     const double pitch = k < 5 ? 0.05 : (k < 20 ? 0.06 : 0.0);
@@ -68,9 +68,9 @@ TEST(ReflexTail, PitchHoldsThePressWhileItLasts) {
 // yaw_rad: a pad loss on the right (-1) swings the tip right by yaw_rad with the press, and
 // back with the ramp; a pitch press alone (no pad lost) does not swing it.
 TEST(ReflexTail, PadLossSwingsTheTipTowardsTheLostSide) {
-  TailReflexParams p = Params();
+  TailReflexParams p = TailParams();
   p.yaw_rad = 0.4;
-  TailReflex tail(p, kDt);
+  TailReflex tail(p, kTailDt);
   std::vector<TailOutput> out;
   for (int k = 0; k < 14; ++k) {
     out.push_back(tail.Update({.front_pad_lost = k == 0, .lost_side = -1}));
@@ -79,19 +79,19 @@ TEST(ReflexTail, PadLossSwingsTheTipTowardsTheLostSide) {
   for (int k = 2; k < 8; ++k) EXPECT_EQ(out[k].yaw_command_rad, -0.4) << k;
   EXPECT_NEAR(out[9].yaw_command_rad, -0.4 * 2 / 4.0, 1e-12);
   EXPECT_EQ(out[11].yaw_command_rad, 0.0);
-  TailReflex pitched(p, kDt);
+  TailReflex pitched(p, kTailDt);
   for (int k = 0; k < 10; ++k) {
     EXPECT_EQ(pitched.Update({.pitch_rad = 0.2}).yaw_command_rad, 0.0) << k;
   }
 }
 
 TEST(ReflexTail, RejectsAHoldShorterThanHalfAPeriod) {
-  TailReflexParams p = Params();
+  TailReflexParams p = TailParams();
   p.hold_s = 0.001;
-  EXPECT_THROW(TailReflex(p, kDt), std::invalid_argument);
-  p = Params();
+  EXPECT_THROW(TailReflex(p, kTailDt), std::invalid_argument);
+  p = TailParams();
   p.press_rad = 2.0;
-  EXPECT_THROW(TailReflex(p, kDt), std::invalid_argument);
+  EXPECT_THROW(TailReflex(p, kTailDt), std::invalid_argument);
 }
 
 }  // namespace

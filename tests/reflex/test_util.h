@@ -16,6 +16,9 @@ inline void PrintTo(const LegEvent& event, std::ostream* os) {
 
 namespace testing_util {
 
+// The leg-reflex tests' control period: every duration there is a round number of periods.
+inline constexpr double kDt = 0.01;
+
 // Every reflex switched off: a test turns on the one it is about.
 inline LegReflexParams AllOff() {
   LegReflexParams p;
