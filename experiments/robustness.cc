@@ -182,16 +182,12 @@ class Search {
       row_.survived = f_.hi;
       row_.failed = std::numeric_limits<double>::infinity();
     } else {
-      const std::string hi_case = fail_case_, hi_how = fail_how_;
-      const int hi_index = fail_index_;
+      const Failure hi = fail_;
       if (!Evaluate(f_.lo)) {
         row_.survived = 0.0;
-        row_.failed = f_.lo;
-        row_.failing_case = fail_case_;
-        row_.failing_how = fail_how_;
-        row_.failing_scenario_yaml = CaseYaml(f_.lo, fail_index_, fail_case_);
+        Record(f_.lo, fail_);
       } else {
-        Bisect(hi_case, hi_how, hi_index);
+        Bisect(hi);
       }
     }
     // The budget not spent still counts, so the bar ends full.
@@ -204,45 +200,48 @@ class Search {
   const std::vector<int>& steps() const { return steps_; }
 
  private:
-  // lo survives, hi fails (case hi_index, named hi_case, hi_how): narrows [a, b] at the
-  // geometric mean.
-  void Bisect(const std::string& hi_case, const std::string& hi_how, int hi_index) {
+  // The first case that failed at a magnitude: its index (seed * phases + phase) and why.
+  struct Failure {
+    int index = 0;
+    std::string how;
+  };
+
+  // lo survives, hi fails (as `hi` says): narrows [a, b] at the geometric mean.
+  void Bisect(const Failure& hi) {
     double a = f_.lo, b = f_.hi;
-    std::string b_case = hi_case, b_how = hi_how;
-    int b_index = hi_index;
+    Failure at_b = hi;
     while (b > a * (1.0 + u_.options.tolerance)) {
       const double c = std::sqrt(a * b);
       if (Evaluate(c)) {
         a = c;
       } else {
         b = c;
-        b_case = fail_case_;
-        b_how = fail_how_;
-        b_index = fail_index_;
+        at_b = fail_;
       }
     }
     row_.survived = a;
-    row_.failed = b;
-    row_.failing_case = b_case;
-    row_.failing_how = b_how;
-    row_.failing_scenario_yaml = CaseYaml(b, b_index, b_case);
+    Record(b, at_b);
   }
 
-  // Case `index` at magnitude m as a file to replay: the base scenario's outputs (the search
-  // runs without a trajectory), what failed said in a comment.
-  std::string CaseYaml(double m, int index, const std::string& name) const {
-    sim::Scenario s = DisturbanceCase(u_, f_.name, m, mode_, index / phases_, index % phases_);
+  // The row's failure at magnitude m: the case's name, why, and the case as a file to replay
+  // (the base scenario's outputs: the search runs without a trajectory).
+  void Record(double m, const Failure& f) {
+    row_.failed = m;
+    row_.failing_case = "seed " + std::to_string(f.index / phases_) +
+                        (push_ ? " phase " + std::to_string(f.index % phases_) : "");
+    row_.failing_how = f.how;
+    sim::Scenario s = DisturbanceCase(u_, f_.name, m, mode_, f.index / phases_, f.index % phases_);
     s.outputs = u_.base.outputs;
     char head[256];
     std::snprintf(head, sizeof(head),
                   "# climbsim bench robustness: the first case that failed, %s at %.6g (%s, %s)\n"
                   "# Replay: climbsim simulate THIS_FILE --out DIR\n",
-                  f_.name.c_str(), m, row_.mode.c_str(), name.c_str());
-    return head + sim::ScenarioToYamlText(s);
+                  f_.name.c_str(), m, row_.mode.c_str(), row_.failing_case.c_str());
+    row_.failing_scenario_yaml = head + sim::ScenarioToYamlText(s);
   }
 
   // Whether every case (seed by seed, phase by phase) survives magnitude m; the first that
-  // does not is kept in fail_*_.
+  // does not is kept in fail_.
   bool Evaluate(double m) {
     ++row_.evaluations;
     const int n = u_.options.seeds * phases_;
@@ -262,10 +261,7 @@ class Search {
     row_.runs += first < n ? first + 1 : n;
     progress_->Advance(n);
     if (first == n) return true;
-    fail_case_ = "seed " + std::to_string(first / phases_) +
-                 (push_ ? " phase " + std::to_string(first % phases_) : "");
-    fail_how_ = how;
-    fail_index_ = first;
+    fail_ = {first, how};
     return false;
   }
 
@@ -278,8 +274,7 @@ class Search {
   const bool push_;
   const int phases_;
   RobustnessRow row_;
-  std::string fail_case_, fail_how_;
-  int fail_index_ = 0;  // the case (seed * phases + phase) of fail_case_
+  Failure fail_;  // the last failing magnitude's
   std::vector<int> steps_;
 };
 
