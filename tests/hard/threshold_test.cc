@@ -20,7 +20,6 @@ using testing::BlockRig;
 using testing::BlockSpec;
 using testing::kG;
 
-
 // A pad whose every number is a power of two: b = h = 0.5 m, 4×4 bonds, σ_T = 1024 Pa. Then
 // A = 0.25 m², dA = 2⁻⁶ m², σ_T·A = 256 N, the bonded centroid is 0 exactly (integer moment
 // sums) and a straight pull F gives σ = F/(16·dA) with no rounding at all: F = σ_T·A is
