@@ -10,6 +10,9 @@
 namespace climbsim::sim {
 namespace {
 
+// How far a bump's box reaches below the surface: deeper than any robot part sinks into it.
+constexpr double kBumpRootDepthM = 0.05;
+
 uint64_t SplitMix64(uint64_t z) {
   z += 0x9E3779B97F4A7C15ull;
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -80,6 +83,13 @@ std::string RoughnessMjcf(const Scenario& s) {
   const int ny = static_cast<int>(std::ceil((r.extent_m[3] - r.extent_m[2]) / r.spacing_m));
   const double half = 0.5 * r.size_m;
   const double play = r.spacing_m - r.size_m;  // how far a bump may move within its cell
+  // A bump is a box from its top down to kBumpRootDepthM inside the surface, not a slab as thin
+  // as its height: MuJoCo's box-box contact pushes out along the shallower overlap, so a pad
+  // that a soft contact sinks deeper than half a slab's height (a 0.5 mm bump, 1 mm sunk) was
+  // pushed into the surface and pinned there. The root is inside the surface's own body,
+  // which it never collides with.
+  const double center_z = 0.5 * (r.height_m - kBumpRootDepthM);
+  const double half_z = 0.5 * (r.height_m + kBumpRootDepthM);
   std::string xml;
   int count = 0;
   char buf[512];
@@ -97,7 +107,7 @@ std::string RoughnessMjcf(const Scenario& s) {
                     "    <geom name=\"bump_%d_%d\" type=\"box\" pos=\"%.17g %.17g %.17g\" "
                     "size=\"%.17g %.17g %.17g\" contype=\"1\" conaffinity=\"2\" condim=\"3\" "
                     "friction=\"%s\" rgba=\"0.55 0.5 0.45 1\"/>\n",
-                    i, j, x, y, 0.5 * r.height_m, half, half, 0.5 * r.height_m, friction.c_str());
+                    i, j, x, y, center_z, half, half, half_z, friction.c_str());
       xml += buf;
       ++count;
     }

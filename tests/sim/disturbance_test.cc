@@ -212,6 +212,14 @@ TEST(Disturbance, RoughnessAddsBumpsOfTheHeightGivenAndPadsAttachOnTheirTops) {
   const int bumps = BumpCount(model->model(), &top);
   EXPECT_GT(bumps, 100);
   EXPECT_NEAR(top, 0.003, 1e-15);
+  // Each bump reaches far below the surface: a pad sunk into a soft contact deeper than half a
+  // thin slab would be pushed through it, into the surface, by the box-box contact.
+  const mjModel* bm = model->model();
+  for (int g = 0; g < bm->ngeom; ++g) {
+    const char* name = mj_id2name(bm, mjOBJ_GEOM, g);
+    if (name == nullptr || !std::string_view(name).starts_with("bump_")) continue;
+    EXPECT_LE(bm->geom_pos[3 * g + 2] - bm->geom_size[3 * g + 2], -0.01) << name;
+  }
   // The plain wall has none.
   const Scenario flat = Load("flat.yaml", GeckoWall(1.0));
   EXPECT_EQ(BumpCount(CompileScenario(flat)->model()), 0);
