@@ -429,7 +429,7 @@ void CpgEffect::Summarise(const World& world, nlohmann::json* summary) const {
         break;
       case HoldCause::kReflexAll:
         leg = "all";
-        reason = "reflex: every stance leg is held (re-grip)";
+        reason = "reflex: every stance leg is held (a re-grip, or a leg its spindle finds pushed)";
         break;
       case HoldCause::kNone:
         break;
