@@ -3,7 +3,7 @@
 // hand design, every servo within its rating in the stance poses), faster than the hand design
 // (examples/gecko_wall.yaml), and standing a push down the wall twice the hand design's bench
 // edge (0.0241 N s, docs/climbing.md "Robustness") on the case where the hand design falls.
-// Measured: 110.1 g against 102.5 g, worst servo 66 % of its rating, 0.0358 m/s against
+// Measured: 110.1 g against 102.5 g, worst servo 56 % of its rating, 0.0524 m/s against
 // 0.0176 (docs/design-a-climber.md). The same for the spider (examples/spider_designed.yaml
 // against examples/spider_wall.yaml): 360.2 g against 354.2 g, worst servo 57 %, 0.0412 m/s
 // against 0.0233.
@@ -60,7 +60,7 @@ void ExpectDesignedSurvivesWhatDropsTheHand(const char* hand_file, const char* d
 }
 
 TEST(DesignedExample, GeckoDesignedIsBuildableLightAndFasterThanTheHandDesign) {
-  ExpectBuildableAndFaster("examples/gecko_wall.yaml", "examples/gecko_designed.yaml", 1.9);
+  ExpectBuildableAndFaster("examples/gecko_wall.yaml", "examples/gecko_designed.yaml", 2.8);
 }
 
 TEST(DesignedExample, SpiderDesignedIsBuildableLightAndFasterThanTheHandDesign) {
@@ -71,6 +71,14 @@ TEST(DesignedExample, GeckoDesignedStandsTwiceThePushDownThatDropsTheHandDesign)
   // Seed case 0, second push phase; the hand design's edge is 0.0241 N s.
   ExpectDesignedSurvivesWhatDropsTheHand("examples/gecko_wall.yaml", "examples/gecko_designed.yaml",
                                          "push_down", 2 * 0.0241, 0, 1);
+}
+
+TEST(DesignedExample, GeckoDesignedCrossesTwiceTheBumpsThatDropTheHandDesign) {
+  // Seed case 0 at twice the hand design's edge (0.688 mm); the designed gecko's is 1.39 mm.
+  // The co-designed gecko of the search before stalled on 0.5 mm bumps while the bumps were
+  // slabs as thin as their height, which pinned a sunk pad to the wall.
+  ExpectDesignedSurvivesWhatDropsTheHand("examples/gecko_wall.yaml", "examples/gecko_designed.yaml",
+                                         "roughness", 2 * 0.000688, 0, 0);
 }
 
 TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
