@@ -165,6 +165,7 @@ void StickyPad::Reset(mjModel* m, mjData* d) {
   bonds_lost_ = false;
   surface_geom_ = -1;
   episode_ = Episode::kNone;
+  refused_cause_ = PadCause::kNone;
   blind_ = false;
   buildup_ = 0.0;
   lost_since_attach_ = 0;
@@ -233,10 +234,12 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
   if (disengaged_) {
     episode_ = Episode::kNone;  // ordinary contact; a touch when engaged again is a new one
+    refused_cause_ = PadCause::kNone;
     return;
   }
   if (sense_.contacts == 0) {
     episode_ = Episode::kNone;  // left the surface: the next touch is a new episode
+    refused_cause_ = PadCause::kNone;
     return;
   }
   if (episode_ == Episode::kClosed) return;
@@ -264,6 +267,7 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
   if (failed.final || time_s - touchdown_time_s_ >= a.attach_window_s) {
     episode_ = Episode::kClosed;
+    refused_cause_ = failed.cause;
     ++counts_.attach_rejected;
     ++*failed.rejected;
     Emit(sink, time_s, PadEventKind::kAttachRejected, failed.cause, failed.value, true);

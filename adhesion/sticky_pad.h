@@ -285,6 +285,9 @@ class StickyPad {
   // pad_touch.h): the most bonded_fraction can reach in this attachment. 1 for kMujoco and
   // for a pad that touched everywhere (exactly 1.0: the whole grid).
   double touched_fraction() const;
+  // Why the attach of the touch now on the surface was refused (kNone: it was not, or the pad
+  // is off the surface).
+  PadCause refused_cause() const { return refused_cause_; }
   const PadLoad& load() const { return load_; }  // pad frame, + F_n pulls off
   const ContactSense& sense() const { return sense_; }
   bool bonds_lost_this_step() const { return bonds_lost_; }
@@ -364,6 +367,7 @@ class StickyPad {
   bool bonds_lost_ = false;
   int surface_geom_ = -1;
   Episode episode_ = Episode::kNone;
+  PadCause refused_cause_ = PadCause::kNone;  // why this touch's attach was refused, if it was
   bool blind_ = false;  // the next Sense reads a step without the pad's contacts
   double touchdown_time_s_ = 0.0;
   double touchdown_speed_mps_ = 0.0;

@@ -184,6 +184,10 @@ struct RegripParams {
                                  // (0: never)
   double shift_rad = 0.05;  // a re-placed rejected landing moves this much along hip yaw,
                             // ahead and behind in turn, >= 0 (see LegReflex::Regrip)
+  // A landing refused for how it came (too fast, too oblique) is shifted too; off, it is put
+  // down where it was: the place was not what failed, and a wide shift (one that clears a
+  // bump) would cost a recovering foot its step.
+  bool shift_approach_refusals = true;
   // A landing that touches less than this share of its pad's face (a pad set over a bump's
   // edge bonds only where it touches, and tears at that share of its load) is let go at once
   // and re-placed like a rejected one, at most partial_replaces times in a stance (then kept).
@@ -215,6 +219,10 @@ struct RegripParams {
               "further along hip yaw, ahead and behind in turn",
               Range::NonNegative()},
              &shift_rad);
+    a->Visit({"shift_approach_refusals", "",
+              "a landing refused for how it came (too fast, too oblique) is shifted too; off: "
+              "put down where it was, since the place was not what failed"},
+             &shift_approach_refusals);
     a->Visit({"min_touched_share", "",
               "a landing pad that touches less than this share of its face (over a bump's edge) "
               "is let go at once and re-placed, shifted along hip yaw like a rejected landing; "

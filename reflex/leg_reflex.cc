@@ -260,15 +260,21 @@ void LegReflex::ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out) {
   const RegripParams& p = params_.regrip;
   if (!in.stance || in.raw->attached || st.replace_left > 0) {
     st.unattached_touch = 0;
+    st.refusal = Refusal::kNone;
   } else if (st.unattached_touch > 0 || in.raw->touching) {
     ++st.unattached_touch;
+    // The last refusal of the touches counted: a foot bounces off a fast landing, and the
+    // pad forgets its refusal once it leaves the surface.
+    if (in.raw->refusal != Refusal::kNone) st.refusal = in.raw->refusal;
   }
   if (!(p.enabled && p.lift_rad > 0.0 && replace_after_samples_ > 0 &&
         st.unattached_touch >= replace_after_samples_)) {
     return;
   }
   st.unattached_touch = 0;
-  StartReplace(out, LegEventReason::kTouchdown);
+  const bool shift = p.shift_approach_refusals || st.refusal != Refusal::kApproach;
+  st.refusal = Refusal::kNone;
+  StartReplace(out, LegEventReason::kTouchdown, shift);
 }
 
 // A landing that attached touching less than min_touched_share of its face holds only that
@@ -289,11 +295,11 @@ void LegReflex::ReplacePartialLanding(const Sensed& in, LegReflexOutput* out) {
   if (!(st.partial_pending && in.stance)) return;
   st.partial_pending = false;
   st.regrip_left = std::max(st.regrip_left, replace_samples_);
-  StartReplace(out, LegEventReason::kPartialContact);
+  StartReplace(out, LegEventReason::kPartialContact, true);
 }
 
 // A re-place (lift and put down) of a foot whose landing is not kept.
-void LegReflex::StartReplace(LegReflexOutput* out, LegEventReason reason) {
+void LegReflex::StartReplace(LegReflexOutput* out, LegEventReason reason, bool shift) {
   LegReflexState& st = state_;
   st.replace_left = replace_samples_;
   st.replace_lifted = false;
@@ -304,10 +310,11 @@ void LegReflex::StartReplace(LegReflexOutput* out, LegEventReason reason) {
   Emit(out, LegEventType::kRegrip, reason);
   // Where it was rejected it would be again (an edge stays an edge): each re-place of the
   // same stance lands the foot shift_rad further along hip yaw, ahead and behind in turn
-  // (+1, −1, +2, −2 … shifts).
+  // (+1, −1, +2, −2 … shifts). Without `shift` it comes down where it is.
+  st.replace_shift_from = st.replace_shift;
+  if (!shift) return;
   ++st.replace_count;
   const int k = (st.replace_count + 1) / 2;
-  st.replace_shift_from = st.replace_shift;
   st.replace_shift = params_.regrip.shift_rad * (st.replace_count % 2 == 1 ? k : -k);
 }
 

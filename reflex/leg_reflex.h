@@ -13,6 +13,10 @@
 
 namespace climbsim::reflex {
 
+// Why adhesion refused a landing: how it came (too fast, too oblique) or where it landed (too
+// few contacts, too little of the face touching: an edge, a bump's top).
+enum class Refusal : uint8_t { kNone, kApproach, kPlace };
+
 // What the simulator tells a leg once per control period.
 struct LegSensing {
   bool stance = false;           // the CPG's phase for this leg: true = stance, false = swing
@@ -26,6 +30,7 @@ struct LegSensing {
   double preload_n = 0.0;        // compressive contact force pressing the pad on, N, >= 0
   double load_n = 0.0;           // size of the force on the attached pad, |F|, N
   bool bonds_lost = false;       // the pad lost bonds this period
+  Refusal refusal = Refusal::kNone;  // why adhesion refused the touch on the surface, if it did
   // q − q_cpg per Joint; the spindles see it less the other reflexes' offsets of the last
   // period (the stretch from the target the leg was given).
   Eigen::Vector3d stretch_rad = Eigen::Vector3d::Zero();
@@ -156,6 +161,7 @@ struct LegReflexState {
   bool gto_unloading = false;
   bool spindle_active = false;
   int pushed_left = 0;        // periods of the spindle's hold_others left
+  Refusal refusal = Refusal::kNone;  // the last refusal of the unattached touch being timed
   // The last period's offsets of every reflex but the spindles: the spindles measure the
   // stretch from the target so commanded (a peel or a search is not a stretch).
   Eigen::Vector3d other_offset_rad = Eigen::Vector3d::Zero();
@@ -261,7 +267,7 @@ class LegReflex {
   void RegripOnBondLoss(const Sensed& in, LegReflexOutput* out);
   void ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out);
   void ReplacePartialLanding(const Sensed& in, LegReflexOutput* out);
-  void StartReplace(LegReflexOutput* out, LegEventReason reason);
+  void StartReplace(LegReflexOutput* out, LegEventReason reason, bool shift);
   Eigen::Vector3d Preload(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Peel(const Sensed& in, LegReflexOutput* out);
   Eigen::Vector3d Gto(const Sensed& in, const Laws& laws, LegReflexOutput* out);

@@ -46,6 +46,20 @@ class OverrideChecker final : public Checker {
   const std::string& pad_;
 };
 
+// What a leg's reflexes need of an attach refusal: was it the approach or the place.
+reflex::Refusal RefusalOf(adhesion::PadCause cause) {
+  switch (cause) {
+    case adhesion::PadCause::kApproachSpeed:
+    case adhesion::PadCause::kApproachAngle:
+      return reflex::Refusal::kApproach;
+    case adhesion::PadCause::kContacts:
+    case adhesion::PadCause::kContactShare:
+      return reflex::Refusal::kPlace;
+    default:
+      return reflex::Refusal::kNone;
+  }
+}
+
 }  // namespace
 
 std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
@@ -274,6 +288,7 @@ void AdhesionEffect::FillSignals() {
     s.attached = p.attached();
     s.bonded_fraction = p.bonded_fraction();
     s.touched_fraction = p.touched_fraction();
+    s.refusal = RefusalOf(p.refused_cause());
     s.normal_load_n = p.load().fn_n;
     // A welded pad does not collide: its compression is in the weld.
     const bool welded = p.attached() && p.params().model == adhesion::AdhesionModel::kBonds;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "reflex/reflex.h"
 #include "sim/events.h"
 #include "sim/world.h"
 
@@ -37,6 +38,8 @@ struct LegSignals {
   double load_n = 0.0;                     // size of the force the weld carries, |F|, N (0
                                            // when not welded)
   bool bonds_lost = false;                 // lost bonds since the reflexes last looked
+  reflex::Refusal refusal = reflex::Refusal::kNone;  // why the touch on the surface was
+                                                      // refused, if it was
   double utilisation = 0.0;                // the pad's peak bond demand / threshold (σ_vM/σ_T
                                            // in tension, √3τ/(σ_T + μ|σ|) in compression) in
                                            // the last step; a bond breaks at 1; 0 when not

@@ -422,6 +422,7 @@ reflex::LegSensing ReflexEffect::SenseLeg(const World& world, std::vector<LegSig
   in.bonded_fraction =
       s.touched_fraction > 0.0 ? s.bonded_fraction / s.touched_fraction : s.bonded_fraction;
   in.touched_fraction = s.touched_fraction;
+  in.refusal = s.refusal;
   in.normal_load_n = s.normal_load_n;
   in.preload_n = s.preload_n;
   in.load_n = s.load_n;

@@ -3,6 +3,7 @@
 // dt = 10 ms so that every duration below is a round number of control periods.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -560,6 +561,35 @@ TEST(ReflexRegrip, ATouchThatDoesNotAttachIsRePlaced) {
   quiet.Step(Swing());
   quiet.Repeat(Touching(Stance()), 40);
   for (const auto& e : quiet.events()) EXPECT_NE(e.event.type, E::kRegrip);
+}
+
+// A re-placed landing moves shift_rad along hip yaw; with shift_approach_refusals off, one that
+// adhesion refused for how it came (too fast, too oblique) comes down where it was, also when
+// the foot bounced off (the pad forgets the refusal off the surface), while a refusal for its
+// place (contacts, contact share) is still shifted.
+TEST(ReflexRegrip, ALandingRefusedForItsApproachIsPutDownWhereItWasWhenAsked) {
+  LegReflexParams p = RegripOnly();
+  p.regrip.lift_rad = 0.2;
+  p.regrip.replace_s = 0.08;        // 8 periods
+  p.regrip.replace_after_s = 0.05;  // 5 periods
+  p.regrip.shift_rad = 0.1;
+  const auto yaw_after_replace = [&](bool shift_approach_refusals, Refusal refusal) {
+    p.regrip.shift_approach_refusals = shift_approach_refusals;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    LegSensing touch = Touching(Stance());
+    touch.refusal = refusal;
+    rec.Step(Swing());            // #0
+    rec.Step(touch);              // #1: refused at the touchdown
+    rec.Repeat(Stance(), 3);      // #2..#4: bounced off, the pad's refusal forgotten
+    rec.Repeat(Touching(Stance()), 10);  // #5..#14: re-placed at #5, down again from #13
+    EXPECT_NE(std::find(rec.events().begin(), rec.events().end(), At(5, E::kRegrip, R::kTouchdown)),
+              rec.events().end());
+    return rec.output(14).target_offset_rad[kHipYaw];
+  };
+  EXPECT_EQ(yaw_after_replace(true, Refusal::kApproach), 0.1);
+  EXPECT_EQ(yaw_after_replace(false, Refusal::kApproach), 0.0);
+  EXPECT_EQ(yaw_after_replace(false, Refusal::kPlace), 0.1);
 }
 
 // A landing that attaches touching less than min_touched_share of its face is let go at once

@@ -125,6 +125,7 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.regrip.replace_s", Text(leg.regrip.replace_s)},
       {"reflex.regrip.replace_after_s", Text(leg.regrip.replace_after_s)},
       {"reflex.regrip.shift_rad", Text(leg.regrip.shift_rad)},
+      {"reflex.regrip.shift_approach_refusals", Text(leg.regrip.shift_approach_refusals)},
       {"reflex.regrip.min_touched_share", Text(leg.regrip.min_touched_share)},
       {"reflex.regrip.partial_replaces", Text(leg.regrip.partial_replaces)},
       {"reflex.gto.enabled", Text(leg.gto.enabled)},
