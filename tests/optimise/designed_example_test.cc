@@ -81,6 +81,27 @@ TEST(DesignedExample, GeckoDesignedCrossesTwiceTheBumpsThatDropTheHandDesign) {
                                          "roughness", 2 * 0.000688, 0, 0);
 }
 
+// A landing refused for its approach, put down where it was (reflex.regrip.
+// shift_approach_refusals false, as in the designed gecko), against shifted like one refused
+// for its place. With 0.15 rad shifts, seed case 0's pad failures at 0.0316: a foot recovering
+// from a failure lands too fast, and shifting it 10 mm costs the step that decides the case
+// (0.260 m climbed, 0.262 needed; 0.439 m put down in place).
+TEST(DesignedExample, GeckoPutsAFastLandingDownWhereItWas) {
+  sim::Scenario in_place = sim::LoadScenario(Source("examples/gecko_designed.yaml"));
+  ASSERT_TRUE(in_place.reflex && !in_place.reflex->regrip.shift_approach_refusals);
+  in_place.reflex->regrip.shift_rad = 0.15;
+  sim::Scenario shifted = in_place;
+  shifted.reflex->regrip.shift_approach_refusals = true;
+  for (const sim::Scenario* base : {&in_place, &shifted}) {
+    const DisturbanceSetup u = MakeDisturbanceSetup(*base, RobustnessOptions{});
+    const sim::RunResult calm = RunScenario(DisturbanceCase(u, "pad_failure", 0.0, 0, 0, 0));
+    const sim::RunResult hit =
+        RunScenario(DisturbanceCase(u, "pad_failure", 0.03162277660168379, 0, 0, 0));
+    std::string how;
+    EXPECT_EQ(SurvivedRun(hit, calm.distance_m, &how), base == &in_place) << how;
+  }
+}
+
 TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
   // The bench's seed case 1 with 1.3 mm bumps (the posture's bench edge is 1.48 mm, 1.08 mm
   // without): with the posture the designed spider climbs at least half its undisturbed
