@@ -42,6 +42,16 @@ void ExpectBuildableAndFaster(const char* hand_file, const char* designed_file, 
   EXPECT_GE(d.distance_m, speedup * h.distance_m) << d.distance_m << " m against " << h.distance_m;
 }
 
+// Whether `base` survives `family` at `magnitude` on seed case `seed`, push phase `phase` (the
+// bench's rule: against the same case undisturbed); `how` says why not.
+bool SurvivesCase(const sim::Scenario& base, const char* family, double magnitude, int seed,
+                  int phase, std::string* how) {
+  const DisturbanceSetup u = MakeDisturbanceSetup(base, RobustnessOptions{});
+  const sim::RunResult calm = RunScenario(DisturbanceCase(u, family, 0.0, 0, seed, phase));
+  const sim::RunResult hit = RunScenario(DisturbanceCase(u, family, magnitude, 0, seed, phase));
+  return SurvivedRun(hit, calm.distance_m, how);
+}
+
 // The case that ends the hand design's bench search for `family` (the bench's seeds and push
 // times, not the tuning's: first_seed 10, push_time_s 3), at `magnitude` (twice the hand
 // design's edge): the hand design fails it and the designed one survives.
@@ -49,12 +59,9 @@ void ExpectDesignedSurvivesWhatDropsTheHand(const char* hand_file, const char* d
                                             const char* family, double magnitude, int seed,
                                             int phase) {
   for (const char* file : {hand_file, designed_file}) {
-    const sim::Scenario base = sim::LoadScenario(Source(file));
-    const DisturbanceSetup u = MakeDisturbanceSetup(base, RobustnessOptions{});
-    const sim::RunResult calm = RunScenario(DisturbanceCase(u, family, 0.0, 0, seed, phase));
-    const sim::RunResult hit = RunScenario(DisturbanceCase(u, family, magnitude, 0, seed, phase));
     std::string how;
-    const bool survived = SurvivedRun(hit, calm.distance_m, &how);
+    const bool survived =
+        SurvivesCase(sim::LoadScenario(Source(file)), family, magnitude, seed, phase, &how);
     EXPECT_EQ(survived, file == designed_file) << file << ": " << how;
   }
 }
@@ -93,12 +100,10 @@ TEST(DesignedExample, GeckoPutsAFastLandingDownWhereItWas) {
   sim::Scenario shifted = in_place;
   shifted.reflex->regrip.shift_approach_refusals = true;
   for (const sim::Scenario* base : {&in_place, &shifted}) {
-    const DisturbanceSetup u = MakeDisturbanceSetup(*base, RobustnessOptions{});
-    const sim::RunResult calm = RunScenario(DisturbanceCase(u, "pad_failure", 0.0, 0, 0, 0));
-    const sim::RunResult hit =
-        RunScenario(DisturbanceCase(u, "pad_failure", 0.03162277660168379, 0, 0, 0));
     std::string how;
-    EXPECT_EQ(SurvivedRun(hit, calm.distance_m, &how), base == &in_place) << how;
+    EXPECT_EQ(SurvivesCase(*base, "pad_failure", 0.03162277660168379, 0, 0, &how),
+              base == &in_place)
+        << how;
   }
 }
 
@@ -111,11 +116,8 @@ TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
   sim::Scenario without = with;
   without.reflex->gto.posture.enabled = false;
   for (const sim::Scenario* base : {&with, &without}) {
-    const DisturbanceSetup u = MakeDisturbanceSetup(*base, RobustnessOptions{});
-    const sim::RunResult calm = RunScenario(DisturbanceCase(u, "roughness", 0.0, 0, 1, 0));
-    const sim::RunResult hit = RunScenario(DisturbanceCase(u, "roughness", 0.0013, 0, 1, 0));
     std::string how;
-    EXPECT_EQ(SurvivedRun(hit, calm.distance_m, &how), base == &with) << how;
+    EXPECT_EQ(SurvivesCase(*base, "roughness", 0.0013, 1, 0, &how), base == &with) << how;
   }
 }
 
