@@ -57,6 +57,7 @@ void CheckControlPeriod(const LegReflexParams& p, double dt_s, const Checker& c,
             DelayProblem(p.spindle.joints[j].delay_s, dt_s));
   }
   Require(c, "spindle.hold_s", DurationProblem(p.spindle.hold_s, dt_s, false));
+  Require(c, "spindle.max_hold_s", DurationProblem(p.spindle.max_hold_s, dt_s, false));
   Require(c, "compliance.ramp_s", DurationProblem(p.compliance.ramp_s, dt_s, false));
 }
 

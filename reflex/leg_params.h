@@ -135,7 +135,10 @@ struct GtoHoldParams {
 //    only load the other pads). In stance a delayed stretch |q̃(t−Δ)| beyond stance_band_rad
 //    on any joint means the body is being pushed: the leg asks every leg to stay in stance
 //    (hold_others) while it lasts and for hold_s after, so that no pad leaves the surface
-//    while the body is pushed.
+//    while the body is pushed. A push passes; a stretch that lasts longer than max_hold_s is
+//    the leg's posture (its welded foot is where the gait would not put it, after a re-place
+//    or a recovery), and holding every leg for it would stall the gait for good: the hold
+//    lets go, and holds again only once the stretch has been back inside the band.
 struct LegSpindleParams {
   bool enabled = true;
   std::array<SpindleParams, kLegJoints> joints{};
@@ -143,6 +146,7 @@ struct LegSpindleParams {
   bool resist = false;               // the per-joint law on a stance foot in the air
   double stance_band_rad = 0.15;     // >= 0
   double hold_s = 0.2;               // >= 0
+  double max_hold_s = 0.0;           // >= 0; 0: a stretch holds as long as it lasts
   // The keys of the leg's spindle block but the per-joint law (the scenario gives one law
   // for every joint: SpindleBlockParams, reflex_params.h).
   template <class A>
@@ -172,6 +176,11 @@ struct LegSpindleParams {
     a->Visit({"hold_s", "s", "how long every leg stays in stance after a push ends",
               Range::NonNegative()},
              &hold_s);
+    a->Visit({"max_hold_s", "s",
+              "a stretch beyond the band held longer than this is the leg's posture, not a push: "
+              "the hold lets go until the stretch is back inside the band; 0 = no limit",
+              Range::NonNegative()},
+             &max_hold_s);
   }
 };
 

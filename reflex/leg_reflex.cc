@@ -41,6 +41,7 @@ LegReflex::LegReflex(const LegReflexParams& params, double dt_s)
       peel_max_samples_(DurationToSamples("", params.peel.max_duration_s, dt_s, true)),
       peel_release_samples_(DurationToSamples("", params.peel.release_s, dt_s, false)),
       pushed_hold_samples_(DurationToSamples("", params.spindle.hold_s, dt_s, false)),
+      pushed_max_samples_(DurationToSamples("", params.spindle.max_hold_s, dt_s, false)),
       hold_gto_(params.gto.hold, dt_s),
       press_gto_(params.gto.press, dt_s),
       unload_gto_(params.gto.unload, dt_s),
@@ -479,13 +480,17 @@ Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflex
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   bool active = false;
   if (p.enabled) {
+    if (!in.raw->attached) st.pushed_run = 0;
     if (in.raw->attached) {
       bool pushed = false;
       for (int j = 0; j < kLegJoints; ++j) {
         pushed |= std::abs(spindles_[j].delayed_stretch_rad()) > p.stance_band_rad;
       }
       pushed &= in.stance;
-      if (pushed) {
+      // Pushed for longer than max_hold_s: the leg's posture, not a push (LegSpindleParams).
+      st.pushed_run = pushed ? std::min(st.pushed_run, pushed_max_samples_) + 1 : 0;
+      const bool posture = pushed_max_samples_ > 0 && st.pushed_run > pushed_max_samples_;
+      if (pushed && !posture) {
         st.pushed_left = pushed_hold_samples_ + 1;
         if (!st.spindle_active) Emit(out, LegEventType::kSpindle, LegEventReason::kPushed);
         active = true;

@@ -161,6 +161,7 @@ struct LegReflexState {
   bool gto_unloading = false;
   bool spindle_active = false;
   int pushed_left = 0;        // periods of the spindle's hold_others left
+  int pushed_run = 0;         // periods in a row the attached stance leg was stretched
   Refusal refusal = Refusal::kNone;  // the last refusal of the unattached touch being timed
   // The last period's offsets of every reflex but the spindles: the spindles measure the
   // stretch from the target so commanded (a peel or a search is not a stretch).
@@ -204,7 +205,8 @@ struct LegReflexState {
 //            | |q̃(t−Δ)| > L0 ∨
 //            | |q̇(t−Δ)| > V0                   |                      |
 //            | attached in stance: |q̃(t−Δ)| >  | hold_others (no      | inside the band, then
-//            | stance_band_rad (pushed)        | offset)              | hold_s
+//            | stance_band_rad (pushed)        | offset)              | hold_s; or after
+//            |                                 |                      | max_hold_s pushed
 //  compliance| stance ∧ attached               | kp_fraction → stance | swing or detached
 //            |                                 | fraction, ramped     | (ramped back to 1)
 //
@@ -239,6 +241,7 @@ class LegReflex {
   int peel_max_samples_;
   int peel_release_samples_;
   int pushed_hold_samples_;
+  int pushed_max_samples_;  // 0: no limit
   GtoReflex hold_gto_;
   GtoReflex press_gto_;
   GtoReflex unload_gto_;

@@ -216,6 +216,32 @@ TEST(ReflexLegSpindle, WeldedFootGetsNoOffsetAndAPushHoldsEveryLeg) {
   EXPECT_EQ(rec.events(), (Events{At(3, E::kSpindle, R::kPushed)}));
 }
 
+// A stretch that outlasts max_hold_s is the leg's posture (its welded foot where the gait would
+// not put it), not a push: the hold lets go after max_hold_s of it, and holds again only for a
+// stretch that starts after one inside the band.
+TEST(ReflexLegSpindle, AStretchThatOutlastsMaxHoldIsPostureAndLetsTheGaitGo) {
+  LegReflexParams p = WeldedSpindleOnly();
+  p.spindle.max_hold_s = 0.05;  // 5 periods
+  LegReflex leg(p, kDt);
+  Recorder rec(&leg);
+  LegSensing s = Attached(Stance());
+  s.stretch_rad = {0.0, 0.25, 0.0};  // at the band: inside
+  rec.Repeat(s, 2);                  // #0, #1
+  s.stretch_rad = {0.0, -0.3, 0.0};
+  rec.Repeat(s, 14);  // #2..#15
+  s.stretch_rad.setZero();
+  rec.Repeat(s, 1);  // #16
+  s.stretch_rad = {0.0, -0.3, 0.0};
+  rec.Repeat(s, 3);  // #17..#19
+  for (int k = 0; k < 20; ++k) {
+    // Stretched from #3 (one period late): pushed #3..#7, posture from #8, the hold's hold_s
+    // (3 periods) to #10; inside at #17; stretched again from #18.
+    EXPECT_EQ(rec.output(k).hold_others, (k >= 3 && k <= 10) || k >= 18) << k;
+  }
+  EXPECT_EQ(rec.events(),
+            (Events{At(3, E::kSpindle, R::kPushed), At(18, E::kSpindle, R::kPushed)}));
+}
+
 // A free swing leg stretched beyond the swing threshold lifts its foot by K_L times the
 // largest excess, on hip pitch and knee (stumbling correction); below it, nothing.
 TEST(ReflexLegSpindle, BlockedSwingLegLiftsItsFoot) {

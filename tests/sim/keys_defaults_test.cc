@@ -167,6 +167,7 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.spindle.resist", Text(leg.spindle.resist)},
       {"reflex.spindle.stance_band_rad", Text(leg.spindle.stance_band_rad)},
       {"reflex.spindle.hold_s", Text(leg.spindle.hold_s)},
+      {"reflex.spindle.max_hold_s", Text(leg.spindle.max_hold_s)},
       {"reflex.spindle.length_gain", Text(reflex::SpindleParams{}.length_gain)},
       {"reflex.spindle.velocity_gain_s", Text(reflex::SpindleParams{}.velocity_gain_s)},
       {"reflex.spindle.length_threshold_rad", Text(reflex::SpindleParams{}.length_threshold_rad)},
