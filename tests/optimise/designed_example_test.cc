@@ -121,6 +121,25 @@ TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
   }
 }
 
+// Pad failures on seed case 101 (the bench with --set seed=100, seed 1) at 0.143: after the
+// front pads fail and are re-placed, a middle leg's welded foot stays stretched beyond the
+// spindle's band, its push hold keeps every leg in stance, and the spider stalls for good (0.190
+// of 0.404 m). With the hold bounded (reflex.spindle.max_hold_s, as in the example) the gait
+// goes on and it climbs more than half (0.212 m).
+TEST(DesignedExample, SpiderBoundedPushHoldLetsTheGaitGoOnAfterPadFailures) {
+  sim::Scenario bounded = sim::LoadScenario(Source("examples/spider_designed.yaml"));
+  ASSERT_TRUE(bounded.reflex && bounded.reflex->spindle.max_hold_s > 0.0);
+  bounded.seed = 100;
+  sim::Scenario unbounded = bounded;
+  unbounded.reflex->spindle.max_hold_s = 0.0;
+  for (const sim::Scenario* base : {&bounded, &unbounded}) {
+    std::string how;
+    EXPECT_EQ(SurvivesCase(*base, "pad_failure", 0.14330125702369628, 1, 0, &how),
+              base == &bounded)
+        << how;
+  }
+}
+
 TEST(DesignedExample, SpiderDesignedStandsTwiceThePushDownThatDropsTheHandDesign) {
   // Seed case 0, third push phase; the hand design's edge is 0.0707 N s.
   ExpectDesignedSurvivesWhatDropsTheHand("examples/spider_wall.yaml",
