@@ -429,7 +429,10 @@ void CpgEffect::Summarise(const World& world, nlohmann::json* summary) const {
         break;
       case HoldCause::kReflexAll:
         leg = "all";
-        reason = "reflex: every stance leg is held (a re-grip, or a leg its spindle finds pushed)";
+        // A spindle's hold that never ends is a posture, not a push: name the key that bounds it.
+        reason =
+            "reflex: every stance leg is held (a re-grip, or a leg its spindle finds pushed; "
+            "reflex.spindle.max_hold_s bounds that hold)";
         break;
       case HoldCause::kNone:
         break;
