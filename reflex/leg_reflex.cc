@@ -480,7 +480,7 @@ Eigen::Vector3d LegReflex::Spindle(const Sensed& in, const Laws& laws, LegReflex
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   bool active = false;
   if (p.enabled) {
-    if (!in.raw->attached) st.pushed_run = 0;
+    if (!in.raw->attached) st.pushed_run = 0;  // a run of stretch ends with the bond
     if (in.raw->attached) {
       bool pushed = false;
       for (int j = 0; j < kLegJoints; ++j) {
