@@ -558,7 +558,7 @@ std::string RobustnessScript(const RobustnessReport& r, int n) {
       "data = 'robustness.dat'\n"  // gnuplot runs in `dir`
       "set style fill solid 0.8\nset boxwidth 0.6\nset grid ytics\nset logscale y\n"
       "set lmargin 11\nset rmargin 2\nset bmargin 4\n"
-      "set xrange [-0.6:1.6]\nset xtics rotate by -20 font ',9'\nunset key\n"
+      "set xrange [-0.6:1.6]\nset xtics rotate by 20 right font ',9'\nunset key\n"
       "set multiplot layout " +
       std::to_string(rows) + "," + std::to_string(cols) + " title " + title + " font ',10'\n";
   for (int i = 0; i < n; ++i) {
