@@ -52,18 +52,25 @@ bool SurvivesCase(const sim::Scenario& base, const char* family, double magnitud
   return SurvivedRun(hit, calm.distance_m, how);
 }
 
+// `kept` survives the case and `dropped` (the hand design, or the same robot with one
+// setting put back) does not.
+void ExpectOnlyKeptSurvives(const sim::Scenario& kept, const sim::Scenario& dropped,
+                            const char* family, double magnitude, int seed, int phase) {
+  for (const sim::Scenario* base : {&kept, &dropped}) {
+    std::string how;
+    EXPECT_EQ(SurvivesCase(*base, family, magnitude, seed, phase, &how), base == &kept)
+        << (base == &kept ? "kept: " : "dropped: ") << how;
+  }
+}
+
 // The case that ends the hand design's bench search for `family` (the bench's seeds and push
 // times, not the tuning's: first_seed 10, push_time_s 3), at `magnitude` (twice the hand
 // design's edge): the hand design fails it and the designed one survives.
 void ExpectDesignedSurvivesWhatDropsTheHand(const char* hand_file, const char* designed_file,
                                             const char* family, double magnitude, int seed,
                                             int phase) {
-  for (const char* file : {hand_file, designed_file}) {
-    std::string how;
-    const bool survived =
-        SurvivesCase(sim::LoadScenario(Source(file)), family, magnitude, seed, phase, &how);
-    EXPECT_EQ(survived, file == designed_file) << file << ": " << how;
-  }
+  ExpectOnlyKeptSurvives(sim::LoadScenario(Source(designed_file)),
+                         sim::LoadScenario(Source(hand_file)), family, magnitude, seed, phase);
 }
 
 // A disturbance the bench does not list: gravity `g_m_s2` instead of the Earth's, in 10 s, on
@@ -128,12 +135,7 @@ TEST(DesignedExample, GeckoPutsAFastLandingDownWhereItWas) {
   in_place.reflex->regrip.shift_rad = 0.15;
   sim::Scenario shifted = in_place;
   shifted.reflex->regrip.shift_approach_refusals = true;
-  for (const sim::Scenario* base : {&in_place, &shifted}) {
-    std::string how;
-    EXPECT_EQ(SurvivesCase(*base, "pad_failure", 0.03162277660168379, 0, 0, &how),
-              base == &in_place)
-        << how;
-  }
+  ExpectOnlyKeptSurvives(in_place, shifted, "pad_failure", 0.03162277660168379, 0, 0);
 }
 
 TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
@@ -144,10 +146,7 @@ TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
   ASSERT_TRUE(with.reflex && with.reflex->gto.posture.enabled);
   sim::Scenario without = with;
   without.reflex->gto.posture.enabled = false;
-  for (const sim::Scenario* base : {&with, &without}) {
-    std::string how;
-    EXPECT_EQ(SurvivesCase(*base, "roughness", 0.0013, 1, 0, &how), base == &with) << how;
-  }
+  ExpectOnlyKeptSurvives(with, without, "roughness", 0.0013, 1, 0);
 }
 
 // Pad failures on seed case 101 (the bench with --set seed=100, seed 1) at 0.143: after the
@@ -161,12 +160,7 @@ TEST(DesignedExample, SpiderBoundedPushHoldLetsTheGaitGoOnAfterPadFailures) {
   bounded.seed = 100;
   sim::Scenario unbounded = bounded;
   unbounded.reflex->spindle.max_hold_s = 0.0;
-  for (const sim::Scenario* base : {&bounded, &unbounded}) {
-    std::string how;
-    EXPECT_EQ(SurvivesCase(*base, "pad_failure", 0.14330125702369628, 1, 0, &how),
-              base == &bounded)
-        << how;
-  }
+  ExpectOnlyKeptSurvives(bounded, unbounded, "pad_failure", 0.14330125702369628, 1, 0);
 }
 
 TEST(DesignedExample, SpiderDesignedStandsTwiceThePushDownThatDropsTheHandDesign) {
