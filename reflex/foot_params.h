@@ -29,6 +29,15 @@ struct PreloadParams {
   // whose pull-off is σ_T·A, fatal for a directional one, which holds no pull before its
   // shear has built.
   double release_s = 0.0;
+  // A foot re-placed because its landing met the surface with too few contacts comes down the
+  // way it came (the same leg pose, the same tilt): a pad that lands on a corner is held tilted
+  // by its ankle spring and the corner's friction, and a press that seats a square landing does
+  // not flatten it. So after the n-th such re-place of a stance the foot is pressed
+  // min(1 + retry_gain·n, retry_max_scale) times as hard; the force limit still ends each
+  // press. A landing refused for its approach or for too little of its face touching (a
+  // bump's top, which no press widens) does not count. 0: every press alike.
+  double retry_gain = 0.0;
+  double retry_max_scale = 3.0;
   template <class A>
   void Serialize(A* a) {
     a->Visit(
@@ -50,6 +59,13 @@ struct PreloadParams {
               "holds no pull before its shear builds, needs a fade)",
               Range::NonNegative()},
              &release_s);
+    a->Visit({"retry_gain", "",
+              "a foot re-placed after a landing with too few contacts presses harder: 1 + this "
+              "x such re-places so far in the stance (0: every press alike)",
+              Range::NonNegative()},
+             &retry_gain);
+    a->Visit({"retry_max_scale", "", "cap on that press scale", Range::Closed(1.0, 100.0)},
+             &retry_max_scale);
   }
 };
 
@@ -125,6 +141,9 @@ struct PeelParams {
   // the pull that peels it, its whole capacity.
   bool active_release = false;
   double release_load_n = 0.1;  // >= 0
+  // While a support leg's pad is not attached (it failed, or tore), a peeling pad is a support
+  // again: it is not unloaded or let go, and its time limit waits.
+  bool wait_for_support = false;
   // Directional pads: the simulator signs hip_yaw_rad per leg against its pad's gripping
   // direction (sim/reflex_effect.cc); the leg itself uses hip_yaw_rad as given.
   bool against_grip = false;
@@ -156,6 +175,10 @@ struct PeelParams {
               "max_duration_s)",
               Range::NonNegative()},
              &release_load_n);
+    a->Visit({"wait_for_support", "",
+              "while a support leg's pad is not attached, a peeling pad is not unloaded or let "
+              "go, and its time limit waits"},
+             &wait_for_support);
     a->Visit({"against_grip", "",
               "directional pads (adhesion.law frictional): the hip yaw moves each foot against "
               "its pad's gripping direction, |hip_yaw_rad| forward for a pad gripping back (-x) "

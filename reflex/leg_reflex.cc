@@ -273,6 +273,7 @@ void LegReflex::ReplaceRejectedLanding(const Sensed& in, LegReflexOutput* out) {
     return;
   }
   st.unattached_touch = 0;
+  if (st.refusal == Refusal::kContacts) ++st.contact_replaces;
   const bool shift = p.shift_approach_refusals || st.refusal != Refusal::kApproach;
   st.refusal = Refusal::kNone;
   StartReplace(out, LegEventReason::kTouchdown, shift);
@@ -327,7 +328,8 @@ Eigen::Vector3d LegReflex::Regrip(const Sensed& in, LegReflexOutput* out) {
   ReplaceRejectedLanding(in, out);
   ReplacePartialLanding(in, out);
   if (!in.stance) {
-    st.replace_count = 0;  // a new stance: the foot lands where its swing puts it
+    st.replace_count = st.contact_replaces = 0;  // a new stance: the foot lands where its
+                                                 // swing puts it
     st.replace_shift = st.replace_shift_from = 0.0;
   }
   // A pad let go this period is still attached in its sensing.
@@ -381,7 +383,11 @@ Eigen::Vector3d LegReflex::Preload(const Sensed& in, LegReflexOutput* out) {
                           ? 1.0
                           : std::min(1.0, (st.preload_samples + 1.0) / preload_ramp_samples_);
   Fire(out, st.preload_trigger == LegEventReason::kRegrip ? Reflex::kRegrip : Reflex::kPreload);
-  st.preload_offset_rad = {0.0, 0.0 - p.hip_pitch_press_rad * ramp, 0.0 - p.knee_press_rad * ramp};
+  const double press =
+      st.contact_replaces == 0
+          ? ramp
+          : ramp * std::min(1.0 + p.retry_gain * st.contact_replaces, p.retry_max_scale);
+  st.preload_offset_rad = {0.0, 0.0 - p.hip_pitch_press_rad * press, 0.0 - p.knee_press_rad * press};
   return st.preload_offset_rad;
 }
 
@@ -404,13 +410,15 @@ Eigen::Vector3d LegReflex::Peel(const Sensed& in, LegReflexOutput* out) {
     if (reason == LegEventReason::kNone) {
       offset = peel;
       out->hold_phase = true;
-      if (p.active_release) {
+      // A support leg's pad let go: this pad carries again, its release and clock wait.
+      const bool wait = p.wait_for_support && !in.raw->partner_attached;
+      if (p.active_release && !wait) {
         out->unload_pad = true;
         out->release_pad = (st.peel_samples > 0 && in.raw->load_n <= p.release_load_n) ||
                            st.peel_samples + 1 >= peel_max_samples_;
         st.released |= out->release_pad;
       }
-      ++st.peel_samples;
+      if (!wait) ++st.peel_samples;
     } else {
       st.peeling = false;
       st.peel_offset_rad = peel;

@@ -13,9 +13,10 @@
 
 namespace climbsim::reflex {
 
-// Why adhesion refused a landing: how it came (too fast, too oblique) or where it landed (too
-// few contacts, too little of the face touching: an edge, a bump's top).
-enum class Refusal : uint8_t { kNone, kApproach, kPlace };
+// Why adhesion refused a landing: how it came (too fast, too oblique), or where it landed: too
+// few contacts (a pad met with its edge or corner: tilted, or on a bump's edge), or too little
+// of the face touching (a bump's top).
+enum class Refusal : uint8_t { kNone, kApproach, kContacts, kShare };
 
 // What the simulator tells a leg once per control period.
 struct LegSensing {
@@ -152,7 +153,8 @@ struct LegReflexState {
   int replace_left = 0;  // periods of a re-place (lift and put down) left
   bool replace_lifted = false;  // the re-placed foot has left the surface
   int unattached_touch = 0;     // periods in stance without a bond since the foot touched
-  int replace_count = 0;        // re-places of rejected landings in this stance
+  int replace_count = 0;        // re-places of rejected landings in this stance, shifted
+  int contact_replaces = 0;     // those refused for too few contacts (the retry press)
   int partial_count = 0;        // partly touching landings let go since the swing started
   bool partial_pending = false;  // one was let go in the swing: re-place it at the stance
   double replace_shift = 0.0;   // their hip-yaw shift (rad), held until the swing

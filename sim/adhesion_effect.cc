@@ -46,15 +46,16 @@ class OverrideChecker final : public Checker {
   const std::string& pad_;
 };
 
-// What a leg's reflexes need of an attach refusal: was it the approach or the place.
+// What a leg's reflexes need of an attach refusal: the approach, or which test of the place.
 reflex::Refusal RefusalOf(adhesion::PadCause cause) {
   switch (cause) {
     case adhesion::PadCause::kApproachSpeed:
     case adhesion::PadCause::kApproachAngle:
       return reflex::Refusal::kApproach;
     case adhesion::PadCause::kContacts:
+      return reflex::Refusal::kContacts;
     case adhesion::PadCause::kContactShare:
-      return reflex::Refusal::kPlace;
+      return reflex::Refusal::kShare;
     default:
       return reflex::Refusal::kNone;
   }

@@ -384,6 +384,41 @@ TEST(ReflexPeel, ActiveReleaseLetsGoAtTheTimeLimitWhateverTheLoad) {
   EXPECT_FALSE(PeelOnly().peel.active_release);  // off by default: the leg peels its pad
 }
 
+// With wait_for_support, a support leg's pad that is not attached makes the peeling pad a
+// support again: while it lasts the pad is neither unloaded nor let go, light or not, and the
+// time limit waits (the release comes max_duration_s of peeling without the wait); the phase
+// stays held. Without it the same sensing lets the light pad go at once.
+TEST(ReflexPeel, AnActiveReleaseWaitsWhileASupportPadIsDetached) {
+  LegReflexParams p = PeelOnly();
+  p.peel.active_release = true;
+  p.peel.release_load_n = 0.2;
+  const auto run = [&](bool wait_for_support) {
+    p.peel.wait_for_support = wait_for_support;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Repeat(Attached(Stance()), 2);  // #0, #1
+    LegSensing peeling = Attached(Swing(0.0));
+    peeling.load_n = 2.0;
+    rec.Repeat(peeling, 3);             // #2..#4: peel periods 0..2, loaded
+    LegSensing alone = peeling;
+    alone.partner_attached = false;
+    alone.load_n = 0.1;                 // light: the release's load test would pass
+    rec.Repeat(alone, 30);              // #5..#34: the support pad is gone
+    rec.Repeat(peeling, 17);            // #35..#51: back; periods 3..19, the time limit's
+    return rec;
+  };
+  const Recorder waited = run(true);
+  for (int k = 2; k <= 51; ++k) {
+    const bool waiting = k >= 5 && k <= 34;
+    EXPECT_TRUE(waited.output(k).hold_phase) << k;
+    EXPECT_EQ(waited.output(k).unload_pad, !waiting) << k;
+    EXPECT_EQ(waited.output(k).release_pad, k == 51) << k;  // 20 periods of peeling: #2..#4, #35..#51
+  }
+  const Recorder at_once = run(false);
+  EXPECT_TRUE(at_once.output(5).release_pad);
+  EXPECT_FALSE(PeelOnly().peel.wait_for_support);  // off by default
+}
+
 TEST(ReflexPeel, SilentWhenDetachedAtSwingOnsetOrSwitchedOff) {
   {
     LegReflex leg(PeelOnly(), kDt);
@@ -416,6 +451,22 @@ LegReflexParams RegripOnly() {
   p.regrip.enabled = true;
   p.regrip.hold_others_s = 0.05;  // 5 periods
   return p;
+}
+
+// The re-grip with a re-place of 8 periods, and a touch without a bond re-placed after 5.
+LegReflexParams ReplaceRejected() {
+  LegReflexParams p = RegripOnly();
+  p.regrip.lift_rad = 0.2;
+  p.regrip.replace_s = 0.08;        // 8 periods
+  p.regrip.replace_after_s = 0.05;  // 5 periods
+  return p;
+}
+
+// A touch in stance that adhesion refused for `refusal`.
+LegSensing RefusedTouch(Refusal refusal) {
+  LegSensing touch = Touching(Stance());
+  touch.refusal = refusal;
+  return touch;
 }
 
 // Bonds lost in stance by an attached pad: regrip, preload_start(regrip); hold_others for
@@ -536,11 +587,8 @@ TEST(ReflexRegrip, ARePlaceThatFindsNoSurfaceStartsASearch) {
 // landing; its contact may chatter meanwhile) is re-placed: regrip(touchdown), the preload
 // ends, the lift runs.
 TEST(ReflexRegrip, ATouchThatDoesNotAttachIsRePlaced) {
-  LegReflexParams p = RegripOnly();
+  LegReflexParams p = ReplaceRejected();
   p.preload.enabled = true;
-  p.regrip.lift_rad = 0.2;
-  p.regrip.replace_s = 0.08;        // 8 periods
-  p.regrip.replace_after_s = 0.05;  // 5 periods
   LegReflex leg(p, kDt);
   Recorder rec(&leg);
   rec.Step(Swing());                  // #0
@@ -563,22 +611,64 @@ TEST(ReflexRegrip, ATouchThatDoesNotAttachIsRePlaced) {
   for (const auto& e : quiet.events()) EXPECT_NE(e.event.type, E::kRegrip);
 }
 
+// A foot re-placed after a landing refused for too few contacts (a tilted pad on its corner)
+// presses harder: after the n-th such re-place of a stance, min(1 + retry_gain·n,
+// retry_max_scale) times the preload's press; the next stance starts at 1 again. A landing
+// refused for too little of its face touching (a bump's top) or with retry_gain 0 is pressed
+// as before. The foot touches the surface except while the re-place lifts it (a positive
+// hip-pitch offset the period before).
+TEST(ReflexRegrip, ARePlacedCornerLandingIsPressedHarderEachTime) {
+  LegReflexParams p = ReplaceRejected();
+  p.preload.enabled = true;
+  p.preload.ramp_s = 0.0;    // the full press at once: one value per preload
+  p.regrip.shift_rad = 0.0;  // every re-place lands where the last one did
+  p.preload.retry_max_scale = 2.5;
+  // The hip-pitch press of each touchdown preload in two stances of 60 periods each.
+  const auto presses = [&](double retry_gain, Refusal refusal) {
+    p.preload.retry_gain = retry_gain;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    const LegSensing touch = RefusedTouch(refusal);
+    std::vector<double> seen;
+    for (int stance = 0; stance < 2; ++stance) {
+      rec.Step(Swing());
+      bool lifted = false;
+      for (int k = 0; k < 60; ++k) {
+        const LegReflexOutput& out = rec.Step(lifted ? Stance() : touch);
+        lifted = out.target_offset_rad[kHipPitch] > 0.0;
+        const double press = -out.target_offset_rad[kHipPitch];
+        if (out.Fired(Reflex::kPreload) && !out.Fired(Reflex::kRegrip) &&
+            (seen.empty() || seen.back() != press)) {
+          seen.push_back(press);
+        }
+      }
+    }
+    return seen;
+  };
+  const std::vector<double> growing = presses(1.0, Refusal::kContacts);
+  ASSERT_GE(growing.size(), 5u);
+  EXPECT_EQ(growing[0], 0.15);
+  EXPECT_EQ(growing[1], 0.15 * 2.0);  // 1 + 1·1
+  EXPECT_EQ(growing[2], 0.15 * 2.5);  // 1 + 1·2 = 3, capped
+  const auto next_stance = std::find(growing.begin() + 1, growing.end(), 0.15);
+  ASSERT_NE(next_stance, growing.end());
+  EXPECT_EQ(*(next_stance + 1), 0.15 * 2.0);
+  for (double press : presses(1.0, Refusal::kShare)) EXPECT_EQ(press, 0.15);
+  for (double press : presses(0.0, Refusal::kContacts)) EXPECT_EQ(press, 0.15);
+}
+
 // A re-placed landing moves shift_rad along hip yaw; with shift_approach_refusals off, one that
 // adhesion refused for how it came (too fast, too oblique) comes down where it was, also when
 // the foot bounced off (the pad forgets the refusal off the surface), while a refusal for its
 // place (contacts, contact share) is still shifted.
 TEST(ReflexRegrip, ALandingRefusedForItsApproachIsPutDownWhereItWasWhenAsked) {
-  LegReflexParams p = RegripOnly();
-  p.regrip.lift_rad = 0.2;
-  p.regrip.replace_s = 0.08;        // 8 periods
-  p.regrip.replace_after_s = 0.05;  // 5 periods
+  LegReflexParams p = ReplaceRejected();
   p.regrip.shift_rad = 0.1;
   const auto yaw_after_replace = [&](bool shift_approach_refusals, Refusal refusal) {
     p.regrip.shift_approach_refusals = shift_approach_refusals;
     LegReflex leg(p, kDt);
     Recorder rec(&leg);
-    LegSensing touch = Touching(Stance());
-    touch.refusal = refusal;
+    const LegSensing touch = RefusedTouch(refusal);
     rec.Step(Swing());            // #0
     rec.Step(touch);              // #1: refused at the touchdown
     rec.Repeat(Stance(), 3);      // #2..#4: bounced off, the pad's refusal forgotten
@@ -589,7 +679,8 @@ TEST(ReflexRegrip, ALandingRefusedForItsApproachIsPutDownWhereItWasWhenAsked) {
   };
   EXPECT_EQ(yaw_after_replace(true, Refusal::kApproach), 0.1);
   EXPECT_EQ(yaw_after_replace(false, Refusal::kApproach), 0.0);
-  EXPECT_EQ(yaw_after_replace(false, Refusal::kPlace), 0.1);
+  EXPECT_EQ(yaw_after_replace(false, Refusal::kContacts), 0.1);
+  EXPECT_EQ(yaw_after_replace(false, Refusal::kShare), 0.1);
 }
 
 // A landing that attaches touching less than min_touched_share of its face is let go at once
