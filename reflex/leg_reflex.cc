@@ -387,7 +387,8 @@ Eigen::Vector3d LegReflex::Preload(const Sensed& in, LegReflexOutput* out) {
       st.contact_replaces == 0
           ? ramp
           : ramp * std::min(1.0 + p.retry_gain * st.contact_replaces, p.retry_max_scale);
-  st.preload_offset_rad = {0.0, 0.0 - p.hip_pitch_press_rad * press, 0.0 - p.knee_press_rad * press};
+  st.preload_offset_rad = {0.0, 0.0 - p.hip_pitch_press_rad * press,
+                           0.0 - p.knee_press_rad * press};
   return st.preload_offset_rad;
 }
 

@@ -412,7 +412,8 @@ TEST(ReflexPeel, AnActiveReleaseWaitsWhileASupportPadIsDetached) {
     const bool waiting = k >= 5 && k <= 34;
     EXPECT_TRUE(waited.output(k).hold_phase) << k;
     EXPECT_EQ(waited.output(k).unload_pad, !waiting) << k;
-    EXPECT_EQ(waited.output(k).release_pad, k == 51) << k;  // 20 periods of peeling: #2..#4, #35..#51
+    // 20 periods of peeling: #2..#4, #35..#51.
+    EXPECT_EQ(waited.output(k).release_pad, k == 51) << k;
   }
   const Recorder at_once = run(false);
   EXPECT_TRUE(at_once.output(5).release_pad);
