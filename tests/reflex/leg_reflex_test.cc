@@ -392,6 +392,7 @@ TEST(ReflexPeel, AnActiveReleaseWaitsWhileASupportPadIsDetached) {
   LegReflexParams p = PeelOnly();
   p.peel.active_release = true;
   p.peel.release_load_n = 0.2;
+  // The outputs of one run (copied: the leg and its recorder end with the call).
   const auto run = [&](bool wait_for_support) {
     p.peel.wait_for_support = wait_for_support;
     LegReflex leg(p, kDt);
@@ -405,18 +406,19 @@ TEST(ReflexPeel, AnActiveReleaseWaitsWhileASupportPadIsDetached) {
     alone.load_n = 0.1;                 // light: the release's load test would pass
     rec.Repeat(alone, 30);              // #5..#34: the support pad is gone
     rec.Repeat(peeling, 17);            // #35..#51: back; periods 3..19, the time limit's
-    return rec;
+    std::vector<LegReflexOutput> outputs;
+    for (int k = 0; k < rec.updates(); ++k) outputs.push_back(rec.output(k));
+    return outputs;
   };
-  const Recorder waited = run(true);
+  const std::vector<LegReflexOutput> waited = run(true);
   for (int k = 2; k <= 51; ++k) {
     const bool waiting = k >= 5 && k <= 34;
-    EXPECT_TRUE(waited.output(k).hold_phase) << k;
-    EXPECT_EQ(waited.output(k).unload_pad, !waiting) << k;
+    EXPECT_TRUE(waited[k].hold_phase) << k;
+    EXPECT_EQ(waited[k].unload_pad, !waiting) << k;
     // 20 periods of peeling: #2..#4, #35..#51.
-    EXPECT_EQ(waited.output(k).release_pad, k == 51) << k;
+    EXPECT_EQ(waited[k].release_pad, k == 51) << k;
   }
-  const Recorder at_once = run(false);
-  EXPECT_TRUE(at_once.output(5).release_pad);
+  EXPECT_TRUE(run(false)[5].release_pad);  // without the wait the light pad goes at once
   EXPECT_FALSE(PeelOnly().peel.wait_for_support);  // off by default
 }
 
