@@ -192,7 +192,9 @@ struct LegReflexState {
 //            |                                 |                      | (attempts_exhausted),
 //            |                                 |                      | swing (swing_started)
 //  peel      | stance → swing ∧ attached       | pull back and lift,  | detached (detached),
-//            |                                 | hold_phase           | max time (time_limit)
+//            |                                 | hold_phase           | max time (time_limit;
+//            |                                 |                      | wait_for_support stops
+//            |                                 |                      | its clock)
 //  regrip    | stance ∧ bonds_lost ∧ attached  | preload (regrip),    | hold_others_s elapsed
 //            | last period                     | hold_others          |
 //  gto hold  | stance ∧ (delayed load > F0 ∨   | hold_stance, press   | unloaded ∧ partner
