@@ -126,6 +126,9 @@ struct PadsDesign {
   double size_m = 0.025;
   double thickness_m = 0.002;
   double mass_kg = 0.0025;
+  // A soft foam layer in the backing (part of thickness_m) lets the face follow the surface's
+  // relief: on a bump a rigid backing lifts the face off everything but the bump's top.
+  double foam_m = 0.0;
   std::vector<double> friction = {1.0, 0.005, 0.0001};
   std::vector<double> solref = {0.015, 1.0};
   std::vector<double> solimp = {0.9, 0.95, 0.001};
@@ -142,6 +145,12 @@ struct PadsDesign {
              &thickness_m);
     a->Visit({"mass_kg", "kg", "pad, backing and ankle parts", Range::Closed(0.0005, 0.05)},
              &mass_kg);
+    a->Visit({"foam_m", "m",
+              "soft foam in the backing (part of thickness_m, which must exceed it by the "
+              "adhesive's 0.5 mm): the face follows relief up to half of it beyond "
+              "adhesion.contact_gap_m; adds its own mass (100 kg/m^3); 0: a rigid backing",
+              Range::Closed(0.0, 0.008)},
+             &foam_m);
     a->Visit({"friction", "", "MuJoCo friction of a pad contact: slide, spin, roll"}, &friction, 3);
     a->Visit({"solref", "", "MuJoCo solref of a pad contact"}, &solref, 2);
     a->Visit({"solimp", "", "MuJoCo solimp of a pad contact"}, &solimp, 3);

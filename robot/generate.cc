@@ -18,6 +18,13 @@ namespace generate {
 
 namespace {
 
+// The pads' foam (pads.foam_m): soft open-cell polyurethane or silicone foam (30-200 kg/m^3)
+// compresses on its stress plateau to about half its thickness before it densifies; under it
+// lie the adhesive and its film.
+constexpr double kFoamDensity_kg_per_m3 = 100.0;
+constexpr double kFoamConformShare = 0.5;
+constexpr double kAdhesiveFilm_m = 0.0005;
+
 const ServoModel* Servo(const std::string& key, const std::string& name) {
   const ServoModel* s = FindServo(name);
   if (!s)
@@ -152,8 +159,18 @@ void CheckRange(const std::string& key, const std::vector<double>& range) {
 
 }  // namespace
 
+double PadMassKg(const PadsDesign& pads) {
+  return pads.mass_kg + kFoamDensity_kg_per_m3 * pads.size_m * pads.size_m * pads.foam_m;
+}
+
+double PadConformM(const PadsDesign& pads) { return kFoamConformShare * pads.foam_m; }
+
 void CheckGeometry(const Plan& p) {
   const RobotDesign& d = *p.design;
+  if (d.pads.foam_m > d.pads.thickness_m - kAdhesiveFilm_m)
+    throw std::invalid_argument("robot.pads.foam_m: the foam (" + MjcfNumber(d.pads.foam_m) +
+                                " m) must leave the adhesive's 0.5 mm of the pad's thickness (" +
+                                MjcfNumber(d.pads.thickness_m) + " m)");
   if (d.feet.post_m <= d.pads.thickness_m)
     throw std::invalid_argument("robot.feet.post_m: the post (" + MjcfNumber(d.feet.post_m) +
                                 " m) must be longer than the pad is thick (" +
@@ -216,7 +233,7 @@ tinyxml2::XMLElement* AddDefaults(const Plan& p, tinyxml2::XMLElement* mujoco) {
   AddElement(pad, "geom",
              {{"type", "box"},
               {"size", MjcfNumbers({half, half, d.pads.thickness_m / 2})},
-              {"mass", MjcfNumber(d.pads.mass_kg)},
+              {"mass", MjcfNumber(PadMassKg(d.pads))},
               {"priority", "1"},
               {"friction", MjcfNumbers({f[0], f[1], f[2]})},
               {"solref", MjcfNumbers({r[0], r[1]})},
@@ -300,7 +317,11 @@ std::string GenerateRobotMjcf(const RobotDesign& design) {
   tinyxml2::XMLElement* defaults = generate::AddDefaults(plan, mujoco);
   std::string legs;
   for (const generate::Leg& leg : plan.legs) legs += (legs.empty() ? "" : " ") + leg.name;
-  AddElement(AddElement(mujoco, "custom"), "text", {{"name", "climbsim_legs"}, {"data", legs}});
+  tinyxml2::XMLElement* custom = AddElement(mujoco, "custom");
+  AddElement(custom, "text", {{"name", "climbsim_legs"}, {"data", legs}});
+  if (design.pads.foam_m > 0)
+    AddElement(custom, "numeric",
+               {{"name", "climbsim_pad_conform_m"}, {"data", MjcfNumber(generate::PadConformM(design.pads))}});
   tinyxml2::XMLElement* base = generate::AddBase(plan, AddElement(mujoco, "worldbody"));
   for (const generate::Leg& leg : plan.legs) generate::AddLeg(plan, leg, base);
   tinyxml2::XMLElement* actuator = generate::AddActuators(plan, mujoco);

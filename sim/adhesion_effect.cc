@@ -76,6 +76,12 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
                           "the robot declares no legs (custom text climbsim_legs): name the pads");
     }
   }
+  // A soft foam in the legs' pad backing (robot.pads.foam_m) lets their faces follow relief
+  // farther than the adhesive's own reach (mjcf/README.md, climbsim_pad_conform_m).
+  double conform_m = 0.0;
+  if (CustomNumeric(m, "climbsim_pad_conform_m", 1, &conform_m) && !(conform_m >= 0)) {
+    throw ScenarioError(scenario, "robot", "climbsim_pad_conform_m must be >= 0");
+  }
   std::vector<adhesion::PadSpec> specs;
   for (const std::string& name : names) {
     const int body = mj_name2id(m, mjOBJ_BODY, name.c_str());
@@ -88,6 +94,9 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
         throw ScenarioError(scenario, "adhesion.pads", "'" + name + "' given twice");
     }
     adhesion::PadSpec spec{name, PadParamsFrom(params)};
+    if (std::any_of(robot.legs.begin(), robot.legs.end(),
+                    [&](const LegInfo& leg) { return leg.pad_body == body; }))
+      spec.params.contact.contact_gap_m += conform_m;
     double sigma = params.sigma_t_pa;
     std::optional<double> gain = params.gain_n;
     for (const AdhesionPadOverride& o : params.pad_overrides) {

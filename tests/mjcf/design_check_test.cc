@@ -11,6 +11,7 @@
 
 #include "keys/keys.h"
 #include "robot/design.h"
+#include "robot/generate.h"
 #include "robot/mjcf_dom.h"
 #include "tests/mjcf/design_refusal.h"
 
@@ -43,6 +44,33 @@ TEST(DesignCheck, PostShorterThanThePadIsRefused) {
   EXPECT_EQ(Refusal(d).rfind("robot.feet.post_m:", 0), 0u) << Refusal(d);
   d.feet.post_m = d.pads.thickness_m + 0.001;
   EXPECT_EQ(Refusal(d), "");
+}
+
+// The foam lies in the pad's thickness under it the adhesive's 0.5 mm.
+TEST(DesignCheck, FoamLeavingNoRoomForTheAdhesiveIsRefused) {
+  RobotDesign d = PresetDesign("gecko");  // 2 mm pads
+  d.pads.foam_m = 0.0016;
+  EXPECT_EQ(Refusal(d).rfind("robot.pads.foam_m:", 0), 0u) << Refusal(d);
+  d.pads.foam_m = 0.0015;
+  EXPECT_EQ(Refusal(d), "");
+}
+
+// Foam adds its own mass (100 kg/m^3 over the pad's face) and tells adhesion how much more
+// relief the faces follow (half its thickness); no foam leaves the preset's text as it was.
+TEST(DesignCheck, FoamAddsItsMassAndItsConformance) {
+  RobotDesign d = PresetDesign("gecko");
+  d.pads.foam_m = 0.0015;
+  const std::string text = GenerateRobotMjcf(d);
+  EXPECT_NE(text.find("<numeric name=\"climbsim_pad_conform_m\" data=\"0.00075\"/>"),
+            std::string::npos)
+      << text;
+  const double mass_kg = d.pads.mass_kg + 100.0 * d.pads.size_m * d.pads.size_m * 0.0015;
+  EXPECT_NEAR(generate::PadMassKg(d.pads), mass_kg, 1e-15);
+  EXPECT_NE(text.find("mass=\"" + MjcfNumber(mass_kg) + "\""), std::string::npos) << text;
+  const std::string preset = GenerateRobotMjcf(PresetDesign("gecko"));
+  EXPECT_EQ(preset.find("climbsim_pad_conform_m"), std::string::npos);
+  EXPECT_NE(preset.find("mass=\"" + MjcfNumber(PresetDesign("gecko").pads.mass_kg) + "\""),
+            std::string::npos);
 }
 
 // Gecko pads sit 0.09 m apart along x (hips at +-0.045): a 0.09 m pad would touch its

@@ -196,6 +196,7 @@ const std::map<std::string, std::string> kRuleAtBound = {
     {"robot.body.hip_x_m", "pads of neighbouring legs must not overlap (robot.pads.size_m)"},
     {"robot.legs.count", "the scenario's gait is a 4-leg gait (cpg.gait)"},
     {"robot.feet.post_m", "longer than the pad is thick (robot.pads.thickness_m)"},
+    {"robot.pads.foam_m", "leaves the adhesive's 0.5 mm of the pad (robot.pads.thickness_m)"},
     {"robot.legs.coxa_m", "pads of neighbouring legs must not overlap (robot.body.hip_x_m)"},
     {"robot.legs.tibia_inset_m", "pads of neighbouring legs must not overlap (robot.body.hip_x_m)"},
     {"robot.pads.size_m", "pads of neighbouring legs must not overlap (robot.body.hip_x_m)"},
