@@ -52,10 +52,12 @@ bool SurvivesCase(const sim::Scenario& base, const char* family, double magnitud
   return SurvivedRun(hit, calm.distance_m, how);
 }
 
-// The example as it was before the foam behind its pads (robot.pads.foam_m, added last): the
-// cases of the tests below were found and each setting chosen on rigid pads.
-sim::Scenario WithoutFoam(sim::Scenario s) {
+// The example as it was before the foam behind its pads (robot.pads.foam_m) and the spider's
+// firmer first press (reflex.preload.hip_pitch_press_rad 0.1; the gecko's is 0.05), added
+// last: the cases of the tests below were found and each setting chosen without them.
+sim::Scenario BeforeFoamAndFirmPress(sim::Scenario s) {
   s.robot_design->pads.foam_m = 0.0;
+  s.reflex->preload.hip_pitch_press_rad = 0.05;
   return s;
 }
 
@@ -146,7 +148,7 @@ TEST(DesignedExample, SpiderDesignedCrossesTwiceTheBumpsThatDropTheHandDesign) {
 // from a failure lands too fast, and shifting it 10 mm costs the step that decides the case
 // (0.260 m climbed, 0.262 needed; 0.439 m put down in place).
 TEST(DesignedExample, GeckoPutsAFastLandingDownWhereItWas) {
-  sim::Scenario in_place = WithoutFoam(sim::LoadScenario(Source("examples/gecko_designed.yaml")));
+  sim::Scenario in_place = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/gecko_designed.yaml")));
   ASSERT_TRUE(in_place.reflex && !in_place.reflex->regrip.shift_approach_refusals);
   in_place.reflex->regrip.shift_rad = 0.15;
   sim::Scenario shifted = in_place;
@@ -158,7 +160,7 @@ TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
   // The bench's seed case 1 with 1.3 mm bumps (the posture's bench edge is 1.48 mm, 1.08 mm
   // without): with the posture the designed spider climbs at least half its undisturbed
   // distance; without it, it stalls short of that (0.16 of 0.40 m).
-  sim::Scenario with = WithoutFoam(sim::LoadScenario(Source("examples/spider_designed.yaml")));
+  sim::Scenario with = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(with.reflex && with.reflex->gto.posture.enabled);
   // The corner press (added later) carries this case without the posture too, so the case is
   // run as the posture was chosen: without it and the peel's wait for a torn support.
@@ -175,7 +177,7 @@ TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
 // of 0.404 m). With the hold bounded (reflex.spindle.max_hold_s, as in the example) the gait
 // goes on and it climbs more than half (0.212 m).
 TEST(DesignedExample, SpiderBoundedPushHoldLetsTheGaitGoOnAfterPadFailures) {
-  sim::Scenario bounded = sim::LoadScenario(Source("examples/spider_designed.yaml"));
+  sim::Scenario bounded = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(bounded.reflex && bounded.reflex->spindle.max_hold_s > 0.0);
   bounded.seed = 100;
   // The peel's wait for a torn support (added later) carries this case on its own too.
@@ -192,7 +194,7 @@ TEST(DesignedExample, SpiderBoundedPushHoldLetsTheGaitGoOnAfterPadFailures) {
 // harder after each such re-place (reflex.preload.retry_gain, as in the example) it attaches
 // and the spider climbs on.
 TEST(DesignedExample, SpiderPressesACornerLandingHarderAfterPadFailures) {
-  sim::Scenario harder = WithoutFoam(sim::LoadScenario(Source("examples/spider_designed.yaml")));
+  sim::Scenario harder = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(harder.reflex && harder.reflex->preload.retry_gain > 0.0);
   harder.seed = 100;
   sim::Scenario alike = harder;
@@ -207,7 +209,7 @@ TEST(DesignedExample, SpiderPressesACornerLandingHarderAfterPadFailures) {
 // (reflex.peel.wait_for_support, as in the example) the peeling pads carry again and it climbs
 // on.
 TEST(DesignedExample, SpiderPeelWaitsForATornSupportPadOnWeakPatches) {
-  sim::Scenario waits = WithoutFoam(sim::LoadScenario(Source("examples/spider_designed.yaml")));
+  sim::Scenario waits = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(waits.reflex && waits.reflex->peel.wait_for_support);
   waits.seed = 100;
   sim::Scenario goes_on = waits;
@@ -220,6 +222,20 @@ TEST(DesignedExample, SpiderDesignedStandsTwiceThePushDownThatDropsTheHandDesign
   ExpectDesignedSurvivesWhatDropsTheHand("examples/spider_wall.yaml",
                                          "examples/spider_designed.yaml", "push_down",
                                          2 * 0.0707, 0, 2);
+}
+
+// Pad failures on seed case 200 (the bench with --set seed=200, seed 0) at 0.294: L3 and R2
+// lift at t = 0, then L1 fails at 0.03 s and L2 at 0.18 s. L1's re-placed foot lands on its
+// pad's edge; the 0.05 rad press holds it there at about 0.1 N for the preload's 0.2 s, its
+// contacts flickering, so no refusal ever asks for a harder one, and R3 tears at 0.30 s (fell at
+// 0.51 s). The example's 0.1 rad press (reflex.preload.hip_pitch_press_rad) seats it.
+TEST(DesignedExample, SpiderPressesAnEdgeLandingFlatAfterTwoPadFailures) {
+  sim::Scenario firm = sim::LoadScenario(Source("examples/spider_designed.yaml"));
+  ASSERT_TRUE(firm.reflex && firm.reflex->preload.hip_pitch_press_rad >= 0.1);
+  firm.seed = 200;
+  sim::Scenario soft = firm;
+  soft.reflex->preload.hip_pitch_press_rad = 0.05;
+  ExpectOnlyKeptSurvives(firm, soft, "pad_failure", 0.2942727176209282, 0, 0);
 }
 
 }  // namespace
