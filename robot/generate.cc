@@ -321,7 +321,8 @@ std::string GenerateRobotMjcf(const RobotDesign& design) {
   AddElement(custom, "text", {{"name", "climbsim_legs"}, {"data", legs}});
   if (design.pads.foam_m > 0)
     AddElement(custom, "numeric",
-               {{"name", "climbsim_pad_conform_m"}, {"data", MjcfNumber(generate::PadConformM(design.pads))}});
+               {{"name", "climbsim_pad_conform_m"},
+                {"data", MjcfNumber(generate::PadConformM(design.pads))}});
   tinyxml2::XMLElement* base = generate::AddBase(plan, AddElement(mujoco, "worldbody"));
   for (const generate::Leg& leg : plan.legs) generate::AddLeg(plan, leg, base);
   tinyxml2::XMLElement* actuator = generate::AddActuators(plan, mujoco);

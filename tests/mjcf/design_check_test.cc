@@ -46,7 +46,7 @@ TEST(DesignCheck, PostShorterThanThePadIsRefused) {
   EXPECT_EQ(Refusal(d), "");
 }
 
-// The foam lies in the pad's thickness under it the adhesive's 0.5 mm.
+// The foam lies inside the pad's thickness and leaves the adhesive its 0.5 mm.
 TEST(DesignCheck, FoamLeavingNoRoomForTheAdhesiveIsRefused) {
   RobotDesign d = PresetDesign("gecko");  // 2 mm pads
   d.pads.foam_m = 0.0016;

@@ -93,8 +93,7 @@ void ExpectDesignedCarriesGravityThatStopsTheHand(const char* hand_file, const c
     sim::Scenario heavy = calm;
     heavy.scene.gravity_m_s2 = g_m_s2;
     std::string how;
-    const bool survived =
-        SurvivedRun(RunScenario(heavy), RunScenario(calm).distance_m, &how);
+    const bool survived = SurvivedRun(RunScenario(heavy), RunScenario(calm).distance_m, &how);
     EXPECT_EQ(survived, file == designed_file) << file << ": " << how;
   }
 }
@@ -138,8 +137,8 @@ TEST(DesignedExample, SpiderDesignedCrossesTwiceTheBumpsThatDropTheHandDesign) {
   // Seed case 1, the spider's hardest, at twice the hand design's edge (0.948 mm); the designed
   // spider's is 2.32 mm with the foam behind its pads, 1.48 mm without.
   ExpectDesignedSurvivesWhatDropsTheHand("examples/spider_wall.yaml",
-                                         "examples/spider_designed.yaml", "roughness",
-                                         2 * 0.000948, 1, 0);
+                                         "examples/spider_designed.yaml", "roughness", 2 * 0.000948,
+                                         1, 0);
 }
 
 // A landing refused for its approach, put down where it was (reflex.regrip.
@@ -148,7 +147,8 @@ TEST(DesignedExample, SpiderDesignedCrossesTwiceTheBumpsThatDropTheHandDesign) {
 // from a failure lands too fast, and shifting it 10 mm costs the step that decides the case
 // (0.260 m climbed, 0.262 needed; 0.439 m put down in place).
 TEST(DesignedExample, GeckoPutsAFastLandingDownWhereItWas) {
-  sim::Scenario in_place = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/gecko_designed.yaml")));
+  sim::Scenario in_place =
+      BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/gecko_designed.yaml")));
   ASSERT_TRUE(in_place.reflex && !in_place.reflex->regrip.shift_approach_refusals);
   in_place.reflex->regrip.shift_rad = 0.15;
   sim::Scenario shifted = in_place;
@@ -160,7 +160,8 @@ TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
   // The bench's seed case 1 with 1.3 mm bumps (the posture's bench edge is 1.48 mm, 1.08 mm
   // without): with the posture the designed spider climbs at least half its undisturbed
   // distance; without it, it stalls short of that (0.16 of 0.40 m).
-  sim::Scenario with = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
+  sim::Scenario with =
+      BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(with.reflex && with.reflex->gto.posture.enabled);
   // The corner press (added later) carries this case without the posture too, so the case is
   // run as the posture was chosen: without it and the peel's wait for a torn support.
@@ -177,7 +178,8 @@ TEST(DesignedExample, SpiderPostureCarriesItOverBumpsWhereItStallsWithout) {
 // of 0.404 m). With the hold bounded (reflex.spindle.max_hold_s, as in the example) the gait
 // goes on and it climbs more than half (0.212 m).
 TEST(DesignedExample, SpiderBoundedPushHoldLetsTheGaitGoOnAfterPadFailures) {
-  sim::Scenario bounded = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
+  sim::Scenario bounded =
+      BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(bounded.reflex && bounded.reflex->spindle.max_hold_s > 0.0);
   bounded.seed = 100;
   // The peel's wait for a torn support (added later) carries this case on its own too.
@@ -194,7 +196,8 @@ TEST(DesignedExample, SpiderBoundedPushHoldLetsTheGaitGoOnAfterPadFailures) {
 // harder after each such re-place (reflex.preload.retry_gain, as in the example) it attaches
 // and the spider climbs on.
 TEST(DesignedExample, SpiderPressesACornerLandingHarderAfterPadFailures) {
-  sim::Scenario harder = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
+  sim::Scenario harder =
+      BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(harder.reflex && harder.reflex->preload.retry_gain > 0.0);
   harder.seed = 100;
   sim::Scenario alike = harder;
@@ -209,7 +212,8 @@ TEST(DesignedExample, SpiderPressesACornerLandingHarderAfterPadFailures) {
 // (reflex.peel.wait_for_support, as in the example) the peeling pads carry again and it climbs
 // on.
 TEST(DesignedExample, SpiderPeelWaitsForATornSupportPadOnWeakPatches) {
-  sim::Scenario waits = BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
+  sim::Scenario waits =
+      BeforeFoamAndFirmPress(sim::LoadScenario(Source("examples/spider_designed.yaml")));
   ASSERT_TRUE(waits.reflex && waits.reflex->peel.wait_for_support);
   waits.seed = 100;
   sim::Scenario goes_on = waits;
@@ -219,9 +223,8 @@ TEST(DesignedExample, SpiderPeelWaitsForATornSupportPadOnWeakPatches) {
 
 TEST(DesignedExample, SpiderDesignedStandsTwiceThePushDownThatDropsTheHandDesign) {
   // Seed case 0, third push phase; the hand design's edge is 0.0707 N s.
-  ExpectDesignedSurvivesWhatDropsTheHand("examples/spider_wall.yaml",
-                                         "examples/spider_designed.yaml", "push_down",
-                                         2 * 0.0707, 0, 2);
+  ExpectDesignedSurvivesWhatDropsTheHand(
+      "examples/spider_wall.yaml", "examples/spider_designed.yaml", "push_down", 2 * 0.0707, 0, 2);
 }
 
 // Pad failures on seed case 200 (the bench with --set seed=200, seed 0) at 0.294: L3 and R2
