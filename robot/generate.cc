@@ -25,6 +25,10 @@ constexpr double kFoamDensity_kg_per_m3 = 100.0;
 constexpr double kFoamConformShare = 0.5;
 constexpr double kAdhesiveFilm_m = 0.0005;
 
+// How far beyond adhesion.contact_gap_m the face follows relief: the robot file's custom
+// numeric climbsim_pad_conform_m (mjcf/README.md).
+double PadConformM(const PadsDesign& pads) { return kFoamConformShare * pads.foam_m; }
+
 const ServoModel* Servo(const std::string& key, const std::string& name) {
   const ServoModel* s = FindServo(name);
   if (!s)
@@ -162,8 +166,6 @@ void CheckRange(const std::string& key, const std::vector<double>& range) {
 double PadMassKg(const PadsDesign& pads) {
   return pads.mass_kg + kFoamDensity_kg_per_m3 * pads.size_m * pads.size_m * pads.foam_m;
 }
-
-double PadConformM(const PadsDesign& pads) { return kFoamConformShare * pads.foam_m; }
 
 void CheckGeometry(const Plan& p) {
   const RobotDesign& d = *p.design;

@@ -53,10 +53,8 @@ Plan MakePlan(const RobotDesign& design);
 // post no longer than the pad is thick, a body plate at or below the pads, a joint range
 // without 0 inside it.
 void CheckGeometry(const Plan& plan);
-// A pad's mass with its foam (pads.foam_m), and how far beyond adhesion.contact_gap_m its face
-// follows the surface's relief: the custom numeric climbsim_pad_conform_m (mjcf/README.md).
+// A pad's mass with its foam (pads.foam_m, 100 kg/m^3).
 double PadMassKg(const PadsDesign& pads);
-double PadConformM(const PadsDesign& pads);
 
 // <default>: the robot's classes; returns the robot's top class.
 tinyxml2::XMLElement* AddDefaults(const Plan& plan, tinyxml2::XMLElement* mujoco);
