@@ -16,6 +16,7 @@
 #include "scenario/scenario.h"
 #include "sim/servo_margin.h"
 #include "tests/common/run_scenario.h"
+#include "tests/common/survives_case.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::optimise {
@@ -23,6 +24,7 @@ namespace {
 
 using climbsim::testing::RunScenario;
 using climbsim::testing::Source;
+using climbsim::testing::SurvivesCase;
 
 // Buildable (at most 30 % heavier, no servo over its rating) and at least `speedup` times the
 // hand design's distance in its 20 s run, without a fall.
@@ -40,16 +42,6 @@ void ExpectBuildableAndFaster(const char* hand_file, const char* designed_file, 
   EXPECT_FALSE(d.fell) << "fell at " << d.fall_time_s << " s";
   EXPECT_FALSE(h.fell);
   EXPECT_GE(d.distance_m, speedup * h.distance_m) << d.distance_m << " m against " << h.distance_m;
-}
-
-// Whether `base` survives `family` at `magnitude` on seed case `seed`, push phase `phase` (the
-// bench's rule: against the same case undisturbed); `how` says why not.
-bool SurvivesCase(const sim::Scenario& base, const char* family, double magnitude, int seed,
-                  int phase, std::string* how) {
-  const DisturbanceSetup u = MakeDisturbanceSetup(base, RobustnessOptions{});
-  const sim::RunResult calm = RunScenario(DisturbanceCase(u, family, 0.0, 0, seed, phase));
-  const sim::RunResult hit = RunScenario(DisturbanceCase(u, family, magnitude, 0, seed, phase));
-  return SurvivedRun(hit, calm.distance_m, how);
 }
 
 // The example as it was before the foam behind its pads (robot.pads.foam_m) and the spider's

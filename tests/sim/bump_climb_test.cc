@@ -11,6 +11,7 @@
 #include "optimise/disturbance.h"
 #include "sim/sim.h"
 #include "tests/common/run_scenario.h"
+#include "tests/common/survives_case.h"
 #include "tests/common/test_util.h"
 
 namespace climbsim::sim {
@@ -18,6 +19,7 @@ namespace {
 
 using climbsim::testing::RunScenario;
 using climbsim::testing::Source;
+using climbsim::testing::SurvivesCase;
 
 RunResult RunBumpCase(double min_touched_share, std::string* events) {
   Scenario base = LoadScenario(Source("examples/gecko_wall.yaml"));
@@ -50,17 +52,9 @@ TEST(RoughClimb, FoamedPadsClimbBumpsWhereRigidOnesFell) {
   ASSERT_EQ(foam.robot_design->pads.foam_m, 0.0015);
   Scenario rigid = foam;
   rigid.robot_design->pads.foam_m = 0.0;
-  // The bench's rule: survived when stable, not fallen, and at least half the same seed's
-  // undisturbed climb.
-  auto survives = [](const Scenario& base, std::string* how) {
-    const optimise::DisturbanceSetup u = optimise::MakeDisturbanceSetup(base, {});
-    const double baseline_m = RunScenario(optimise::DisturbanceCase(u, "", 0, 0, 2, 0)).distance_m;
-    const RunResult r = RunScenario(optimise::DisturbanceCase(u, "roughness", 0.0014835, 0, 2, 0));
-    return optimise::SurvivedRun(r, baseline_m, how);
-  };
   std::string how;
-  EXPECT_FALSE(survives(rigid, &how)) << "rigid pads";
-  EXPECT_TRUE(survives(foam, &how)) << how;
+  EXPECT_FALSE(SurvivesCase(rigid, "roughness", 0.0014835, 2, 0, &how)) << "rigid pads";
+  EXPECT_TRUE(SurvivesCase(foam, "roughness", 0.0014835, 2, 0, &how)) << how;
 }
 
 }  // namespace
