@@ -177,7 +177,8 @@ struct PeelParams {
              &release_load_n);
     a->Visit({"wait_for_support", "",
               "while a support leg's pad is not attached, a peeling pad is not unloaded or let "
-              "go, and its time limit waits"},
+              "go, its time limit waits, and the support leg searches again if its search ran "
+              "out"},
              &wait_for_support);
     a->Visit({"against_grip", "",
               "directional pads (adhesion.law frictional): the hip yaw moves each foot against "

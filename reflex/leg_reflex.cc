@@ -178,14 +178,20 @@ Eigen::Vector3d LegReflex::Search(const Sensed& in, LegReflexOutput* out) {
       Emit(out, LegEventType::kSearchEnd, LegEventReason::kFound);
     } else if (st.search_samples >= p.max_attempts * search_attempt_samples_) {
       st.searching = false;
+      st.search_ran_out = true;
       Emit(out, LegEventType::kSearchEnd, LegEventReason::kAttemptsExhausted);
       StartSearchRelease();
     }
   }
-  const bool start = in.stance_onset || st.search_after_replace;
+  if (in.stance_onset) st.search_ran_out = false;
+  // A leg that gave up while a peel waits for its pad searches again: the body that the other
+  // pads hold may since have come nearer the surface, and giving up would stall the gait.
+  const bool again = st.search_ran_out && sensing.waited_on;
+  const bool start = in.stance_onset || st.search_after_replace || again;
   st.search_after_replace = false;
   if (p.enabled && start && in.stance && !sensing.touching && !sensing.attached) {
     st.searching = true;
+    st.search_ran_out = false;
     st.search_samples = 0;
     st.search_holding = false;
     st.search_release_left = 0;

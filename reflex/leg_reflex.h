@@ -37,6 +37,9 @@ struct LegSensing {
   Eigen::Vector3d stretch_rad = Eigen::Vector3d::Zero();
   Eigen::Vector3d stretch_velocity_rad_per_s = Eigen::Vector3d::Zero();
   bool partner_attached = true;  // the partner leg's pad is attached
+  // A peel with wait_for_support waits for this leg's pad (it is not attached): a search that
+  // ran out in this stance starts again.
+  bool waited_on = false;
   double utilisation = 0.0;       // the pad's peak bond demand / threshold, >= 0 (1 breaks)
   double support_utilisation = 0.0;  // the largest utilisation among the support legs' pads
 };
@@ -144,6 +147,7 @@ struct LegReflexState {
   bool search_holding = false;
   int search_release_left = 0;
   bool search_after_replace = false;  // a re-place put the foot down on nothing: search next
+  bool search_ran_out = false;  // a search ran out of attempts in this stance
   bool peeling = false;
   bool released = false;  // an active release let the pad go in this swing
   int peel_samples = 0;                              // periods since the swing onset

@@ -42,6 +42,11 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
   period_steps_ = static_cast<int>(std::lround(dt / world.model()->opt.timestep));
   CheckScenario(scenario, world, cpg, dt);
   BuildLegs(world, dt);
+  supported_.assign(legs_.size(), {});
+  for (size_t j = 0; j < support_.size(); ++j) {
+    for (int i : support_[j]) supported_[i].push_back(static_cast<int>(j));
+  }
+  waited_on_.assign(legs_.size(), 0);
   if (SharingOn()) BuildSharing(world, dt);
   if (params.PostureOn()) {
     posture_.emplace(params.gto.posture, dt);
@@ -441,7 +446,20 @@ reflex::LegSensing ReflexEffect::SenseLeg(const World& world, std::vector<LegSig
     in.partner_attached &= signals[j].attached;
     in.support_utilisation = std::max(in.support_utilisation, signals[j].utilisation);
   }
+  in.waited_on = waited_on_[i] != 0;
   return in;
+}
+
+// Legs whose pad a peel waits for (peel.wait_for_support), from every leg's last period, so
+// that the order in which the legs are updated does not matter.
+void ReflexEffect::MarkWaitedOn(const std::vector<LegSignals>& signals) {
+  for (size_t i = 0; i < legs_.size(); ++i) {
+    waited_on_[i] = 0;
+    if (signals[i].attached) continue;
+    for (int j : supported_[i]) {
+      if (signals[j].hold_phase && legs_[j].params().peel.wait_for_support) waited_on_[i] = 1;
+    }
+  }
 }
 
 // Leg i's answer into its signals (its servos' stiffness among them) and its pad's release and
@@ -515,6 +533,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
   std::vector<LegSignals>& signals = *ctx.legs;
   bool hold_all = false;
+  MarkWaitedOn(signals);
   for (size_t i = 0; i < legs_.size(); ++i) {
     const reflex::LegReflexOutput out = legs_[i].Update(SenseLeg(world, signals, i));
     ApplyLeg(signals[i], i, out);

@@ -53,6 +53,8 @@ class ReflexEffect final : public Effect {
   ReflexParams params_;
   AdhesionEffect* adhesion_;
   std::vector<std::vector<int>> support_;
+  std::vector<std::vector<int>> supported_;  // per leg, the legs it supports (support_ inverted)
+  std::vector<char> waited_on_;  // per leg: a peel waits for its pad (MarkWaitedOn)
   std::vector<int> event_pad_;
   std::vector<reflex::LegReflex> legs_;
   std::vector<std::array<long, reflex::kMaxLegEvents>> counts_;  // per leg, per LegEventType
@@ -76,6 +78,7 @@ class ReflexEffect final : public Effect {
   // The gradient of leg i's pad utilisation with respect to the force the leg puts on the pad
   // at its ankle, world frame; false when the pad is not attached or it is not defined.
   bool UtilisationGradientWorld(const World& world, int leg, Eigen::Vector3d* grad) const;
+  void MarkWaitedOn(const std::vector<LegSignals>& signals);
   // Runs the load sharing: each leg's Δq = Kp⁻¹·Jᵀ·λ into share_offset_.
   void ShareLoad(World& world, std::vector<LegSignals>& signals);
 

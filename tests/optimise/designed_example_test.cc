@@ -233,5 +233,19 @@ TEST(DesignedExample, SpiderPressesAnEdgeLandingFlatAfterTwoPadFailures) {
   ExpectOnlyKeptSurvives(firm, soft, "pad_failure", 0.2942727176209282, 0, 0);
 }
 
+// Weak patches on seed case 300 (the bench with --set seed=300, seed 0) at 0.730, twice the
+// hand design's 0.351 there: L2's pad tears on a weak cell while R2 peels, and R2's peel waits
+// for it (peel.wait_for_support). L2's search runs out at 5.8 s with the body held off the wall;
+// giving up stalled the gait from 5.0 s (0.172 of 0.2025 m). Searching again while R2 waits
+// finds the wall at 6.25 s as the body settles, and the spider climbs on.
+TEST(DesignedExample, SpiderSearchesAgainForAPadThatAWaitingPeelNeeds) {
+  sim::Scenario designed = sim::LoadScenario(Source("examples/spider_designed.yaml"));
+  ASSERT_TRUE(designed.reflex && designed.reflex->peel.wait_for_support);
+  designed.seed = 300;
+  sim::Scenario hand = sim::LoadScenario(Source("examples/spider_wall.yaml"));
+  hand.seed = 300;
+  ExpectOnlyKeptSurvives(designed, hand, "weak_patch", 0.7298677317324983, 0, 0);
+}
+
 }  // namespace
 }  // namespace climbsim::optimise

@@ -246,6 +246,30 @@ TEST(ReflexSearch, SwingOnsetAbortsTheSearch) {
   EXPECT_EQ(rec.events(), (Events{At(1, E::kSearchStart), At(5, E::kSearchEnd, R::kSwingStarted)}));
 }
 
+// A search that ran out while a peel waits for this pad starts again at once, and again; one
+// that ran out with nobody waiting stays given up; a new stance clears the given-up search.
+TEST(ReflexSearch, RunsAgainWhileAPeelWaitsForThePad) {
+  LegSensing waited = Stance();
+  waited.waited_on = true;
+  LegReflex leg(SearchOnly(), kDt);
+  Recorder rec(&leg);
+  rec.Step(Swing());         // #0
+  rec.Repeat(Stance(), 30);  // #1..#30: m = 0..29, nobody waits
+  rec.Repeat(Stance(), 10);  // #31..#40: ran out at #31, stays given up
+  rec.Step(waited);          // #41: a peel now waits: a second search
+  rec.Repeat(waited, 29);    // #42..#70
+  rec.Step(waited);          // #71: out again, and a third at once
+  // The second search reached as the first did.
+  EXPECT_TRUE(rec.output(70).target_offset_rad.isApprox(SearchOffset(SearchOnly().search, 29),
+                                                        1e-12));
+  EXPECT_FALSE(rec.output(70).target_offset_rad.isZero(1e-6));
+  rec.Repeat(Touching(waited), 1);  // #72: found
+  EXPECT_EQ(rec.events(),
+            (Events{At(1, E::kSearchStart), At(31, E::kSearchEnd, R::kAttemptsExhausted),
+                    At(41, E::kSearchStart), At(71, E::kSearchEnd, R::kAttemptsExhausted),
+                    At(71, E::kSearchStart), At(72, E::kSearchEnd, R::kFound)}));
+}
+
 TEST(ReflexSearch, SilentWhenTouchingAtStanceOnsetOrSwitchedOff) {
   {
     LegReflex leg(SearchOnly(), kDt);
