@@ -38,6 +38,11 @@ struct PreloadParams {
   // bump's top, which no press widens) does not count. 0: every press alike.
   double retry_gain = 0.0;
   double retry_max_scale = 3.0;
+  // A pad bonds only while it is not pulled (adhesion/README.md). A support pad that lands with
+  // fewer bonds than cpg.support_bond_fraction asks and is pulled at once never gets there, and
+  // cpg.wait_for_support then holds the gait for good. With this, such a pad, attached in
+  // stance while the gait waits for it, is pressed as at touchdown until it has bonded.
+  bool press_awaited_bond = false;
   template <class A>
   void Serialize(A* a) {
     a->Visit(
@@ -66,6 +71,10 @@ struct PreloadParams {
              &retry_gain);
     a->Visit({"retry_max_scale", "", "cap on that press scale", Range::Closed(1.0, 100.0)},
              &retry_max_scale);
+    a->Visit({"press_awaited_bond", "",
+              "press an attached stance pad that cpg.wait_for_support waits for to bond (a pulled "
+              "pad does not grow its bonds, and the gait would wait for good)"},
+             &press_awaited_bond);
   }
 };
 

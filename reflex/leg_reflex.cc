@@ -368,11 +368,15 @@ Eigen::Vector3d LegReflex::Preload(const Sensed& in, LegReflexOutput* out) {
   const PreloadParams& p = params_.preload;
   // A re-placed foot is pressed when it comes down, not while it still leaves the surface.
   const bool replacing = st.replace_left > 0 && !st.replace_lifted;
-  if (p.enabled && in.touchdown && !in.raw->attached && !st.preloading && !replacing) {
+  const bool touchdown = in.touchdown && !in.raw->attached;
+  // A pad already pressed to the force limit is bonding: no new press until it is not.
+  const bool awaited = p.press_awaited_bond && in.stance && in.raw->attached &&
+                       in.raw->bond_awaited && in.preload_n < p.force_limit_n;
+  if (p.enabled && (touchdown || awaited) && !st.preloading && !replacing) {
     st.preloading = true;
     st.preload_samples = 0;
-    st.preload_trigger = LegEventReason::kTouchdown;
-    Emit(out, LegEventType::kPreloadStart, LegEventReason::kTouchdown);
+    st.preload_trigger = touchdown ? LegEventReason::kTouchdown : LegEventReason::kBondAwaited;
+    Emit(out, LegEventType::kPreloadStart, st.preload_trigger);
   }
   if (!st.preloading) {
     // The press fades linearly after the preload ends (release_s).
@@ -617,6 +621,8 @@ std::string_view ReasonName(LegEventReason reason) {
       return "touchdown";
     case LegEventReason::kRegrip:
       return "regrip";
+    case LegEventReason::kBondAwaited:
+      return "bond_awaited";
     case LegEventReason::kAttached:
       return "attached";
     case LegEventReason::kForceLimit:

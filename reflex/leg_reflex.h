@@ -40,6 +40,9 @@ struct LegSensing {
   // A peel with wait_for_support waits for this leg's pad (it is not attached): a search that
   // ran out in this stance starts again.
   bool waited_on = false;
+  // The gait waits for this attached pad to bond (cpg.wait_for_support, below its
+  // support_bond_fraction).
+  bool bond_awaited = false;
   double utilisation = 0.0;       // the pad's peak bond demand / threshold, >= 0 (1 breaks)
   double support_utilisation = 0.0;  // the largest utilisation among the support legs' pads
 };
@@ -74,6 +77,7 @@ enum class LegEventReason : uint8_t {
   kPushed,             // spindle: stretch beyond the stance band on an attached leg
   kStumble,            // spindle: stretch beyond the swing threshold on a free swing leg
   kPartialContact,     // regrip: a landing touching too little of its face is re-placed
+  kBondAwaited,        // preload_start: the gait waits for this attached pad to bond
 };
 
 enum class Reflex : uint8_t {

@@ -49,6 +49,12 @@ class CpgEffect final : public Effect {
   // The parameters as resolved (gait name, duty factor, joint-space defaults filled in).
   const CpgParams& resolved() const { return params_; }
   const cpg::OscillatorNetwork& network() const { return *network_; }
+  // The leg whose attached pad wait_for_support holds the gait for at the last tick (it has not
+  // bonded support_bond_fraction), or -1.
+  int awaited_bond_leg() const {
+    const bool waiting = hold_since_s_ >= 0.0 && hold_.cause == HoldCause::kWaitForSupport;
+    return waiting && hold_.attached ? hold_.leg : -1;
+  }
   // Legs that must be attached before leg i may swing (wait_for_support).
   const std::vector<std::vector<int>>& support() const { return support_; }
   double control_period_s() const { return period_s_; }

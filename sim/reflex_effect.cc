@@ -36,6 +36,7 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
                            std::vector<int> event_pad)
     : params_(params),
       adhesion_(adhesion),
+      cpg_(&cpg),
       support_(cpg.support()),
       event_pad_(std::move(event_pad)) {
   const double dt = cpg.control_period_s();
@@ -447,6 +448,7 @@ reflex::LegSensing ReflexEffect::SenseLeg(const World& world, std::vector<LegSig
     in.support_utilisation = std::max(in.support_utilisation, signals[j].utilisation);
   }
   in.waited_on = waited_on_[i] != 0;
+  in.bond_awaited = static_cast<int>(i) == cpg_->awaited_bond_leg();
   return in;
 }
 

@@ -52,6 +52,7 @@ class ReflexEffect final : public Effect {
  private:
   ReflexParams params_;
   AdhesionEffect* adhesion_;
+  const CpgEffect* cpg_;  // owned beside this by the controller: its wait's awaited pad
   std::vector<std::vector<int>> support_;
   std::vector<std::vector<int>> supported_;  // per leg, the legs it supports (support_ inverted)
   std::vector<char> waited_on_;  // per leg: a peel waits for its pad (MarkWaitedOn)

@@ -118,6 +118,39 @@ TEST(ReflexPreload, TimeLimitEndsThePressAfterExactlyMaxDuration) {
   }
 }
 
+// press_awaited_bond: an attached stance pad that the gait waits for is pressed as at touchdown
+// (the same ramp and limits), again each time a press ends while the wait lasts; without the
+// key, or once the wait ends, nothing.
+TEST(ReflexPreload, PressesAnAttachedPadTheGaitWaitsForToBond) {
+  LegSensing awaited = Attached(Stance(), 0.8);
+  awaited.bond_awaited = true;
+  awaited.preload_n = 0.5;
+  for (const bool on : {false, true}) {
+    LegReflexParams p = PreloadOnly();
+    p.preload.press_awaited_bond = on;
+    LegReflex leg(p, kDt);
+    Recorder rec(&leg);
+    rec.Step(Swing());                   // #0
+    rec.Repeat(Attached(Stance()), 2);   // #1..#2: attached, nobody waits
+    rec.Repeat(awaited, 3);              // #3..#5: the ramp, 1/5 .. 3/5 of full
+    LegSensing pressed = awaited;
+    pressed.preload_n = 1.0;             // the force limit
+    rec.Step(pressed);                   // #6: ends
+    rec.Step(awaited);                   // #7: the wait goes on: pressed again
+    rec.Repeat(Attached(Stance()), 25);  // #8..#32: bonded, the wait over; time limit at #27
+    if (!on) {
+      EXPECT_TRUE(rec.events().empty());
+      continue;
+    }
+    EXPECT_NEAR(rec.output(5).target_offset_rad[kHipPitch], -0.15 * 3 / 5, 1e-12);
+    EXPECT_TRUE(rec.output(5).hold_stance);
+    EXPECT_EQ(rec.events(), (Events{At(3, E::kPreloadStart, R::kBondAwaited),
+                                    At(6, E::kPreloadEnd, R::kForceLimit),
+                                    At(7, E::kPreloadStart, R::kBondAwaited),
+                                    At(27, E::kPreloadEnd, R::kTimeLimit)}));
+  }
+}
+
 TEST(ReflexPreload, SwingOnsetAbortsThePress) {
   LegReflex leg(PreloadOnly(), kDt);
   Recorder rec(&leg);

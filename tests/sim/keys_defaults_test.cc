@@ -104,6 +104,7 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.preload.release_s", Text(leg.preload.release_s)},
       {"reflex.preload.retry_gain", Text(leg.preload.retry_gain)},
       {"reflex.preload.retry_max_scale", Text(leg.preload.retry_max_scale)},
+      {"reflex.preload.press_awaited_bond", Text(leg.preload.press_awaited_bond)},
       {"reflex.search.enabled", Text(leg.search.enabled)},
       {"reflex.search.reach_yaw_rad", Text(leg.search.reach_yaw_rad)},
       {"reflex.search.reach_pitch_rad", Text(leg.search.reach_pitch_rad)},
