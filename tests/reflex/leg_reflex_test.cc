@@ -280,7 +280,7 @@ TEST(ReflexSearch, SwingOnsetAbortsTheSearch) {
 }
 
 // A search that ran out while a peel waits for this pad starts again at once, and again; one
-// that ran out with nobody waiting stays given up; a new stance clears the given-up search.
+// that ran out with nobody waiting stays given up.
 TEST(ReflexSearch, RunsAgainWhileAPeelWaitsForThePad) {
   LegSensing waited = Stance();
   waited.waited_on = true;
