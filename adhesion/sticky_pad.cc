@@ -20,9 +20,9 @@ struct FailedCondition {
   bool final = false;        // a failure of the approach cannot improve in this episode
 };
 
-FailedCondition FirstFailedCondition(const AttachParams& a, double touchdown_speed_mps,
-                                     double touchdown_angle_deg, const ContactSense& sense,
-                                     PadCounts* counts) {
+FailedCondition FirstFailedCondition(const AttachParams& a, bool count_contacts,
+                                     double touchdown_speed_mps, double touchdown_angle_deg,
+                                     const ContactSense& sense, PadCounts* counts) {
   FailedCondition f;
   if (touchdown_speed_mps > a.max_approach_speed_mps) {
     f.cause = PadCause::kApproachSpeed, f.value = touchdown_speed_mps, f.final = true;
@@ -30,7 +30,7 @@ FailedCondition FirstFailedCondition(const AttachParams& a, double touchdown_spe
   } else if (touchdown_angle_deg > a.max_approach_angle_deg) {
     f.cause = PadCause::kApproachAngle, f.value = touchdown_angle_deg, f.final = true;
     f.rejected = &counts->rejected_approach_angle;
-  } else if (sense.contacts < a.min_contacts) {
+  } else if (count_contacts && sense.contacts < a.min_contacts) {
     f.cause = PadCause::kContacts, f.value = sense.contacts;
     f.rejected = &counts->rejected_contacts;
   } else if (sense.preload_n < a.min_preload_n) {
@@ -253,8 +253,10 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
 
   const AttachParams& a = params_.attach;
-  FailedCondition failed = FirstFailedCondition(a, touchdown_speed_mps_,
-                                                      touchdown_angle_deg_, sense_, &counts_);
+  // A conforming face is seated by its touched share (condition 5), which then always runs.
+  const bool conforms = params_.conform_m > 0.0 && params_.contact.partial_contact;
+  FailedCondition failed = FirstFailedCondition(a, !conforms, touchdown_speed_mps_,
+                                                touchdown_angle_deg_, sense_, &counts_);
   if (failed.cause == PadCause::kNone) {
     const double share = LandingContactShare(m, d, kinematics_current);
     if (share >= params_.contact.min_contact_share) {

@@ -95,8 +95,10 @@ std::vector<adhesion::PadSpec> AdhesionPadSpecs(const Scenario& scenario,
     }
     adhesion::PadSpec spec{name, PadParamsFrom(params)};
     if (std::any_of(robot.legs.begin(), robot.legs.end(),
-                    [&](const LegInfo& leg) { return leg.pad_body == body; }))
+                    [&](const LegInfo& leg) { return leg.pad_body == body; })) {
       spec.params.contact.contact_gap_m += conform_m;
+      spec.params.conform_m = conform_m;
+    }
     double sigma = params.sigma_t_pa;
     std::optional<double> gain = params.gain_n;
     for (const AdhesionPadOverride& o : params.pad_overrides) {

@@ -2,7 +2,8 @@
 // The touched set against known geometry (a step, a tilt, a hollow, a stand-off), the bond
 // grid's touching set, and pull-offs in the MuJoCo rig against closed forms: a pad over a
 // step edge holds the touched share of σ_T·A, a pad over a hollow its rim's share, a flat pad
-// exactly what it held without partial contact.
+// exactly what it held without partial contact; a landing on too little of a step rejected by
+// its touched share, and a foam-backed face seated by that share on a rock summit.
 //
 // Error budget of the rig's pull-offs: the ramp rises by σ_T·A·Δt/ramp_time_s per step
 // (5·10⁻⁴ of σ_T·A) and the recorded force is the first step's that lets go; 2·10⁻³ of σ_T·A
@@ -413,7 +414,7 @@ struct Landing {
   double bonded_fraction = 0.0;
   bool attached = false;
 };
-Landing LandOnStep(double edge_m, double min_contact_share = 0.5) {
+Landing LandOn(const std::string& surface, double min_contact_share, double conform_m) {
   struct Sink : PadEventSink {
     void OnPadEvent(int, const PadEvent& e) override { events.push_back(e); }
     std::vector<PadEvent> events;
@@ -423,10 +424,12 @@ Landing LandOnStep(double edge_m, double min_contact_share = 0.5) {
   spec.params.bonds.grid_x = spec.params.bonds.grid_y = kGrid;
   spec.params.attach.initial_fraction = 1.0;
   spec.params.contact.min_contact_share = min_contact_share;
+  spec.params.contact.contact_gap_m += conform_m;  // as the simulator sets up a foam
+  spec.params.conform_m = conform_m;
   const AdhesionMjcfText weld = AdhesionMjcf({spec}, kDefaultWeldSolref);
   std::ostringstream x;
   x << "<mujoco>\n  <option timestep=\"0.001\"/>\n  <worldbody>\n    <body name=\"surface\">\n"
-    << Step(edge_m) << "    </body>\n    <body name=\"pad\" pos=\"0 0 0.0015\">\n"
+    << surface << "    </body>\n    <body name=\"pad\" pos=\"0 0 0.0015\">\n"
     << "      <joint name=\"drop\" type=\"slide\" axis=\"0 0 1\"/>\n"
     << "      <geom type=\"box\" size=\"" << 0.5 * kPad << " " << 0.5 * kPad
     << " 0.001\" mass=\"0.005\"/>\n    </body>\n  </worldbody>\n  <equality>\n"
@@ -452,6 +455,10 @@ Landing LandOnStep(double edge_m, double min_contact_share = 0.5) {
   return l;
 }
 
+Landing LandOnStep(double edge_m, double min_contact_share = 0.5) {
+  return LandOn(Step(edge_m), min_contact_share, 0.0);
+}
+
 TEST(PartialContactLanding, PadLandingOnTooLittleOfAStepIsRejectedByItsContactShare) {
   const double cell = kPad / kGrid;
   const Landing over = LandOnStep(4 * cell);  // 12 of 16 columns on the upper level
@@ -474,6 +481,37 @@ TEST(PartialContactLanding, PadLandingOnTooLittleOfAStepIsRejectedByItsContactSh
   const Landing any = LandOnStep(-4 * cell, 0.0);
   ASSERT_TRUE(any.attached);
   EXPECT_NEAR(any.bonded_fraction, off.events[1].cause_value, 1e-12);
+}
+
+// Rock under a foam-backed pad: one summit (an ellipsoid of 1 mm radius under the pad's centre,
+// its top at z = 0) over a plane `floor_m` below it. The rigid box rests on the summit with fewer
+// than 3 contacts: condition 3 rejects it (cause contacts) at the end of the attach window,
+// however close the plane. A face that conforms 1 mm further (conform_m, contact_gap_m 0.5 →
+// 1.5 mm) is seated by its touched share instead: over a plane 1 mm down every cell reaches the
+// surface and the pad attaches with all of them bonded, on the same contacts.
+std::string Summit(double floor_m) {
+  std::ostringstream s;
+  s << "      <geom type=\"ellipsoid\" size=\"0.001 0.001 0.001\" pos=\"0 0 -0.001\"/>\n"
+    << "      <geom type=\"plane\" pos=\"0 0 " << -floor_m << "\" size=\"1 1 0.1\"/>\n";
+  return s.str();
+}
+
+TEST(PartialContactLanding, AConformingFaceIsSeatedByItsTouchedShareNotItsContactCount) {
+  const Landing rigid = LandOn(Summit(0.001), 0.5, 0.0);
+  EXPECT_FALSE(rigid.attached);
+  ASSERT_EQ(rigid.events.size(), 2u);
+  EXPECT_EQ(rigid.events[1].kind, PadEventKind::kAttachRejected);
+  EXPECT_EQ(rigid.events[1].cause, PadCause::kContacts);
+  EXPECT_GE(rigid.events[1].cause_value, 1.0);
+  EXPECT_LT(rigid.events[1].cause_value, 3.0);
+  EXPECT_NEAR(rigid.events[1].time_s - rigid.events[0].time_s, 0.1, 0.0015) << "the window";
+
+  const Landing foam = LandOn(Summit(0.001), 0.5, 0.001);
+  ASSERT_TRUE(foam.attached);
+  ASSERT_EQ(foam.events.size(), 2u);
+  EXPECT_EQ(foam.events[0].kind, PadEventKind::kTouchdown);
+  EXPECT_EQ(foam.events[1].kind, PadEventKind::kAttach);
+  EXPECT_EQ(foam.bonded_fraction, 1.0) << "every cell within 1.5 mm of the surface";
 }
 
 }  // namespace
