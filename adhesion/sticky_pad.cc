@@ -253,10 +253,16 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
 
   const AttachParams& a = params_.attach;
-  // A conforming face is seated by its touched share (condition 5), which then always runs.
-  const bool conforms = params_.conform_m > 0.0 && params_.contact.partial_contact;
-  FailedCondition failed = FirstFailedCondition(a, !conforms, touchdown_speed_mps_,
+  FailedCondition failed = FirstFailedCondition(a, true, touchdown_speed_mps_,
                                                 touchdown_angle_deg_, sense_, &counts_);
+  // A conforming face that the window's press has not given min_contacts is judged by its
+  // touched share (condition 5) instead; before that, as a rigid one.
+  const bool conforms = params_.conform_m > 0.0 && params_.contact.partial_contact;
+  if (failed.cause == PadCause::kContacts && conforms &&
+      time_s - touchdown_time_s_ >= a.attach_window_s) {
+    failed = FirstFailedCondition(a, false, touchdown_speed_mps_, touchdown_angle_deg_, sense_,
+                                  &counts_);
+  }
   if (failed.cause == PadCause::kNone) {
     const double share = LandingContactShare(m, d, kinematics_current);
     if (share >= params_.contact.min_contact_share) {

@@ -22,8 +22,8 @@
 //
 //   1. approach_speed_mps  at touchdown ≤ max_approach_speed_mps   (else rejected at once)
 //   2. approach_angle_deg  at touchdown ≤ max_approach_angle_deg   (else rejected at once)
-//   3. contacts            now ≥ min_contacts                       (may still come; not
-//                          asked of a conforming face with partial contact on: conform_m)
+//   3. contacts            now ≥ min_contacts                       (may still come; a
+//                          conforming face without them at the window's end: condition 5)
 //   4. preload_n           now ≥ min_preload_n                      (may still come)
 //   5. contact_share       now ≥ min_contact_share (partial contact: the share of the face
 //                          that touches, pad_touch.h; a foot set on an edge)  (may still come)
@@ -103,8 +103,9 @@ struct AttachParams {
   template <class A>
   void Serialize(A* a) {
     a->Visit({"min_contacts", "",
-              "attach condition: contact points with the surface (box on plane gives 4); not "
-              "asked of a leg pad with foam (robot.pads.foam_m), which its touched share seats",
+              "attach condition: contact points with the surface (box on plane gives 4); a leg "
+              "pad with foam (robot.pads.foam_m) still short of them when attach_window_s ends "
+              "is judged by its touched share",
               Range::Closed(1, 1000)},
              &min_contacts);
     a->Visit(
@@ -156,9 +157,10 @@ struct StickyPadParams {
   PartialContactParams contact;
   // Not a key: how far beyond contact_gap_m the face follows relief (a soft foam in the
   // backing, the model's climbsim_pad_conform_m; the caller adds it to contact_gap_m too).
-  // Such a face is seated by the share of it that reaches the surface (condition 5), not by
-  // the rigid box's contact count (condition 3): a box on rock touches two or three summits
-  // however well a foam-backed face would lie on them.
+  // Such a face that still lacks min_contacts when the attach window ends is judged by the
+  // share of it that reaches the surface (condition 5): a box on rock touches two or three
+  // summits however well a foam-backed face would lie on them. Within the window it is
+  // judged as a rigid pad, so a landing the press lays flat attaches as it did.
   double conform_m = 0.0;
 };
 

@@ -148,9 +148,9 @@ struct PadsDesign {
     a->Visit({"foam_m", "m",
               "soft foam in the backing (part of thickness_m, which must exceed it by the "
               "adhesive's 0.5 mm): the face follows relief up to half of it beyond "
-              "adhesion.contact_gap_m, and a landing is seated by the share of the face that "
-              "reaches the surface, not by adhesion.min_contacts; adds its own mass "
-              "(100 kg/m^3); 0: a rigid backing",
+              "adhesion.contact_gap_m, and a landing without adhesion.min_contacts at the end "
+              "of the attach window is judged by the share of the face that reaches the "
+              "surface; adds its own mass (100 kg/m^3); 0: a rigid backing",
               Range::Closed(0.0, 0.008)},
              &foam_m);
     a->Visit({"friction", "", "MuJoCo friction of a pad contact: slide, spin, roll"}, &friction, 3);

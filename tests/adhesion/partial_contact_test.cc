@@ -3,7 +3,7 @@
 // grid's touching set, and pull-offs in the MuJoCo rig against closed forms: a pad over a
 // step edge holds the touched share of σ_T·A, a pad over a hollow its rim's share, a flat pad
 // exactly what it held without partial contact; a landing on too little of a step rejected by
-// its touched share, and a foam-backed face seated by that share on a rock summit.
+// its touched share, and a foam-backed face judged by that share on a rock summit.
 //
 // Error budget of the rig's pull-offs: the ramp rises by σ_T·A·Δt/ramp_time_s per step
 // (5·10⁻⁴ of σ_T·A) and the recorded force is the first step's that lets go; 2·10⁻³ of σ_T·A
@@ -487,8 +487,9 @@ TEST(PartialContactLanding, PadLandingOnTooLittleOfAStepIsRejectedByItsContactSh
 // its top at z = 0) over a plane `floor_m` below it. The rigid box rests on the summit with fewer
 // than 3 contacts: condition 3 rejects it (cause contacts) at the end of the attach window,
 // however close the plane. A face that conforms 1 mm further (conform_m, contact_gap_m 0.5 →
-// 1.5 mm) is seated by its touched share instead: over a plane 1 mm down every cell reaches the
-// surface and the pad attaches with all of them bonded, on the same contacts.
+// 1.5 mm) is judged by its touched share instead when the window ends without the contacts:
+// over a plane 1 mm down every cell reaches the surface, and the pad attaches then with all of
+// them bonded, on the same contacts.
 std::string Summit(double floor_m) {
   std::ostringstream s;
   s << "      <geom type=\"ellipsoid\" size=\"0.001 0.001 0.001\" pos=\"0 0 -0.001\"/>\n"
@@ -511,6 +512,7 @@ TEST(PartialContactLanding, AConformingFaceIsSeatedByItsTouchedShareNotItsContac
   ASSERT_EQ(foam.events.size(), 2u);
   EXPECT_EQ(foam.events[0].kind, PadEventKind::kTouchdown);
   EXPECT_EQ(foam.events[1].kind, PadEventKind::kAttach);
+  EXPECT_NEAR(foam.events[1].time_s - foam.events[0].time_s, 0.1, 0.0015) << "the window";
   EXPECT_EQ(foam.bonded_fraction, 1.0) << "every cell within 1.5 mm of the surface";
 }
 
