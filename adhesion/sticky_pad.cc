@@ -40,6 +40,19 @@ FailedCondition FirstFailedCondition(const AttachParams& a, bool count_contacts,
   return f;
 }
 
+// Conditions 1-4 of a pending landing. A conforming face that the window's press has not given
+// min_contacts is judged by its touched share (condition 5) instead; before that, as a rigid one.
+FailedCondition LandingCondition(const AttachParams& a, bool conforms, double since_touchdown_s,
+                                 double touchdown_speed_mps, double touchdown_angle_deg,
+                                 const ContactSense& sense, PadCounts* counts) {
+  FailedCondition f =
+      FirstFailedCondition(a, true, touchdown_speed_mps, touchdown_angle_deg, sense, counts);
+  if (f.cause == PadCause::kContacts && conforms && since_touchdown_s >= a.attach_window_s) {
+    f = FirstFailedCondition(a, false, touchdown_speed_mps, touchdown_angle_deg, sense, counts);
+  }
+  return f;
+}
+
 PadParams GridParams(const StickyPadParams& p, const PadGeometry& g) {
   PadParams grid = p.bonds;
   grid.width_m = g.width_m;
@@ -253,16 +266,10 @@ void StickyPad::Decide(mjModel* m, mjData* d, double time_s, bool* kinematics_cu
   }
 
   const AttachParams& a = params_.attach;
-  FailedCondition failed = FirstFailedCondition(a, true, touchdown_speed_mps_,
-                                                touchdown_angle_deg_, sense_, &counts_);
-  // A conforming face that the window's press has not given min_contacts is judged by its
-  // touched share (condition 5) instead; before that, as a rigid one.
   const bool conforms = params_.conform_m > 0.0 && params_.contact.partial_contact;
-  if (failed.cause == PadCause::kContacts && conforms &&
-      time_s - touchdown_time_s_ >= a.attach_window_s) {
-    failed = FirstFailedCondition(a, false, touchdown_speed_mps_, touchdown_angle_deg_, sense_,
-                                  &counts_);
-  }
+  FailedCondition failed =
+      LandingCondition(a, conforms, time_s - touchdown_time_s_, touchdown_speed_mps_,
+                       touchdown_angle_deg_, sense_, &counts_);
   if (failed.cause == PadCause::kNone) {
     const double share = LandingContactShare(m, d, kinematics_current);
     if (share >= params_.contact.min_contact_share) {
