@@ -291,6 +291,9 @@ class BondGrid {
   double bonded_fraction() const { return static_cast<double>(bonded_count_) / size(); }
   double bonded_area_m2() const { return bonded_count_ * cell_area_m2_; }
   bool detached() const { return bonded_count_ < params_.min_bonds; }
+  // Bonds broken since the last attachment (BondAll, BondFraction, Release): Grow skips them,
+  // so touching_count() − torn_count() is the most this attachment can still bond.
+  int torn_count() const { return torn_count_; }
 
   // Stresses of one bond in the field of the last Update (after its cascade) or Evaluate.
   BondStress stress(int index) const;
@@ -368,6 +371,7 @@ class BondGrid {
   std::vector<int> col_count_;  // bonded bonds per column
   std::vector<int> row_count_;  // bonded bonds per row
   int bonded_count_ = 0;
+  int torn_count_ = 0;  // bonds in state kBroken
   MomentSums sums_;
   // Of the bonded set, kept until it changes (SetState, BondAll, Release): ComputeField's
   // bending geometry and shear sums Σ count·v, Σ count·w.

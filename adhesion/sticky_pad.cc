@@ -199,6 +199,11 @@ double StickyPad::touched_fraction() const {
   return static_cast<double>(grid_.touching_count()) / grid_.size();
 }
 
+double StickyPad::bondable_fraction() const {
+  if (params_.model == AdhesionModel::kMujoco) return 1.0;
+  return static_cast<double>(grid_.touching_count() - grid_.torn_count()) / grid_.size();
+}
+
 void StickyPad::Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to) {
   bonds_lost_ = false;
   if (attached_ && params_.model == AdhesionModel::kBonds) return;  // no contacts while welded

@@ -190,7 +190,8 @@ struct CpgKeys {
              &wait_for_support);
     a->Visit({"support_bond_fraction", "",
               "wait_for_support: the bonded fraction a support pad must have built, of the share "
-              "of its face that touches the surface (all of it on a flat surface)",
+              "of its face that touches the surface (all of it on a flat surface); a pad that has "
+              "bonded all that its torn bonds leave has built all it can",
               Range::Closed(0, 1)},
              &support_bond_fraction);
     a->Visit({"spine", "", "drive the robot's spine (robot.body.spine) with the gait; absent: off"},

@@ -300,6 +300,7 @@ void AdhesionEffect::FillSignals() {
     s.attached = p.attached();
     s.bonded_fraction = p.bonded_fraction();
     s.touched_fraction = p.touched_fraction();
+    s.bondable_fraction = p.bondable_fraction();
     s.refusal = RefusalOf(p.refused_cause());
     s.normal_load_n = p.load().fn_n;
     // A welded pad does not collide: its compression is in the weld.

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <limits>
 
+#include "adhesion/adhesion.h"
+
 namespace climbsim::sim {
 namespace {
 
@@ -266,9 +268,11 @@ void CpgEffect::Feedback(RunContext& ctx) {
     if (params_.wait_for_support && leaving) {
       for (int j : support_[i]) {
         if (hold) break;
-        // Built: the share of what the pad touches (a pad over an edge cannot bond the rest).
-        hold = !legs[j].attached || legs[j].bonded_fraction <
-                                        params_.support_bond_fraction * legs[j].touched_fraction;
+        // Built: the share of what the pad touches (a pad over an edge cannot bond the rest),
+        // or all that its torn bonds leave.
+        hold = !legs[j].attached ||
+               !adhesion::SupportBuilt(legs[j].bonded_fraction, legs[j].touched_fraction,
+                                       legs[j].bondable_fraction, params_.support_bond_fraction);
         if (hold) {
           why = {HoldCause::kWaitForSupport, j, static_cast<int>(i), legs[j].attached,
                  legs[j].bonded_fraction};

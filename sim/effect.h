@@ -33,6 +33,9 @@ struct LegSignals {
   double touched_fraction = 1.0;           // share of the face that touched at the attach:
                                            // the most bonded_fraction can reach (partial
                                            // contact); 1 on a flat surface
+  double bondable_fraction = 1.0;          // what bonded_fraction can still reach: the
+                                           // touched share less the bonds torn since the
+                                           // attach
   double normal_load_n = 0.0;              // pad load along its normal, + pulls it off
   double preload_n = 0.0;                  // compressive contact force on the pad
   double load_n = 0.0;                     // size of the force the weld carries, |F|, N (0

@@ -130,7 +130,7 @@ void TransitionEffect::SensePads(const RunContext& ctx) {
   std::vector<PadSignals>& pads = manoeuvre_.pads();
   for (size_t i = 0; i < pads.size(); ++i) {
     pads[i] = {legs[i].touching, legs[i].attached, legs[i].bonded_fraction,
-               legs[i].touched_fraction, legs[i].preload_n};
+               legs[i].touched_fraction, legs[i].preload_n, legs[i].bondable_fraction};
   }
 }
 

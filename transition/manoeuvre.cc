@@ -8,6 +8,8 @@
 #include <cmath>
 #include <utility>
 
+#include "adhesion/adhesion.h"
+
 namespace climbsim::sim {
 namespace {
 
@@ -229,7 +231,8 @@ bool CornerManoeuvre::SupportsHold(int except) const {
   for (size_t i = 0; i < feet_.size(); ++i) {
     if (static_cast<int>(i) == except || feet_[i].idle) continue;
     if (!feet_[i].stance || !pads_[i].attached) return false;
-    if (pads_[i].bonded_fraction < params_.support_bond_fraction * pads_[i].touched_fraction) {
+    if (!adhesion::SupportBuilt(pads_[i].bonded_fraction, pads_[i].touched_fraction,
+                                pads_[i].bondable_fraction, params_.support_bond_fraction)) {
       return false;
     }
   }

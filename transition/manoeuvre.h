@@ -58,6 +58,7 @@ struct PadSignals {
   double bonded_fraction = 0.0;
   double touched_fraction = 1.0;  // the most bonded_fraction can reach (partial contact)
   double preload_n = 0.0;  // compressive contact force on the pad
+  double bondable_fraction = 1.0;  // what it can still reach: touched less torn bonds
 };
 
 // What the manoeuvre reads and commands besides its pads' signals: the run's adapter

@@ -133,7 +133,8 @@ struct TransitionParams {
              &crouch_m);
     a->Visit({"support_bond_fraction", "",
               "a foot moves only while every other pad is attached with at least this bonded "
-              "fraction of the share of its face that touches the surface",
+              "fraction of the share of its face that touches the surface, or all that its torn "
+              "bonds leave",
               Range::Closed(0, 1)},
              &support_bond_fraction);
     a->Visit({"max_place_attempts", "",

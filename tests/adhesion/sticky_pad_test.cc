@@ -258,6 +258,17 @@ TEST(PadBuildup, DoesNotGrowWhilePulled) {
   EXPECT_EQ(rig.pad().bonded_fraction(), 0.5);
 }
 
+// A wait for a support pad (SupportBuilt) ends at the fraction of what the pad touches, or
+// once torn bonds leave it nothing to grow; not while it still grows.
+TEST(PadBuildup, ASupportIsBuiltAtTheFractionOrWhenNothingIsLeftToGrow) {
+  EXPECT_FALSE(SupportBuilt(0.84, 1.0, 1.0, 0.85));
+  EXPECT_TRUE(SupportBuilt(0.85, 1.0, 1.0, 0.85));
+  EXPECT_TRUE(SupportBuilt(0.51, 0.6, 0.6, 0.85));   // over an edge: 0.85 of the touched 0.6
+  EXPECT_FALSE(SupportBuilt(0.50, 0.6, 0.6, 0.85));
+  EXPECT_FALSE(SupportBuilt(0.80, 1.0, 0.824, 0.85));  // torn, still growing
+  EXPECT_TRUE(SupportBuilt(0.824, 1.0, 0.824, 0.85));  // torn, all it can
+}
+
 // Release: weld off at once, event detach/released, and no re-attach while the pad still
 // rests on the surface (it must leave it first).
 TEST(PadDetach, ReleaseLetsGoAndWaitsForLiftOff) {
