@@ -138,7 +138,9 @@ struct GtoHoldParams {
 //    while the body is pushed. A push passes; a stretch that lasts longer than max_hold_s is
 //    the leg's posture (its welded foot is where the gait would not put it, after a re-place
 //    or a recovery), and holding every leg for it would stall the gait for good: the hold
-//    lets go, and holds again only once the stretch has been back inside the band.
+//    lets go, and holds again only once the stretch has been back inside the band. After a
+//    slide the legs' stretches take turns, each bounded alone; PushHold (leg_reflex.h) bounds
+//    them together for the robot.
 struct LegSpindleParams {
   bool enabled = true;
   std::array<SpindleParams, kLegJoints> joints{};
@@ -178,7 +180,9 @@ struct LegSpindleParams {
              &hold_s);
     a->Visit({"max_hold_s", "s",
               "a stretch beyond the band held longer than this is the leg's posture, not a push: "
-              "the hold lets go until the stretch is back inside the band; 0 = no limit",
+              "the hold lets go until the stretch is back inside the band; so are pushes of one "
+              "leg after another that hold the gait longer than this in a row, and those legs "
+              "hold no more until they step or let go; 0 = no limit",
               Range::NonNegative()},
              &max_hold_s);
   }

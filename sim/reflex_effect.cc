@@ -38,6 +38,8 @@ ReflexEffect::ReflexEffect(const Scenario& scenario, const ReflexParams& params,
       adhesion_(adhesion),
       cpg_(&cpg),
       support_(cpg.support()),
+      push_hold_(static_cast<int>(world.robot().legs.size()), params.spindle.max_hold_s,
+                 cpg.control_period_s()),
       event_pad_(std::move(event_pad)) {
   const double dt = cpg.control_period_s();
   period_steps_ = static_cast<int>(std::lround(dt / world.model()->opt.timestep));
@@ -386,6 +388,7 @@ void ReflexEffect::Reset(World& world, RunContext& ctx) {
   std::fill(landing_.begin(), landing_.end(), LandingState{});
   if (posture_) posture_->Reset();
   if (tail_) tail_->Reset(world);
+  push_hold_.Reset();
   ctx.crouch_m = 0.0;
   for (LegSignals& s : *ctx.legs) {
     s.offset_rad = {0, 0, 0};
@@ -408,6 +411,7 @@ void ReflexEffect::Suspend(World& world, RunContext& ctx) {
   ctx.hold_all_stance = false;
   // Stands up again: the other controller places the feet from the body it finds.
   if (posture_) posture_->Reset();
+  push_hold_.Reset();
   ctx.crouch_m = 0.0;
 }
 
@@ -534,18 +538,22 @@ void ReflexEffect::RobotChannels(World& world, RunContext& ctx) {
 void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
   std::vector<LegSignals>& signals = *ctx.legs;
-  bool hold_all = false;
+  bool regrip = false;
   MarkWaitedOn(signals);
   for (size_t i = 0; i < legs_.size(); ++i) {
     const reflex::LegReflexOutput out = legs_[i].Update(SenseLeg(world, signals, i));
     ApplyLeg(signals[i], i, out);
-    hold_all |= out.hold_others;
+    regrip |= out.regrip_hold;
+    push_hold_.SetLeg(static_cast<int>(i), out.pushed,
+                      signals[i].stance && signals[i].attached);
     LogEvents(ctx, signals[i], i, out);
   }
   RobotChannels(world, ctx);
   if (tail_) tail_->Update(world, ctx, legs_);
-  ctx.hold_all_stance = hold_all;
+  const bool pushed = push_hold_.Update();
+  ctx.hold_all_stance = regrip || pushed;
 }
+
 
 void ReflexEffect::Summarise(const World& world, nlohmann::json* summary) const {
   nlohmann::json legs = nlohmann::json::object();

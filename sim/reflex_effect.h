@@ -56,6 +56,7 @@ class ReflexEffect final : public Effect {
   std::vector<std::vector<int>> support_;
   std::vector<std::vector<int>> supported_;  // per leg, the legs it supports (support_ inverted)
   std::vector<char> waited_on_;  // per leg: a peel waits for its pad (MarkWaitedOn)
+  reflex::PushHold push_hold_;   // the spindles' push hold for the robot
   std::vector<int> event_pad_;
   std::vector<reflex::LegReflex> legs_;
   std::vector<std::array<long, reflex::kMaxLegEvents>> counts_;  // per leg, per LegEventType

@@ -1099,5 +1099,43 @@ TEST(ReflexLegMachine, NamesAreTheEventsCsvSpelling) {
   EXPECT_EQ(ReflexName(Reflex::kGtoPress), "gto_press");
 }
 
+// The robot's push hold (PushHold), max_hold_s = 5 periods: pushes of one leg after another
+// hold the gait 5 periods in a row at most; the legs pushed then, and those pushed before every
+// push has passed, hold nothing until they leave stance or let go; a leg that has stepped holds
+// again.
+TEST(ReflexPushHold, PushesOfOneLegAfterAnotherHoldTheGaitAtMostMaxHoldInARow) {
+  PushHold hold(3, 5 * kDt, kDt);
+  // pushed legs per period (bits 0, 1, 2), and whether the pushes hold the gait.
+  struct Period {
+    int pushed;
+    bool holds;
+  };
+  const std::vector<Period> script = {
+      {0b001, true},  {0b001, true},  {0b001, true},  {0b011, true}, {0b011, true},
+      {0b011, false},  // 6 in a row: posture; legs 0 and 1 hold no more
+      {0b011, false}, {0b110, false},  // leg 2, pushed before the pushes passed: posture too
+      {0b000, false},                  // every push has passed
+      {0b100, false},                  // leg 2 has not stepped: still posture
+  };
+  for (size_t k = 0; k < script.size(); ++k) {
+    for (int i = 0; i < 3; ++i) hold.SetLeg(i, (script[k].pushed >> i) & 1, true);
+    EXPECT_EQ(hold.Update(), script[k].holds) << "period " << k + 1;
+  }
+  hold.SetLeg(2, false, false);  // leg 2 swings
+  EXPECT_FALSE(hold.Update());
+  hold.SetLeg(2, true, true);  // and lands pushed: a push again
+  EXPECT_TRUE(hold.Update());
+  // Without a limit every push holds as long as it lasts.
+  PushHold unbounded(3, 0.0, kDt);
+  for (int k = 0; k < 50; ++k) {
+    for (int i = 0; i < 3; ++i) unbounded.SetLeg(i, i == k % 3, true);
+    EXPECT_TRUE(unbounded.Update()) << k;
+  }
+  unbounded.SetLeg(0, false, true);
+  unbounded.SetLeg(1, false, true);
+  unbounded.SetLeg(2, false, true);
+  EXPECT_FALSE(unbounded.Update());
+}
+
 }  // namespace
 }  // namespace climbsim::reflex
