@@ -144,6 +144,14 @@ class TouchProbe {
 bool RestPlane(std::span<const double> x_m, std::span<const double> y_m,
                std::span<const double> gap_m, int grid_x, int grid_y, double plane[3]);
 
+// Whether a support pad has built its bond, as a gait or a manoeuvre that waits for it asks
+// (cpg.support_bond_fraction, transition.support_bond_fraction): it has bonded `fraction` of
+// what it touches, or all it still can (StickyPad::bondable_fraction: torn bonds do not grow
+// back, so a wait past that would never end). The arguments are the pad's fractions.
+inline bool SupportBuilt(double bonded, double touched, double bondable, double fraction) {
+  return bonded >= fraction * touched || bonded >= bondable;
+}
+
 }  // namespace climbsim::adhesion
 
 #endif  // CLIMBSIM_ADHESION_PAD_TOUCH_H_

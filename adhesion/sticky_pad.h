@@ -295,8 +295,7 @@ class StickyPad {
   // pad_touch.h): the most bonded_fraction can reach in this attachment. 1 for kMujoco and
   // for a pad that touched everywhere (exactly 1.0: the whole grid).
   double touched_fraction() const;
-  // The most bonded_fraction can still reach in this attachment: the touched share less the
-  // bonds torn since the attach (build-up never bonds them again). 1 for kMujoco.
+  // What bonded_fraction can still reach: touched less torn since the attach. 1 for kMujoco.
   double bondable_fraction() const;
   // Why the attach of the touch now on the surface was refused (kNone: it was not, or the pad
   // is off the surface).
@@ -392,14 +391,6 @@ class StickyPad {
   double frictional_utilisation_ = 0.0;
   std::optional<TabulatedLaw> tabulated_law_;  // law kTabulated only
 };
-
-// Whether a support pad has built its bond, as a gait or a manoeuvre that waits for it asks
-// (cpg.support_bond_fraction, transition.support_bond_fraction): it has bonded `fraction` of
-// what it touches, or all it still can (StickyPad::bondable_fraction: torn bonds do not grow
-// back, so a wait past that would never end). The arguments are the pad's fractions.
-inline bool SupportBuilt(double bonded, double touched, double bondable, double fraction) {
-  return bonded >= fraction * touched || bonded >= bondable;
-}
 
 }  // namespace climbsim::adhesion
 
