@@ -139,7 +139,7 @@ struct GtoHoldParams {
 //    the leg's posture (its welded foot is where the gait would not put it, after a re-place
 //    or a recovery), and holding every leg for it would stall the gait for good: the hold
 //    lets go, and holds again only once the stretch has been back inside the band. After a
-//    slide the legs' stretches take turns, each bounded alone; PushHold (leg_reflex.h) bounds
+//    slide the legs' stretches take turns, each bounded alone; PushHold (push_hold.h) bounds
 //    them together for the robot.
 struct LegSpindleParams {
   bool enabled = true;

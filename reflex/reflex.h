@@ -3,8 +3,8 @@
 //   laws.h          delay line, spindle-like and GTO-like laws (GtoLaw, GtoUnloadKpFraction)
 //   foot_params.h   preload, search, peel and re-grip parameters and their keys
 //   leg_params.h    GTO hold, spindle and compliance parameters; LegReflexParams
-//   leg_reflex.h    LegReflex: sensing, events, output, state and the state machine;
-//                   PushHold, the spindles' push hold for the robot
+//   leg_reflex.h    LegReflex: sensing, events, output, state and the state machine
+//   push_hold.h     PushHold: the spindles' push hold for the robot
 //   load_sharing.h  the GTO's robot-level channels: LoadSharing, PostureReflex, grip targets
 //   reflex_params.h the scenario's reflex block (ReflexParams) with the landing
 // Each parameter struct declares its scenario keys (Serialize: name, unit, range, doc; the
@@ -51,6 +51,7 @@
 #include "reflex/leg_params.h"
 #include "reflex/leg_reflex.h"
 #include "reflex/load_sharing.h"
+#include "reflex/push_hold.h"
 #include "reflex/reflex_params.h"
 
 #endif  // CLIMBSIM_REFLEX_REFLEX_H_
