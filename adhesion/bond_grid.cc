@@ -139,7 +139,6 @@ void BondGrid::BondAll() {
   std::fill(col_count_.begin(), col_count_.end(), params_.grid_y);
   std::fill(row_count_.begin(), row_count_.end(), params_.grid_x);
   bonded_count_ = size();
-  torn_count_ = 0;
   sums_ = full_sums_;
   set_cached_ = false;
 }
@@ -149,7 +148,6 @@ void BondGrid::Release() {
   std::fill(col_count_.begin(), col_count_.end(), 0);
   std::fill(row_count_.begin(), row_count_.end(), 0);
   bonded_count_ = 0;
-  torn_count_ = 0;
   sums_ = MomentSums{};
   set_cached_ = false;
   // A released grid carries no stress: a grid bonded again reads the field of no load until
@@ -192,7 +190,6 @@ void BondGrid::SetBonded(int index, bool bonded) {
 void BondGrid::SetState(int index, BondState new_state) {
   const bool was = bonded(index);
   const bool now = new_state == BondState::kBonded;
-  torn_count_ += (new_state == BondState::kBroken) - (state(index) == BondState::kBroken);
   state_[index] = static_cast<uint8_t>(new_state);
   if (was == now) return;
   set_cached_ = false;

@@ -291,7 +291,6 @@ class BondGrid {
   double bonded_fraction() const { return static_cast<double>(bonded_count_) / size(); }
   double bonded_area_m2() const { return bonded_count_ * cell_area_m2_; }
   bool detached() const { return bonded_count_ < params_.min_bonds; }
-  int torn_count() const { return torn_count_; }  // broken since the attach: Grow skips them
 
   // Stresses of one bond in the field of the last Update (after its cascade) or Evaluate.
   BondStress stress(int index) const;
@@ -301,7 +300,8 @@ class BondGrid {
   }
 
   // --- Another rupture law's cascade (frictional_law.h: FrictionalUpdate) ---
-  void ClearBrokenLog() { broken_count_ = 0; }  // empties the log: the start of an update
+  // Empties the log of broken bonds (the start of an update).
+  void ClearBrokenLog() { broken_count_ = 0; }
   // Breaks bond `index` if bonded (kBroken, as Update does) and logs it with `round`.
   void Break(int index, int round);
   // The field of Evaluate under a finite load_pad, without its summary's scan of every bond;
@@ -367,7 +367,7 @@ class BondGrid {
   int touching_count_ = 0;
   std::vector<int> col_count_;  // bonded bonds per column
   std::vector<int> row_count_;  // bonded bonds per row
-  int bonded_count_ = 0, torn_count_ = 0;  // bonds kBonded, kBroken
+  int bonded_count_ = 0;
   MomentSums sums_;
   // Of the bonded set, kept until it changes (SetState, BondAll, Release): ComputeField's
   // bending geometry and shear sums Σ count·v, Σ count·w.

@@ -201,7 +201,8 @@ double StickyPad::touched_fraction() const {
 
 double StickyPad::bondable_fraction() const {
   if (params_.model == AdhesionModel::kMujoco) return 1.0;
-  return static_cast<double>(grid_.touching_count() - grid_.torn_count()) / grid_.size();
+  if (!attached_) return touched_fraction();  // its last attachment's tears are gone
+  return static_cast<double>(grid_.touching_count() - lost_since_attach_) / grid_.size();
 }
 
 void StickyPad::Sense(const mjModel* m, const mjData* d, const std::vector<uint8_t>& sticks_to) {

@@ -554,7 +554,6 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
   ctx.hold_all_stance = regrip || pushed;
 }
 
-
 void ReflexEffect::Summarise(const World& world, nlohmann::json* summary) const {
   nlohmann::json legs = nlohmann::json::object();
   for (size_t i = 0; i < legs_.size(); ++i) {
