@@ -86,7 +86,11 @@ struct PreloadParams {
 //   hip_pitch = −reach_pitch_rad·ρ + lift_rad·sin(π·s)
 //   knee      = −reach_knee_rad·ρ  + lift_rad·sin(π·s)
 // When the pad touches, the offset reached is held until the swing starts, then released
-// linearly over release_s (as after the last attempt fails).
+// linearly over release_s (as after the last attempt fails). A search that ran out starts
+// again while the gait waits for the pad: a peel waits for it (peel.wait_for_support), or,
+// with again_when_stood, the gait has stood still for longer than the whole search
+// (N·attempt_duration_s): a foot that stays in stance never swings, so giving up would stand
+// the robot still for good.
 struct SearchParams {
   bool enabled = true;
   double reach_yaw_rad = 0.10;       // full forward reach, >= 0
@@ -96,6 +100,7 @@ struct SearchParams {
   double attempt_duration_s = 0.15;  // one attempt, >= one control period
   int max_attempts = 3;              // N >= 1
   double release_s = 0.1;            // fade of the held offset, >= 0 (0: at once)
+  bool again_when_stood = false;
   template <class A>
   void Serialize(A* a) {
     a->Visit({"enabled", "",
@@ -117,6 +122,12 @@ struct SearchParams {
     a->Visit({"release_s", "s", "fade of the reach once found, after the next swing starts",
               Range::NonNegative()},
              &release_s);
+    a->Visit({"again_when_stood", "",
+              "a search that ran out starts again once the gait has stood still for longer than "
+              "the whole search (max_attempts x attempt_duration_s): the foot stands in stance "
+              "and would never swing again (off: in the ceiling gaits it starts searches where "
+              "a foot would come down by itself)"},
+             &again_when_stood);
   }
 };
 

@@ -55,6 +55,8 @@ class CpgEffect final : public Effect {
     const bool waiting = hold_since_s_ >= 0.0 && hold_.cause == HoldCause::kWaitForSupport;
     return waiting && hold_.attached ? hold_.leg : -1;
   }
+  // When the hold that stands the gait still now began (s), or −1 when it moves.
+  double held_since_s() const { return hold_since_s_; }
   // Legs that must be attached before leg i may swing (wait_for_support).
   const std::vector<std::vector<int>>& support() const { return support_; }
   double control_period_s() const { return period_s_; }

@@ -456,12 +456,20 @@ reflex::LegSensing ReflexEffect::SenseLeg(const World& world, std::vector<LegSig
   return in;
 }
 
-// Legs whose pad a peel waits for (peel.wait_for_support), from every leg's last period, so
-// that the order in which the legs are updated does not matter.
-void ReflexEffect::MarkWaitedOn(const std::vector<LegSignals>& signals) {
+// Legs whose pad the gait waits for, from every leg's last period, so that the order in which
+// the legs are updated does not matter: a peel waits for it (peel.wait_for_support), or, with
+// search.again_when_stood, the gait has stood still for longer than the leg's whole search (a
+// partner holding stance for a foot whose search ran out waits for good: the foot stands in
+// stance and so never swings).
+void ReflexEffect::MarkWaitedOn(const std::vector<LegSignals>& signals, double time_s) {
+  const double held_s = cpg_->held_since_s() < 0.0 ? 0.0 : time_s - cpg_->held_since_s();
   for (size_t i = 0; i < legs_.size(); ++i) {
     waited_on_[i] = 0;
     if (signals[i].attached) continue;
+    const reflex::SearchParams& search = legs_[i].params().search;
+    if (search.again_when_stood && held_s > search.max_attempts * search.attempt_duration_s) {
+      waited_on_[i] = 1;
+    }
     for (int j : supported_[i]) {
       if (signals[j].hold_phase && legs_[j].params().peel.wait_for_support) waited_on_[i] = 1;
     }
@@ -539,7 +547,7 @@ void ReflexEffect::BeforeStep(World& world, RunContext& ctx) {
   if (ctx.step % period_steps_ != 0) return;
   std::vector<LegSignals>& signals = *ctx.legs;
   bool regrip = false;
-  MarkWaitedOn(signals);
+  MarkWaitedOn(signals, ctx.time_s);
   for (size_t i = 0; i < legs_.size(); ++i) {
     const reflex::LegReflexOutput out = legs_[i].Update(SenseLeg(world, signals, i));
     ApplyLeg(signals[i], i, out);

@@ -55,7 +55,7 @@ class ReflexEffect final : public Effect {
   const CpgEffect* cpg_;  // owned beside this by the controller: its wait's awaited pad
   std::vector<std::vector<int>> support_;
   std::vector<std::vector<int>> supported_;  // per leg, the legs it supports (support_ inverted)
-  std::vector<char> waited_on_;  // per leg: a peel waits for its pad (MarkWaitedOn)
+  std::vector<char> waited_on_;  // per leg: the gait waits for its pad (MarkWaitedOn)
   reflex::PushHold push_hold_;   // the spindles' push hold for the robot
   std::vector<int> event_pad_;
   std::vector<reflex::LegReflex> legs_;
@@ -81,7 +81,7 @@ class ReflexEffect final : public Effect {
   // at its ankle, world frame; false when the pad is not attached or it is not defined.
   bool UtilisationGradientWorld(const World& world, int leg, Eigen::Vector3d* grad) const;
   // waited_on_: the legs whose pad a peel waits for, from every leg's last period.
-  void MarkWaitedOn(const std::vector<LegSignals>& signals);
+  void MarkWaitedOn(const std::vector<LegSignals>& signals, double time_s);
   // Runs the load sharing: each leg's Δq = Kp⁻¹·Jᵀ·λ into share_offset_.
   void ShareLoad(World& world, std::vector<LegSignals>& signals);
 
