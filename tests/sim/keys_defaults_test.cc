@@ -113,6 +113,7 @@ std::map<std::string, std::string> LibraryDefaults() {
       {"reflex.search.attempt_duration_s", Text(leg.search.attempt_duration_s)},
       {"reflex.search.max_attempts", Text(leg.search.max_attempts)},
       {"reflex.search.release_s", Text(leg.search.release_s)},
+      {"reflex.search.again_when_stood", Text(leg.search.again_when_stood)},
       {"reflex.peel.enabled", Text(leg.peel.enabled)},
       {"reflex.peel.hip_yaw_rad", Text(leg.peel.hip_yaw_rad)},
       {"reflex.peel.hip_pitch_lift_rad", Text(leg.peel.hip_pitch_lift_rad)},
