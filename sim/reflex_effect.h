@@ -80,7 +80,8 @@ class ReflexEffect final : public Effect {
   // The gradient of leg i's pad utilisation with respect to the force the leg puts on the pad
   // at its ankle, world frame; false when the pad is not attached or it is not defined.
   bool UtilisationGradientWorld(const World& world, int leg, Eigen::Vector3d* grad) const;
-  // waited_on_: the legs whose pad a peel waits for, from every leg's last period.
+  // waited_on_: the legs whose pad a peel or the standing gait waits for (at time_s), from
+  // every leg's last period.
   void MarkWaitedOn(const std::vector<LegSignals>& signals, double time_s);
   // Runs the load sharing: each leg's Δq = Kp⁻¹·Jᵀ·λ into share_offset_.
   void ShareLoad(World& world, std::vector<LegSignals>& signals);
