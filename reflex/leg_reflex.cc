@@ -570,7 +570,6 @@ void LegReflex::Finish(const Sensed& in, const Eigen::Vector3d& summed, LegRefle
       in.stance && (st.preloading || st.searching || st.gto_holding || st.replace_left > 0);
   out->regrip_hold = st.regrip_left > 0;
   out->pushed = st.pushed_left > 0;
-  out->hold_others = out->regrip_hold || out->pushed;
   if (st.regrip_left > 0) {
     --st.regrip_left;
     Fire(out, Reflex::kRegrip);

@@ -122,9 +122,9 @@ struct LegReflexOutput {
   Eigen::Vector3d target_offset_rad = Eigen::Vector3d::Zero();  // add to the CPG's targets
   bool hold_stance = false;  // only ever true in stance: do not let this leg leave stance yet
   bool hold_phase = false;   // hold this leg's phase where it is (a peel that has not let go)
-  bool hold_others = false;  // re-grip, or a pushed stance leg: every leg should stay in stance
-  bool regrip_hold = false;  // hold_others for a re-grip
-  bool pushed = false;       // hold_others for the spindle: this attached stance leg is pushed
+  bool regrip_hold = false;  // a re-grip: every leg should stay in stance
+  bool pushed = false;       // the spindle: this attached stance leg is pushed (the robot's
+                             // PushHold decides whether every leg stays in stance for it)
   bool unload_pad = false;   // an active-release peel: move this pad's load to the others
   bool release_pad = false;  // an active-release peel: let this pad go now
   bool disengage_pad = false;  // an active release keeps the pad disengaged from its release
@@ -135,6 +135,8 @@ struct LegReflexOutput {
   uint32_t fired = 0;        // bit (1 << Reflex) for each reflex that acted this period
   LegEvents events;
   bool Fired(Reflex reflex) const { return fired & (1u << static_cast<int>(reflex)); }
+  // A re-grip or a pushed stance leg: every leg should stay in stance.
+  bool hold_others() const { return regrip_hold || pushed; }
 };
 
 // What a LegReflex remembers between periods; times are counted in control periods.

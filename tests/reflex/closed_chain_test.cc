@@ -211,7 +211,7 @@ TEST(ReflexLegSpindle, WeldedFootGetsNoOffsetAndAPushHoldsEveryLeg) {
   for (int k = 0; k < 10; ++k) {
     EXPECT_EQ(rec.output(k).target_offset_rad, Eigen::Vector3d::Zero()) << k;
     // Stretched at #3 and #4 (one period late), then 3 periods more.
-    EXPECT_EQ(rec.output(k).hold_others, k >= 3 && k <= 7) << k;
+    EXPECT_EQ(rec.output(k).hold_others(), k >= 3 && k <= 7) << k;
   }
   EXPECT_EQ(rec.events(), (Events{At(3, E::kSpindle, R::kPushed)}));
 }
@@ -236,7 +236,7 @@ TEST(ReflexLegSpindle, AStretchThatOutlastsMaxHoldIsPostureAndLetsTheGaitGo) {
   for (int k = 0; k < 20; ++k) {
     // Stretched from #3 (one period late): pushed #3..#7, posture from #8, the hold's hold_s
     // (3 periods) to #10; inside at #17; stretched again from #18.
-    EXPECT_EQ(rec.output(k).hold_others, (k >= 3 && k <= 10) || k >= 18) << k;
+    EXPECT_EQ(rec.output(k).hold_others(), (k >= 3 && k <= 10) || k >= 18) << k;
   }
   EXPECT_EQ(rec.events(),
             (Events{At(3, E::kSpindle, R::kPushed), At(18, E::kSpindle, R::kPushed)}));
@@ -287,7 +287,7 @@ TEST(ReflexLegSpindle, FootInTheAirResistsTheSameStretch) {
   s.stretch_rad = {0.0, -0.3125, 0.0};
   const LegReflexOutput& out = rec.Repeat(s, 2);
   EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d(0.0, 0.125, 0.0));
-  EXPECT_FALSE(out.hold_others);
+  EXPECT_FALSE(out.hold_others());
   EXPECT_EQ(rec.events(), (Events{At(1, E::kSpindle)}));
 }
 

@@ -538,13 +538,13 @@ TEST(ReflexRegrip, BondsLostInStancePressesAgainAndHoldsOthers) {
   LegSensing lost = Attached(Stance(), 0.7);
   lost.bonds_lost = true;
   const LegReflexOutput& out = rec.Step(lost);  // #2
-  EXPECT_TRUE(out.hold_others);
+  EXPECT_TRUE(out.hold_others());
   EXPECT_TRUE(out.hold_stance);
   EXPECT_EQ(out.target_offset_rad[kHipPitch], -(0.15 * (1.0 / 5.0)));
   EXPECT_TRUE(out.Fired(Reflex::kRegrip));
   rec.Repeat(Attached(Stance(), 0.7), 40);  // #3..#42
   for (int k = 2; k <= 42; ++k) {
-    EXPECT_EQ(rec.output(k).hold_others, k <= 6) << k;   // 5 periods: #2..#6
+    EXPECT_EQ(rec.output(k).hold_others(), k <= 6) << k;   // 5 periods: #2..#6
     EXPECT_EQ(rec.output(k).hold_stance, k <= 21) << k;  // 20 periods of press: #2..#21
   }
   EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(2, E::kPreloadStart, R::kRegrip),
@@ -570,7 +570,7 @@ TEST(ReflexRegrip, ReattachEndsThePressAndRepeatedLossExtendsTheHold) {
   rec.Step(Attached(Stance(), 0.1));  // #6: attached again
   for (int k = 7; k < 15; ++k) rec.Step(Attached(Stance(), 0.2));
   // The last loss, at #5, holds the others for 5 periods: #5..#9.
-  for (int k = 2; k < 15; ++k) EXPECT_EQ(rec.output(k).hold_others, k <= 9) << k;
+  for (int k = 2; k < 15; ++k) EXPECT_EQ(rec.output(k).hold_others(), k <= 9) << k;
   EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip), At(2, E::kPreloadStart, R::kRegrip),
                                   At(6, E::kPreloadEnd, R::kAttached)}));
 }
@@ -761,7 +761,7 @@ TEST(ReflexRegrip, APartlyTouchingLandingIsLetGoAndRePlaced) {
     rec.Step(Touching(Stance()));   // #1
     const LegReflexOutput& out = rec.Step(partial);  // #2: attaches touching 70 %
     EXPECT_TRUE(out.release_pad);
-    EXPECT_TRUE(out.hold_others);
+    EXPECT_TRUE(out.hold_others());
     EXPECT_TRUE(out.hold_stance);
     rec.Step(Touching(Stance()));   // #3: lifting
     EXPECT_GT(rec.output(3).target_offset_rad[kHipPitch], 0.0);
@@ -785,7 +785,7 @@ TEST(ReflexRegrip, APartlyTouchingLandingIsLetGoAndRePlaced) {
     late.touched_fraction = 0.7;
     EXPECT_TRUE(rec.Step(late).release_pad);           // #1: let go in the swing
     EXPECT_TRUE(rec.events().empty());
-    EXPECT_TRUE(rec.Step(Touching(Stance())).hold_others);  // #2: re-placed with the stance
+    EXPECT_TRUE(rec.Step(Touching(Stance())).hold_others());  // #2: re-placed with the stance
     EXPECT_EQ(rec.events(), (Events{At(2, E::kRegrip, R::kPartialContact)}));
   }
 }
@@ -805,7 +805,7 @@ TEST(ReflexRegrip, SilentInSwingWhenNotHoldingOrSwitchedOff) {
     rec.Repeat(Touching(Stance()), 2);
     rec.Repeat(lost_unattached, 5);  // not attached last period: not holding
     EXPECT_TRUE(rec.events().empty());
-    EXPECT_FALSE(rec.output(rec.updates() - 1).hold_others);
+    EXPECT_FALSE(rec.output(rec.updates() - 1).hold_others());
   }
   {
     LegReflexParams p = RegripOnly();
@@ -815,7 +815,7 @@ TEST(ReflexRegrip, SilentInSwingWhenNotHoldingOrSwitchedOff) {
     rec.Repeat(Attached(Stance()), 2);
     const LegReflexOutput& out = rec.Repeat(lost_in_stance, 5);
     EXPECT_TRUE(rec.events().empty());
-    EXPECT_FALSE(out.hold_others);
+    EXPECT_FALSE(out.hold_others());
     EXPECT_EQ(out.target_offset_rad, Eigen::Vector3d::Zero());
   }
 }
@@ -1067,7 +1067,7 @@ TEST(ReflexLegMachine, ResetGivesTheSameRunAsAFreshLeg) {
     const LegReflexOutput y = fresh.Update(RandomSensing(&b));
     ASSERT_EQ(x.target_offset_rad, y.target_offset_rad) << k;
     ASSERT_EQ(x.hold_stance, y.hold_stance) << k;
-    ASSERT_EQ(x.hold_others, y.hold_others) << k;
+    ASSERT_EQ(x.hold_others(), y.hold_others()) << k;
     ASSERT_EQ(x.fired, y.fired) << k;
     ASSERT_EQ(x.events.size(), y.events.size()) << k;
     for (int i = 0; i < x.events.size(); ++i) ASSERT_EQ(x.events.items[i], y.events.items[i]);
