@@ -34,12 +34,16 @@ struct SpeedReport {
   int repetitions = 0;
   std::vector<SpeedVariant> variants;
   // Profile of the full scenario: seconds in mj_step, in each effect, in the monitor, over the
-  // steps from profile_from_s on (e.g. a corner's manoeuvre; those before run unprofiled).
+  // steps from profile_from_s on (e.g. a corner's manoeuvre; those before run unprofiled),
+  // each less the profile's own clock: clock_lap_s (Simulation::Profile::LapSeconds) per lap.
   double profile_from_s = 0.0;
   long profiled_steps = 0;
   double mj_step_s = 0.0;
   std::vector<std::pair<std::string, double>> effect_s;
   double monitor_s = 0.0;
+  double clock_lap_s = 0.0;
+  double effects_with_clock_s = 0.0;  // every effect, the clock left in
+  double mj_step_with_clock_s = 0.0;
 };
 
 // profile_from_s in [0, duration_s): where the profile of the full scenario starts.

@@ -32,5 +32,28 @@ TEST(BenchSpeedCompare, RunsBothSettingsAndTheSameSettingsGiveTheSameRun) {
   EXPECT_EQ(same.a.distance_m, c.a.distance_m);
 }
 
+// The profile takes the clock's own lap off each part once per call: mj_step once a step,
+// every effect at most twice (BeforeStep, AfterStep), and no part below 0.
+TEST(BenchSpeed, ProfileTakesTheClocksOwnLapOffEachPart) {
+  const Scenario s = LoadScenario(climbsim::testing::Source("examples/gecko_wall.yaml"));
+  const SpeedReport r = BenchSpeed(s, 0.2, 1);
+  ASSERT_EQ(r.profiled_steps, 200);
+  // Two clock reads and a sum: more than nothing, far less than a microsecond.
+  EXPECT_GT(r.clock_lap_s, 0.0);
+  EXPECT_LT(r.clock_lap_s, 1e-6);
+  const double one_lap_a_step = r.profiled_steps * r.clock_lap_s;
+  EXPECT_NEAR(r.mj_step_with_clock_s - r.mj_step_s, one_lap_a_step, 1e-12);
+  ASSERT_GE(r.effect_s.size(), 3u);  // adhesion, the controller, the trajectory
+  double effects = 0.0;
+  for (const auto& e : r.effect_s) {
+    EXPECT_GE(e.second, 0.0) << e.first;
+    effects += e.second;
+  }
+  EXPECT_LT(effects, r.effects_with_clock_s - one_lap_a_step + 1e-12);
+  EXPECT_GE(effects,
+            r.effects_with_clock_s - 2.0 * r.effect_s.size() * one_lap_a_step - 1e-12);
+  EXPECT_GE(r.monitor_s, 0.0);
+}
+
 }  // namespace
 }  // namespace climbsim::sim

@@ -94,6 +94,8 @@ TEST(Cli, BenchSpeedProfilesFromAGivenTime) {
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("profile of the full scenario from 0.1 s (150 steps;"), std::string::npos)
       << r.out;
+  EXPECT_NE(r.out.find("(less the profile's own clock, "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(with the clock left in: all effects "), std::string::npos) << r.out;
   const CliResult late =
       RunClimbsim("bench speed " + scenario + " --duration 0.25 --profile-from 0.25");
   EXPECT_EQ(late.code, 2) << late.err;
