@@ -118,8 +118,9 @@ void ProfileFull(const Scenario& full, const CompiledModel& model, double profil
   report->monitor_s = less_clock(p.monitor_s, p.steps);
   report->effects_with_clock_s = 0.0;
   for (size_t i = 0; i < p.effect_s.size(); ++i) {
-    report->effect_s.push_back(
-        {sim.effects()[i]->name(), less_clock(p.effect_s[i], p.effect_laps[i])});
+    const Effect& e = *sim.effects()[i];
+    const long laps = p.steps * (int{e.has_before_step()} + int{e.has_after_step()});
+    report->effect_s.push_back({e.name(), less_clock(p.effect_s[i], laps)});
     report->effects_with_clock_s += p.effect_s[i];
   }
 }

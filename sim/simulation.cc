@@ -347,27 +347,20 @@ double Simulation::Profile::LapSeconds() {
 bool Simulation::StepProfiled(Profile* p) {
   mjModel* m = world_.model();
   mjData* d = world_.data();
-  if (p->effect_s.size() != effects_.size()) {
-    p->effect_s.assign(effects_.size(), 0.0);
-    p->effect_laps.assign(effects_.size(), 0);
-  }
-  auto lap_effect = [p](size_t i, ProfileClock::time_point* t) {
-    p->effect_s[i] += Lap(t);
-    ++p->effect_laps[i];
-  };
+  if (p->effect_s.size() != effects_.size()) p->effect_s.assign(effects_.size(), 0.0);
   ctx_.time_s = d->time;
   ProfileClock::time_point t = ProfileClock::now();
   for (size_t i = 0; i < effects_.size(); ++i) {
     if (!effects_[i]->has_before_step()) continue;
     effects_[i]->BeforeStep(world_, ctx_);
-    lap_effect(i, &t);
+    p->effect_s[i] += Lap(&t);
   }
   mj_step(m, d);
   p->mj_step_s += Lap(&t);
   for (size_t i = 0; i < effects_.size(); ++i) {
     if (!effects_[i]->has_after_step()) continue;
     effects_[i]->AfterStep(world_, ctx_);
-    lap_effect(i, &t);
+    p->effect_s[i] += Lap(&t);
   }
   ++ctx_.step;
   const bool ok = Monitor();

@@ -71,12 +71,12 @@ class Simulation {
   // Time spent per part of the step, for `climbsim bench speed`: mj_step, each effect's hooks
   // (in pipeline order, BeforeStep + AfterStep), and the monitor. StepProfiled is Step with a
   // clock read between parts; Step itself never reads a clock. Each part's time holds one lap
-  // of the clock per call (mj_step and the monitor: one per step), what LapSeconds() measures
-  // with nothing inside: 20–50 ns, so a part that does nothing would read 0.1–0.2 % of mj_step.
+  // of the clock per call (an effect: one per hook it has, each step; mj_step and the monitor:
+  // one per step), what LapSeconds() measures with nothing inside: 20–60 ns, so a part that
+  // does nothing would read 0.1–0.2 % of mj_step.
   struct Profile {
     double mj_step_s = 0.0;
     std::vector<double> effect_s;  // one per effect
-    std::vector<long> effect_laps;  // one per effect: its hooks' calls
     double monitor_s = 0.0;
     long steps = 0;
     // The least mean time of a lap with nothing inside over a few batches (so that taking it
